@@ -1,0 +1,104 @@
+# tubempm: material point method for thin-walled tubes under lateral compression.
+# SPDX-License-Identifier: MIT
+#   make            build bin/tubempm (release)         make test     debug build + all tests
+#   make run        default scene + its plot            make help     all targets
+.DEFAULT_GOAL := all
+MAKEFLAGS += --no-builtin-rules
+
+ifeq ($(origin FC),default)
+  FC := gfortran
+endif
+BUILD ?= release
+PYTHON ?= python3
+CASE ?= namelists/default.nml
+
+FFLAGS_common  := -std=f2008 -fimplicit-none -Wall -Wextra -Wimplicit-interface \
+                  -Wconversion-extra -Wno-compare-reals -fopenmp
+FFLAGS_release := -O2 -g -march=x86-64-v2 -fno-math-errno
+FFLAGS_debug   := -O0 -g -fcheck=all -fbacktrace -ffpe-trap=invalid,zero,overflow \
+                  -finit-real=snan -finit-integer=-99999999
+HDF5_FFLAGS ?= $(shell pkg-config --cflags hdf5 2>/dev/null)
+HDF5_LIBS   ?= $(shell pkg-config --libs-only-L hdf5 2>/dev/null) -lhdf5_fortran -lhdf5
+CFLAGS_shim := -O2 -std=c99 -Wall -Wextra
+
+BLD     := build/$(BUILD)
+SRC     := $(wildcard src/*.f90)
+CSRC    := $(wildcard src/*.c)
+LIBOBJ  := $(patsubst src/%.f90,$(BLD)/%.o,$(filter-out src/tubempm.f90,$(SRC))) \
+           $(patsubst src/%.c,$(BLD)/%.o,$(CSRC))
+TESTSRC := $(wildcard tests/test_*.f90)
+TESTS   := $(patsubst tests/%.f90,$(BLD)/%,$(TESTSRC))
+FC_ALL  := $(FC) $(FFLAGS_common) $(FFLAGS_$(BUILD))
+
+.PHONY: all deps test run plots clean help check-namelists bench study stability figures
+
+all: deps bin/tubempm
+
+## deps: install what is missing (Debian packages, Python packages); silent when all is there
+deps:
+	@bash tools/install-deps.sh
+
+bin/tubempm: $(BLD)/tubempm | bin
+	cp $< $@
+
+bin:
+	mkdir -p $@
+
+$(BLD):
+	mkdir -p $@
+
+$(BLD)/%.o: src/%.f90 | $(BLD)
+	$(FC_ALL) $(HDF5_FFLAGS) -J$(BLD) -c -o $@ $<
+
+$(BLD)/%.o: src/%.c | $(BLD)
+	$(CC) $(CFLAGS_shim) -c -o $@ $<
+
+$(BLD)/tubempm: $(LIBOBJ) $(BLD)/tubempm.o
+	$(FC_ALL) -o $@ $^ $(HDF5_LIBS)
+
+$(BLD)/testing.o: tests/testing.f90 | $(BLD)
+	$(FC_ALL) -J$(BLD) -c -o $@ $<
+
+$(BLD)/test_%: tests/test_%.f90 $(BLD)/testing.o $(LIBOBJ) | $(BLD)
+	$(FC_ALL) $(HDF5_FFLAGS) -I$(BLD) -J$(BLD)/tmod_$* -o $@ $< $(BLD)/testing.o $(LIBOBJ) $(HDF5_LIBS)
+
+$(BLD)/tmod_%:
+	mkdir -p $@
+
+$(TESTS): $(BLD)/test_%: | $(BLD)/tmod_%
+
+# Module dependencies are generated from the sources, never listed by hand.
+$(BLD)/deps.mk: $(SRC) tools/f90deps.awk | $(BLD)
+	awk -f tools/f90deps.awk $(SRC) | sed 's|build/|$(BLD)/|g' > $@
+
+ifneq ($(MAKECMDGOALS),clean)
+ifneq ($(MAKECMDGOALS),help)
+-include $(BLD)/deps.mk
+endif
+endif
+
+## test: debug build (-fcheck=all, FP traps), then every test program and script
+test: deps
+	@$(MAKE) --no-print-directory BUILD=debug build/debug/tubempm test-programs
+	@bash tools/run-tests.sh build/debug
+
+test-programs: $(TESTS)
+
+## run: build, run CASE (default namelists/default.nml), then plot it
+run: all
+	bin/tubempm $(CASE)
+	$(PYTHON) plots/plot_case.py --case $(CASE)
+
+## check-namelists: bin/tubempm --check on every file in namelists/
+check-namelists: all
+	@for f in namelists/*.nml; do bin/tubempm --check --quiet $$f > /dev/null || exit 1; echo "ok  $$f"; done
+
+## clean: remove build/ and bin/
+clean:
+	rm -rf build bin
+
+## help: list the targets
+help:
+	@echo "tubempm make targets:"
+	@grep -E '^## ' Makefile | sed 's/^## /  /'
+	@echo "variables: BUILD=release|debug  CASE=file.nml  FC=compiler  PYTHON=python3"

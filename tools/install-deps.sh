@@ -1,0 +1,73 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# Install what tubempm needs and is missing: Debian packages (gfortran, HDF5 Fortran, pkg-config)
+# and the Python packages of plots/requirements.txt. Idempotent; silent when all is present.
+# Without root it prints the exact commands to run by hand and exits 2.
+#   usage: tools/install-deps.sh [--python-only|--fortran-only]
+set -u
+here=$(cd "$(dirname "$0")/.." && pwd)
+want_fortran=1; want_python=1
+case "${1:-}" in
+  --python-only) want_fortran=0 ;;
+  --fortran-only) want_python=0 ;;
+  "") ;;
+  *) echo "usage: $0 [--python-only|--fortran-only]" >&2; exit 2 ;;
+esac
+
+missing_deb=()
+if [ $want_fortran = 1 ]; then
+  command -v gfortran >/dev/null 2>&1 || missing_deb+=(gfortran)
+  command -v pkg-config >/dev/null 2>&1 || missing_deb+=(pkg-config)
+  command -v make >/dev/null 2>&1 || missing_deb+=(make)
+  if ! pkg-config --exists hdf5 2>/dev/null || \
+     ! ls "$(pkg-config --variable=libdir hdf5 2>/dev/null)"/libhdf5_fortran.so >/dev/null 2>&1; then
+    missing_deb+=(libhdf5-dev)
+  fi
+fi
+py=${PYTHON:-python3}
+missing_py=()
+if [ $want_python = 1 ]; then
+  command -v "$py" >/dev/null 2>&1 || missing_deb+=(python3)
+  for mod in numpy matplotlib h5py; do
+    "$py" -c "import $mod" >/dev/null 2>&1 || missing_py+=("$mod")
+  done
+  if [ ${#missing_py[@]} -gt 0 ] && ! "$py" -m pip --version >/dev/null 2>&1; then
+    missing_deb+=(python3-pip)
+  fi
+fi
+
+[ ${#missing_deb[@]} -eq 0 ] && [ ${#missing_py[@]} -eq 0 ] && exit 0
+
+sudo=""
+if [ "$(id -u)" != 0 ]; then
+  if command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then sudo="sudo -n"; else sudo=NONE; fi
+fi
+
+if [ ${#missing_deb[@]} -gt 0 ]; then
+  if [ "$sudo" = NONE ] || ! command -v apt-get >/dev/null 2>&1; then
+    echo "tubempm needs these system packages, which this script cannot install here:" >&2
+    echo "    sudo apt-get install -y ${missing_deb[*]}" >&2
+    echo "(on other systems: gfortran, the HDF5 Fortran library with pkg-config file, python3-pip)" >&2
+    [ ${#missing_py[@]} -gt 0 ] && \
+      echo "and the Python packages:  python3 -m pip install -r $here/plots/requirements.txt" >&2
+    exit 2
+  fi
+  echo "install-deps: installing Debian packages: ${missing_deb[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get update -qq >/dev/null || { echo "install-deps: apt-get update failed" >&2; exit 2; }
+  $sudo apt-get install -y -qq --no-install-recommends "${missing_deb[@]}" >/dev/null \
+    || { echo "install-deps: apt-get install ${missing_deb[*]} failed" >&2; exit 2; }
+fi
+
+if [ ${#missing_py[@]} -gt 0 ]; then
+  echo "install-deps: installing Python packages: ${missing_py[*]}"
+  pipflags="-q"
+  # Debian's own python3 refuses system-wide pip installs (PEP 668) unless told otherwise.
+  if "$py" -c 'import sys,sysconfig,os; sys.exit(0 if os.path.exists(os.path.join(sysconfig.get_paths()["stdlib"],"EXTERNALLY-MANAGED")) else 1)' 2>/dev/null; then
+    pipflags="$pipflags --break-system-packages"
+  fi
+  if [ "$(id -u)" != 0 ] && [ -z "${VIRTUAL_ENV:-}" ]; then pipflags="$pipflags --user"; fi
+  PIP_ROOT_USER_ACTION=ignore PIP_DISABLE_PIP_VERSION_CHECK=1 "$py" -m pip install $pipflags -r "$here/plots/requirements.txt" \
+    || { echo "install-deps: pip install failed; run by hand: $py -m pip install -r $here/plots/requirements.txt" >&2; exit 2; }
+fi
+exit 0

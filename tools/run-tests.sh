@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# Run every test program in BLD (build/debug) and every tests/test_*.sh, sum their
+# "name: N passed, M failed" lines and print the total as the last line. A program that dies
+# without its summary line counts as one failure. Exit 1 when anything failed.
+#   usage: tools/run-tests.sh BLD
+set -u
+bld=${1:-build/debug}
+scratch=$(mktemp -d "${TMPDIR:-/tmp}/tubempm-tests.XXXXXX")
+trap 'rm -rf "$scratch"' EXIT
+total_pass=0; total_fail=0; t0=$(date +%s)
+run_one() {  # name, command...
+  local name=$1; shift
+  local out="$scratch/$name.log" start=$(date +%s.%N) rc
+  mkdir -p "$scratch/$name"
+  OMP_NUM_THREADS=${OMP_NUM_THREADS:-2} "$@" "$scratch/$name" > "$out" 2>&1; rc=$?
+  local line; line=$(grep -E '^[A-Za-z0-9_.-]+: [0-9]+ passed, [0-9]+ failed' "$out" | tail -n 1)
+  local p=0 f=0
+  if [ -n "$line" ]; then
+    p=$(echo "$line" | sed -E 's/.*: ([0-9]+) passed, ([0-9]+) failed.*/\1/')
+    f=$(echo "$line" | sed -E 's/.*: ([0-9]+) passed, ([0-9]+) failed.*/\2/')
+  fi
+  if [ -z "$line" ] || { [ $rc -ne 0 ] && [ "$f" -eq 0 ]; }; then f=$((f + 1)); fi
+  local secs; secs=$(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN{print b-a}')
+  if [ "$f" -gt 0 ]; then
+    echo "---- $name FAILED (exit $rc); its output:"; sed 's/^/    /' "$out" | tail -n 60
+  fi
+  printf '%-28s %4d passed, %d failed  (%.1f s)\n' "$name" "$p" "$f" "$secs" 2>/dev/null \
+    || echo "$name $p passed, $f failed"
+  total_pass=$((total_pass + p)); total_fail=$((total_fail + f))
+}
+for t in "$bld"/test_*; do
+  [ -x "$t" ] && [ -f "$t" ] || continue
+  run_one "$(basename "$t")" "$t"
+done
+for s in tests/test_*.sh; do
+  [ -f "$s" ] || continue
+  run_one "$(basename "$s" .sh)" env TUBEMPM="$bld/tubempm" bash "$s"
+done
+for s in tests/test_*.py; do
+  [ -f "$s" ] || continue
+  run_one "$(basename "$s" .py)" env TUBEMPM="$bld/tubempm" ${PYTHON:-python3} "$s"
+done
+echo "all tests took $(( $(date +%s) - t0 )) s"
+echo "$total_pass passed, $total_fail failed"
+[ "$total_fail" -eq 0 ]
