@@ -21,7 +21,7 @@ HDF5_FFLAGS ?= $(shell pkg-config --cflags hdf5 2>/dev/null)
 HDF5_LIBS   ?= $(shell pkg-config --libs-only-L hdf5 2>/dev/null) -lhdf5_fortran -lhdf5
 CFLAGS_shim := -O2 -std=c99 -Wall -Wextra
 
-BLD     := build/$(BUILD)
+BLD     ?= build/$(BUILD)
 SRC     := $(wildcard src/*.f90)
 CSRC    := $(wildcard src/*.c)
 LIBOBJ  := $(patsubst src/%.f90,$(BLD)/%.o,$(filter-out src/tubempm.f90,$(SRC))) \

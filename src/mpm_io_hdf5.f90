@@ -1,0 +1,452 @@
+!> Particle snapshots in HDF5 (particles.h5) and the XDMF index that lets ParaView open them.
+! SPDX-License-Identifier: MIT
+!
+! Layout (docs/output.md): /meta (attribute code_version, dataset input_nml); one group per
+! snapshot /snap_NNNNNN with attributes time, step, dt, ndim, np, ncorner, and datasets
+! x (np,2), v (np,2), mass (np), volume (np), stress (np,4: xx,yy,xy,zz), F (np,4: 11,21,12,22),
+! eqps (np), corners (ncorner,2), quads (np,4; 0-based corner ids, counter-clockwise).
+! (Fortran writes x(2,np); h5py reads it as (np, 2).) Every dataset carries `units` and
+! `long_name`. The file is flushed after every snapshot, so a killed run keeps them all.
+module mpm_io_hdf5
+  use hdf5, only: hid_t, hsize_t, size_t, h5open_f, h5fcreate_f, h5fopen_f, h5fclose_f, &
+                  h5fflush_f, h5gcreate_f, h5gclose_f, h5screate_simple_f, h5sclose_f, &
+                  h5screate_f, h5dcreate_f, h5dwrite_f, h5dclose_f, h5acreate_f, h5awrite_f, &
+                  h5aclose_f, h5tcopy_f, h5tset_size_f, h5tclose_f, h5lexists_f, h5ldelete_f, &
+                  H5F_ACC_TRUNC_F, H5F_ACC_RDWR_F, H5F_SCOPE_GLOBAL_F, H5T_NATIVE_DOUBLE, &
+                  H5T_NATIVE_INTEGER, H5T_NATIVE_CHARACTER, H5S_SCALAR_F
+  use mpm_kinds, only: wp, i8
+  use mpm_constants, only: version_string, BASIS_CPDI2, BASIS_CPDI1
+  use mpm_particles, only: particles_t
+  use mpm_strings, only: itoa
+  implicit none
+  private
+  public :: snapfile_t, snap_create, snap_reopen, snap_write, snap_close, xdmf_write, &
+            particle_corners
+
+  !> An open snapshot file and the list of its snapshots (for the XDMF index).
+  type :: snapfile_t
+    integer(hid_t) :: fid = -1             !! HDF5 file id
+    character(len=512) :: path = ''        !! file path
+    integer :: count = 0                   !! snapshots written
+    real(wp), allocatable :: times(:)      !! their times [s]
+    integer, allocatable :: nps(:), ncs(:) !! particles and corners of each
+  end type snapfile_t
+
+  logical, save :: library_open = .false.
+
+contains
+
+  !> Turn an HDF5 error code into stat/errmsg.
+  subroutine h5_check(ierr, what, stat, errmsg)
+    integer, intent(in) :: ierr            !! HDF5 return code
+    character(len=*), intent(in) :: what   !! call and object
+    integer, intent(inout) :: stat         !! set to 1 on failure (kept if already set)
+    character(len=:), allocatable, intent(inout) :: errmsg  !! set on the first failure
+    if (ierr < 0 .and. stat == 0) then
+      stat = 1
+      errmsg = 'HDF5 call failed: '//what
+    end if
+  end subroutine h5_check
+
+  !> Initialise the library once.
+  subroutine ensure_library(stat, errmsg)
+    integer, intent(inout) :: stat         !! status
+    character(len=:), allocatable, intent(inout) :: errmsg  !! message
+    integer :: ierr
+    if (library_open) return
+    call h5open_f(ierr)
+    call h5_check(ierr, 'h5open_f', stat, errmsg)
+    if (stat == 0) library_open = .true.
+  end subroutine ensure_library
+
+  !> Create the file, with /meta holding the code version and the resolved input text.
+  subroutine snap_create(sf, path, input_text, stat, errmsg)
+    type(snapfile_t), intent(out) :: sf    !! snapshot file
+    character(len=*), intent(in) :: path   !! file path
+    character(len=*), intent(in) :: input_text  !! resolved namelist input
+    integer, intent(out) :: stat           !! 0 or 1
+    character(len=:), allocatable, intent(out) :: errmsg  !! what failed
+    integer(hid_t) :: gid
+    integer :: ierr
+    stat = 0
+    errmsg = ''
+    call ensure_library(stat, errmsg)
+    if (stat /= 0) return
+    sf%path = path
+    call h5fcreate_f(path, H5F_ACC_TRUNC_F, sf%fid, ierr)
+    call h5_check(ierr, 'h5fcreate_f '//trim(path), stat, errmsg)
+    if (stat /= 0) return
+    call h5gcreate_f(sf%fid, 'meta', gid, ierr)
+    call h5_check(ierr, 'h5gcreate_f /meta', stat, errmsg)
+    if (stat /= 0) return
+    call write_string_attr(gid, 'code_version', 'tubempm '//version_string, stat, errmsg)
+    call write_string_dataset(gid, 'input_nml', input_text, stat, errmsg)
+    call h5gclose_f(gid, ierr)
+    call h5_check(ierr, 'h5gclose_f /meta', stat, errmsg)
+    allocate(sf%times(0), sf%nps(0), sf%ncs(0))
+  end subroutine snap_create
+
+  !> Re-open an existing file for appending after a restart; snapshots after `t_keep` are
+  !! removed so that the continued run does not duplicate them.
+  subroutine snap_reopen(sf, path, times, nps, ncs, stat, errmsg)
+    type(snapfile_t), intent(out) :: sf    !! snapshot file
+    character(len=*), intent(in) :: path   !! file path
+    real(wp), intent(in) :: times(:)       !! times of the snapshots to keep [s]
+    integer, intent(in) :: nps(:), ncs(:)  !! their particle and corner counts
+    integer, intent(out) :: stat           !! 0 or 1
+    character(len=:), allocatable, intent(out) :: errmsg  !! what failed
+    integer :: ierr, k
+    logical :: exists
+    stat = 0
+    errmsg = ''
+    call ensure_library(stat, errmsg)
+    if (stat /= 0) return
+    sf%path = path
+    call h5fopen_f(path, H5F_ACC_RDWR_F, sf%fid, ierr)
+    call h5_check(ierr, 'h5fopen_f '//trim(path), stat, errmsg)
+    if (stat /= 0) return
+    sf%count = size(times)
+    sf%times = times
+    sf%nps = nps
+    sf%ncs = ncs
+    do k = sf%count + 1, sf%count + 100000
+      call h5lexists_f(sf%fid, snap_name(k), exists, ierr)
+      if (ierr < 0 .or. .not. exists) exit
+      call h5ldelete_f(sf%fid, snap_name(k), ierr)
+      call h5_check(ierr, 'h5ldelete_f '//snap_name(k), stat, errmsg)
+      if (stat /= 0) return
+    end do
+  end subroutine snap_reopen
+
+  !> Name of snapshot k.
+  pure function snap_name(k) result(name)
+    integer, intent(in) :: k               !! snapshot number (1-based)
+    character(len=11) :: name
+    write(name, '(a,i6.6)') 'snap_', k - 1
+  end function snap_name
+
+  !> Append one snapshot of the particles and flush the file.
+  subroutine snap_write(sf, p, basis, t, step, dt, stat, errmsg)
+    type(snapfile_t), intent(inout) :: sf  !! snapshot file
+    type(particles_t), intent(in) :: p     !! particles
+    integer, intent(in) :: basis           !! BASIS_* code (what the corners are)
+    real(wp), intent(in) :: t              !! time [s]
+    integer(i8), intent(in) :: step    !! step number
+    real(wp), intent(in) :: dt             !! time step [s]
+    integer, intent(out) :: stat           !! 0 or 1
+    character(len=:), allocatable, intent(out) :: errmsg  !! what failed
+    integer(hid_t) :: gid
+    integer :: ierr, ncorner
+    real(wp), allocatable :: corners(:,:)
+    integer, allocatable :: quads(:,:)
+    character(len=11) :: name
+    stat = 0
+    errmsg = ''
+    name = snap_name(sf%count + 1)
+    call h5gcreate_f(sf%fid, name, gid, ierr)
+    call h5_check(ierr, 'h5gcreate_f '//name, stat, errmsg)
+    if (stat /= 0) return
+    call write_real_attr(gid, 'time', t, stat, errmsg)
+    call write_real_attr(gid, 'step', real(step, wp), stat, errmsg)
+    call write_real_attr(gid, 'dt', dt, stat, errmsg)
+    call write_real_attr(gid, 'ndim', 2.0_wp, stat, errmsg)
+    call particle_corners(p, basis, corners, quads)
+    ncorner = size(corners, 2)
+    call write_real_attr(gid, 'np', real(p%np, wp), stat, errmsg)
+    call write_real_attr(gid, 'ncorner', real(ncorner, wp), stat, errmsg)
+    call write_real_2d(gid, 'x', p%x, 'm', 'particle position (domain centroid)', stat, errmsg)
+    call write_real_2d(gid, 'v', p%v, 'm/s', 'particle velocity', stat, errmsg)
+    call write_real_1d(gid, 'mass', p%mass, 'kg/m', 'particle mass per unit depth', stat, errmsg)
+    call write_real_1d(gid, 'volume', p%vol, 'm^2', 'particle area (volume per unit depth)', &
+                       stat, errmsg)
+    call write_real_2d(gid, 'stress', p%stress, 'Pa', 'Cauchy stress xx, yy, xy, zz', stat, &
+                       errmsg)
+    call write_real_2d(gid, 'F', reshape(p%F, [4, p%np]), '-', &
+                       'deformation gradient F11, F21, F12, F22', stat, errmsg)
+    call write_real_1d(gid, 'eqps', p%eqps, '-', 'equivalent plastic strain', stat, errmsg)
+    call write_real_2d(gid, 'corners', corners, 'm', 'particle domain corners', stat, errmsg)
+    call write_int_2d(gid, 'quads', quads, '-', 'corner ids of each particle (0-based, ccw)', &
+                      stat, errmsg)
+    call h5gclose_f(gid, ierr)
+    call h5_check(ierr, 'h5gclose_f '//name, stat, errmsg)
+    call h5fflush_f(sf%fid, H5F_SCOPE_GLOBAL_F, ierr)
+    call h5_check(ierr, 'h5fflush_f '//trim(sf%path), stat, errmsg)
+    if (stat /= 0) then
+      errmsg = errmsg//' (writing '//trim(sf%path)//')'
+      return
+    end if
+    sf%count = sf%count + 1
+    sf%times = [sf%times, t]
+    sf%nps = [sf%nps, p%np]
+    sf%ncs = [sf%ncs, ncorner]
+  end subroutine snap_write
+
+  !> Close the file.
+  subroutine snap_close(sf, stat, errmsg)
+    type(snapfile_t), intent(inout) :: sf  !! snapshot file
+    integer, intent(out) :: stat           !! 0 or 1
+    character(len=:), allocatable, intent(out) :: errmsg  !! what failed
+    integer :: ierr
+    stat = 0
+    errmsg = ''
+    if (sf%fid < 0) return
+    call h5fclose_f(sf%fid, ierr)
+    call h5_check(ierr, 'h5fclose_f '//trim(sf%path), stat, errmsg)
+    sf%fid = -1
+  end subroutine snap_close
+
+  !> Domain corners for output: the shared CPDI2 corners; otherwise four per particle
+  !! (CPDI1 parallelogram x +- r1 +- r2, or the axis-aligned square x +- half).
+  subroutine particle_corners(p, basis, corners, quads)
+    type(particles_t), intent(in) :: p     !! particles
+    integer, intent(in) :: basis           !! BASIS_* code
+    real(wp), allocatable, intent(out) :: corners(:,:)  !! (2, ncorner) [m]
+    integer, allocatable, intent(out) :: quads(:,:)     !! (4, np) 0-based ids
+    integer :: ip
+    real(wp) :: r1(2), r2(2)
+    if (basis == BASIS_CPDI2) then
+      corners = p%xc
+      quads = p%corner - 1
+      return
+    end if
+    allocate(corners(2, 4*p%np), quads(4, p%np))
+    do ip = 1, p%np
+      if (basis == BASIS_CPDI1) then
+        r1 = matmul(p%F(:, :, ip), p%r10(:, ip))
+        r2 = matmul(p%F(:, :, ip), p%r20(:, ip))
+      else
+        r1 = [p%half(1, ip), 0.0_wp]
+        r2 = [0.0_wp, p%half(2, ip)]
+      end if
+      corners(:, 4*ip - 3) = p%x(:, ip) - r1 - r2
+      corners(:, 4*ip - 2) = p%x(:, ip) + r1 - r2
+      corners(:, 4*ip - 1) = p%x(:, ip) + r1 + r2
+      corners(:, 4*ip) = p%x(:, ip) - r1 + r2
+      quads(:, ip) = [4*ip - 4, 4*ip - 3, 4*ip - 2, 4*ip - 1]
+    end do
+  end subroutine particle_corners
+
+  !> Write the XDMF index of all snapshots: a temporal collection of quadrilateral meshes
+  !! (the particle domains) with cell data.
+  subroutine xdmf_write(sf, xpath, h5name, stat, errmsg)
+    type(snapfile_t), intent(in) :: sf     !! snapshot file
+    character(len=*), intent(in) :: xpath  !! XDMF file path
+    character(len=*), intent(in) :: h5name !! HDF5 file name relative to the XDMF file
+    integer, intent(out) :: stat           !! 0 or iostat
+    character(len=:), allocatable, intent(out) :: errmsg  !! what failed
+    integer :: u, k
+    character(len=512) :: msg
+    character(len=:), allocatable :: g, np, nc
+    errmsg = ''
+    open(newunit=u, file=xpath, status='replace', action='write', iostat=stat, iomsg=msg)
+    if (stat /= 0) then
+      errmsg = 'cannot open '//trim(xpath)//' for writing: '//trim(msg)
+      return
+    end if
+    write(u, '(a)') '<?xml version="1.0" ?>'
+    write(u, '(a)') '<Xdmf Version="3.0">'
+    write(u, '(a)') ' <Domain>'
+    write(u, '(a)') '  <Grid Name="particles" GridType="Collection" CollectionType="Temporal">'
+    do k = 1, sf%count
+      g = h5name//':/'//snap_name(k)
+      np = itoa(sf%nps(k))
+      nc = itoa(sf%ncs(k))
+      write(u, '(a)') '   <Grid Name="'//snap_name(k)//'" GridType="Uniform">'
+      write(u, '(a,es24.16e3,a)') '    <Time Value="', sf%times(k), '"/>'
+      write(u, '(a)') '    <Topology TopologyType="Quadrilateral" NumberOfElements="'//np//'">'
+      write(u, '(a)') '     <DataItem Dimensions="'//np//' 4" NumberType="Int" Precision="4"'// &
+        ' Format="HDF">'//g//'/quads</DataItem>'
+      write(u, '(a)') '    </Topology>'
+      write(u, '(a)') '    <Geometry GeometryType="XY">'
+      write(u, '(a)') '     <DataItem Dimensions="'//nc//' 2" NumberType="Float" Precision="8"'// &
+        ' Format="HDF">'//g//'/corners</DataItem>'
+      write(u, '(a)') '    </Geometry>'
+      call scalar_attr(u, 'eqps', g//'/eqps', np)
+      call scalar_attr(u, 'mass', g//'/mass', np)
+      call scalar_attr(u, 'volume', g//'/volume', np)
+      call column_attr(u, 'vx', g//'/v', np, 2, 0)
+      call column_attr(u, 'vy', g//'/v', np, 2, 1)
+      call column_attr(u, 'sxx', g//'/stress', np, 4, 0)
+      call column_attr(u, 'syy', g//'/stress', np, 4, 1)
+      call column_attr(u, 'sxy', g//'/stress', np, 4, 2)
+      call column_attr(u, 'szz', g//'/stress', np, 4, 3)
+      write(u, '(a)') '   </Grid>'
+    end do
+    write(u, '(a)') '  </Grid>'
+    write(u, '(a)') ' </Domain>'
+    write(u, '(a)', iostat=stat, iomsg=msg) '</Xdmf>'
+    if (stat /= 0) errmsg = 'cannot write '//trim(xpath)//': '//trim(msg)
+    close(u, iostat=stat, iomsg=msg)
+    if (stat /= 0 .and. len(errmsg) == 0) errmsg = 'cannot close '//trim(xpath)//': '//trim(msg)
+  end subroutine xdmf_write
+
+  !> One scalar cell attribute.
+  subroutine scalar_attr(u, name, ref, np)
+    integer, intent(in) :: u               !! unit
+    character(len=*), intent(in) :: name, ref, np  !! attribute name, HDF5 reference, count
+    write(u, '(a)') '    <Attribute Name="'//name//'" AttributeType="Scalar" Center="Cell">'
+    write(u, '(a)') '     <DataItem Dimensions="'//np//'" NumberType="Float" Precision="8"'// &
+      ' Format="HDF">'//ref//'</DataItem>'
+    write(u, '(a)') '    </Attribute>'
+  end subroutine scalar_attr
+
+  !> One column of an (np, ncol) dataset as a scalar cell attribute (a hyperslab).
+  subroutine column_attr(u, name, ref, np, ncol, col)
+    integer, intent(in) :: u               !! unit
+    character(len=*), intent(in) :: name, ref, np  !! attribute name, HDF5 reference, count
+    integer, intent(in) :: ncol, col       !! columns of the dataset, column (0-based)
+    write(u, '(a)') '    <Attribute Name="'//name//'" AttributeType="Scalar" Center="Cell">'
+    write(u, '(a)') '     <DataItem ItemType="HyperSlab" Dimensions="'//np//' 1" Type="HyperSlab">'
+    write(u, '(a)') '      <DataItem Dimensions="3 2" Format="XML">0 '//itoa(col)//' 1 1 '// &
+      np//' 1</DataItem>'
+    write(u, '(a)') '      <DataItem Dimensions="'//np//' '//itoa(ncol)//'" NumberType="Float"'// &
+      ' Precision="8" Format="HDF">'//ref//'</DataItem>'
+    write(u, '(a)') '     </DataItem>'
+    write(u, '(a)') '    </Attribute>'
+  end subroutine column_attr
+
+  !> A real scalar attribute.
+  subroutine write_real_attr(loc, name, value, stat, errmsg)
+    integer(hid_t), intent(in) :: loc      !! group
+    character(len=*), intent(in) :: name   !! attribute name
+    real(wp), intent(in) :: value          !! value
+    integer, intent(inout) :: stat         !! status
+    character(len=:), allocatable, intent(inout) :: errmsg  !! message
+    integer(hid_t) :: sid, aid
+    integer(hsize_t) :: dims(1) = [1_hsize_t]
+    integer :: ierr
+    if (stat /= 0) return
+    call h5screate_f(H5S_SCALAR_F, sid, ierr)
+    call h5_check(ierr, 'h5screate_f '//name, stat, errmsg)
+    call h5acreate_f(loc, name, H5T_NATIVE_DOUBLE, sid, aid, ierr)
+    call h5_check(ierr, 'h5acreate_f '//name, stat, errmsg)
+    call h5awrite_f(aid, H5T_NATIVE_DOUBLE, value, dims, ierr)
+    call h5_check(ierr, 'h5awrite_f '//name, stat, errmsg)
+    call h5aclose_f(aid, ierr)
+    call h5sclose_f(sid, ierr)
+  end subroutine write_real_attr
+
+  !> A string attribute.
+  subroutine write_string_attr(loc, name, value, stat, errmsg)
+    integer(hid_t), intent(in) :: loc      !! group or dataset
+    character(len=*), intent(in) :: name   !! attribute name
+    character(len=*), intent(in) :: value  !! text
+    integer, intent(inout) :: stat         !! status
+    character(len=:), allocatable, intent(inout) :: errmsg  !! message
+    integer(hid_t) :: sid, aid, tid
+    integer(hsize_t) :: dims(1) = [1_hsize_t]
+    integer :: ierr
+    if (stat /= 0) return
+    call h5tcopy_f(H5T_NATIVE_CHARACTER, tid, ierr)
+    call h5_check(ierr, 'h5tcopy_f '//name, stat, errmsg)
+    call h5tset_size_f(tid, int(max(len(value), 1), size_t), ierr)
+    call h5_check(ierr, 'h5tset_size_f '//name, stat, errmsg)
+    call h5screate_f(H5S_SCALAR_F, sid, ierr)
+    call h5acreate_f(loc, name, tid, sid, aid, ierr)
+    call h5_check(ierr, 'h5acreate_f '//name, stat, errmsg)
+    call h5awrite_f(aid, tid, value, dims, ierr)
+    call h5_check(ierr, 'h5awrite_f '//name, stat, errmsg)
+    call h5aclose_f(aid, ierr)
+    call h5sclose_f(sid, ierr)
+    call h5tclose_f(tid, ierr)
+  end subroutine write_string_attr
+
+  !> A scalar string dataset.
+  subroutine write_string_dataset(loc, name, value, stat, errmsg)
+    integer(hid_t), intent(in) :: loc      !! group
+    character(len=*), intent(in) :: name   !! dataset name
+    character(len=*), intent(in) :: value  !! text
+    integer, intent(inout) :: stat         !! status
+    character(len=:), allocatable, intent(inout) :: errmsg  !! message
+    integer(hid_t) :: sid, did, tid
+    integer(hsize_t) :: dims(1) = [1_hsize_t]
+    integer :: ierr
+    if (stat /= 0) return
+    call h5tcopy_f(H5T_NATIVE_CHARACTER, tid, ierr)
+    call h5tset_size_f(tid, int(max(len(value), 1), size_t), ierr)
+    call h5_check(ierr, 'h5tset_size_f '//name, stat, errmsg)
+    call h5screate_f(H5S_SCALAR_F, sid, ierr)
+    call h5dcreate_f(loc, name, tid, sid, did, ierr)
+    call h5_check(ierr, 'h5dcreate_f '//name, stat, errmsg)
+    call h5dwrite_f(did, tid, value, dims, ierr)
+    call h5_check(ierr, 'h5dwrite_f '//name, stat, errmsg)
+    call h5dclose_f(did, ierr)
+    call h5sclose_f(sid, ierr)
+    call h5tclose_f(tid, ierr)
+  end subroutine write_string_dataset
+
+  !> A 1-D real dataset with units and long_name.
+  subroutine write_real_1d(loc, name, a, units, long_name, stat, errmsg)
+    integer(hid_t), intent(in) :: loc      !! group
+    character(len=*), intent(in) :: name   !! dataset name
+    real(wp), intent(in) :: a(:)           !! data
+    character(len=*), intent(in) :: units, long_name  !! metadata
+    integer, intent(inout) :: stat         !! status
+    character(len=:), allocatable, intent(inout) :: errmsg  !! message
+    integer(hid_t) :: sid, did
+    integer(hsize_t) :: dims(1)
+    integer :: ierr
+    if (stat /= 0) return
+    dims = [int(size(a), hsize_t)]
+    call h5screate_simple_f(1, dims, sid, ierr)
+    call h5_check(ierr, 'h5screate_simple_f '//name, stat, errmsg)
+    call h5dcreate_f(loc, name, H5T_NATIVE_DOUBLE, sid, did, ierr)
+    call h5_check(ierr, 'h5dcreate_f '//name, stat, errmsg)
+    call h5dwrite_f(did, H5T_NATIVE_DOUBLE, a, dims, ierr)
+    call h5_check(ierr, 'h5dwrite_f '//name, stat, errmsg)
+    call write_string_attr(did, 'units', units, stat, errmsg)
+    call write_string_attr(did, 'long_name', long_name, stat, errmsg)
+    call h5dclose_f(did, ierr)
+    call h5sclose_f(sid, ierr)
+  end subroutine write_real_1d
+
+  !> A 2-D real dataset (ncomp, n) in Fortran order = (n, ncomp) in C/h5py order.
+  subroutine write_real_2d(loc, name, a, units, long_name, stat, errmsg)
+    integer(hid_t), intent(in) :: loc      !! group
+    character(len=*), intent(in) :: name   !! dataset name
+    real(wp), intent(in) :: a(:,:)         !! data
+    character(len=*), intent(in) :: units, long_name  !! metadata
+    integer, intent(inout) :: stat         !! status
+    character(len=:), allocatable, intent(inout) :: errmsg  !! message
+    integer(hid_t) :: sid, did
+    integer(hsize_t) :: dims(2)
+    integer :: ierr
+    if (stat /= 0) return
+    dims = [int(size(a, 1), hsize_t), int(size(a, 2), hsize_t)]
+    call h5screate_simple_f(2, dims, sid, ierr)
+    call h5_check(ierr, 'h5screate_simple_f '//name, stat, errmsg)
+    call h5dcreate_f(loc, name, H5T_NATIVE_DOUBLE, sid, did, ierr)
+    call h5_check(ierr, 'h5dcreate_f '//name, stat, errmsg)
+    call h5dwrite_f(did, H5T_NATIVE_DOUBLE, a, dims, ierr)
+    call h5_check(ierr, 'h5dwrite_f '//name, stat, errmsg)
+    call write_string_attr(did, 'units', units, stat, errmsg)
+    call write_string_attr(did, 'long_name', long_name, stat, errmsg)
+    call h5dclose_f(did, ierr)
+    call h5sclose_f(sid, ierr)
+  end subroutine write_real_2d
+
+  !> A 2-D integer dataset.
+  subroutine write_int_2d(loc, name, a, units, long_name, stat, errmsg)
+    integer(hid_t), intent(in) :: loc      !! group
+    character(len=*), intent(in) :: name   !! dataset name
+    integer, intent(in) :: a(:,:)          !! data
+    character(len=*), intent(in) :: units, long_name  !! metadata
+    integer, intent(inout) :: stat         !! status
+    character(len=:), allocatable, intent(inout) :: errmsg  !! message
+    integer(hid_t) :: sid, did
+    integer(hsize_t) :: dims(2)
+    integer :: ierr
+    if (stat /= 0) return
+    dims = [int(size(a, 1), hsize_t), int(size(a, 2), hsize_t)]
+    call h5screate_simple_f(2, dims, sid, ierr)
+    call h5_check(ierr, 'h5screate_simple_f '//name, stat, errmsg)
+    call h5dcreate_f(loc, name, H5T_NATIVE_INTEGER, sid, did, ierr)
+    call h5_check(ierr, 'h5dcreate_f '//name, stat, errmsg)
+    call h5dwrite_f(did, H5T_NATIVE_INTEGER, a, dims, ierr)
+    call h5_check(ierr, 'h5dwrite_f '//name, stat, errmsg)
+    call write_string_attr(did, 'units', units, stat, errmsg)
+    call write_string_attr(did, 'long_name', long_name, stat, errmsg)
+    call h5dclose_f(did, ierr)
+    call h5sclose_f(sid, ierr)
+  end subroutine write_int_2d
+end module mpm_io_hdf5

@@ -1,0 +1,455 @@
+!> Constitutive models: hypoelastic (Jaumann rate), J2 plasticity (radial return), Neo-Hookean.
+! SPDX-License-Identifier: MIT
+!
+! Stress storage: sig(4) = (xx, yy, xy, zz), Cauchy stress [Pa]; sig(3) is the tensor
+! component sigma_xy. Plane stress keeps sig(4) = 0 exactly; plane strain carries sigma_zz.
+! Strain increments from D = sym(L) are tensor components (de_xy = (L12 + L21)/2 dt).
+! On stat /= 0, sig and eqps are returned unchanged and dwp = 0. See docs/material.md.
+module mpm_material
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
+  use mpm_kinds, only: wp
+  use mpm_constants, only: MODEL_ELASTIC, MODEL_NEOHOOKEAN, MODEL_J2, RATE_NONE, &
+                           RATE_COWPER_SYMONDS, PLANE_STRAIN, PLANE_STRESS
+  implicit none
+  private
+  public :: material_new, material_wave_speed, material_stress_update, material_energy_density
+  public :: MATERIAL_OK, MATERIAL_NOT_CONVERGED, MATERIAL_BAD_INPUT
+
+  integer, parameter :: MATERIAL_OK = 0             !! stat: update done
+  integer, parameter :: MATERIAL_NOT_CONVERGED = 1  !! stat: an iteration did not converge
+  integer, parameter :: MATERIAL_BAD_INPUT = 2      !! stat: non-finite or invalid input/result
+
+  real(wp), parameter :: return_tol = 1.0e-12_wp    ! relative step tolerance, return mapping
+  integer, parameter :: return_max_iter = 100
+  real(wp), parameter :: stretch_tol = 1.0e-14_wp   ! absolute tolerance on ln(F_zz)
+  integer, parameter :: stretch_max_iter = 100
+
+  !> Material parameters and the derived elastic constants.
+  type, public :: material_t
+    integer :: model = MODEL_J2        !! MODEL_ELASTIC, MODEL_NEOHOOKEAN or MODEL_J2
+    integer :: rate_law = RATE_NONE    !! RATE_NONE or RATE_COWPER_SYMONDS
+    real(wp) :: E          !! Young's modulus [Pa]
+    real(wp) :: nu         !! Poisson's ratio [-]
+    real(wp) :: rho        !! reference density [kg/m^3]
+    real(wp) :: sigma_y    !! initial yield stress [Pa]
+    real(wp) :: hardening  !! linear isotropic plastic modulus H [Pa]
+    real(wp) :: cs_d       !! Cowper-Symonds D [1/s]
+    real(wp) :: cs_q       !! Cowper-Symonds q [-]
+    real(wp) :: lambda     !! first Lame constant [Pa]
+    real(wp) :: mu         !! shear modulus [Pa]
+    real(wp) :: bulk       !! bulk modulus [Pa]
+  end type material_t
+
+contains
+
+  !> A material with its derived Lame constants and bulk modulus.
+  !! Preconditions (checked by the input validation, not here): E > 0, -1 < nu < 0.5.
+  pure function material_new(model, rate_law, E, nu, rho, sigma_y, hardening, cs_d, cs_q) &
+      result(mat)
+    integer, intent(in) :: model         !! MODEL_ELASTIC, MODEL_NEOHOOKEAN or MODEL_J2 [-]
+    integer, intent(in) :: rate_law      !! RATE_NONE or RATE_COWPER_SYMONDS [-]
+    real(wp), intent(in) :: E            !! Young's modulus [Pa]
+    real(wp), intent(in) :: nu           !! Poisson's ratio [-]
+    real(wp), intent(in) :: rho          !! reference density [kg/m^3]
+    real(wp), intent(in) :: sigma_y      !! initial yield stress [Pa]
+    real(wp), intent(in) :: hardening    !! linear isotropic plastic modulus H [Pa]
+    real(wp), intent(in) :: cs_d         !! Cowper-Symonds D [1/s]
+    real(wp), intent(in) :: cs_q         !! Cowper-Symonds q [-]
+    type(material_t) :: mat
+    mat%model = model
+    mat%rate_law = rate_law
+    mat%E = E
+    mat%nu = nu
+    mat%rho = rho
+    mat%sigma_y = sigma_y
+    mat%hardening = hardening
+    mat%cs_d = cs_d
+    mat%cs_q = cs_q
+    mat%lambda = E*nu/((1.0_wp + nu)*(1.0_wp - 2.0_wp*nu))  ! Lame lambda, isotropic elasticity
+    mat%mu = E/(2.0_wp*(1.0_wp + nu))                       ! shear modulus
+    mat%bulk = E/(3.0_wp*(1.0_wp - 2.0_wp*nu))              ! bulk modulus K = lambda + 2 mu / 3
+  end function material_new
+
+  !> Dilatational wave speed sqrt((lambda + 2 mu) / rho) [m/s].
+  pure function material_wave_speed(mat) result(c)
+    type(material_t), intent(in) :: mat  !! material [-]
+    real(wp) :: c
+    c = sqrt((mat%lambda + 2.0_wp*mat%mu)/mat%rho)  ! METHOD.md section 2 (c_d)
+  end function material_wave_speed
+
+  !> Update the Cauchy stress of one particle over one step.
+  !! elastic/j2: exact 2-D Jaumann rotation by W = skew(L), elastic increment from D = sym(L),
+  !! then (j2) radial return; neohookean: stress from F, L and eqps ignored.
+  !! stat: 0 ok, 1 return mapping or thickness iteration not converged, 2 non-finite or
+  !! invalid input (or a non-finite result); on stat /= 0 sig and eqps are unchanged, dwp = 0.
+  pure subroutine material_stress_update(mat, plane, L, dt, F, sig, eqps, dwp, stat)
+    type(material_t), intent(in) :: mat   !! material [-]
+    integer, intent(in) :: plane          !! PLANE_STRAIN or PLANE_STRESS [-]
+    real(wp), intent(in) :: L(2,2)        !! velocity gradient, L(i,j) = dv_i/dx_j [1/s]
+    real(wp), intent(in) :: dt            !! time step [s]
+    real(wp), intent(in) :: F(2,2)        !! in-plane deformation gradient, end of step [-]
+    real(wp), intent(inout) :: sig(4)     !! Cauchy stress (xx, yy, xy, zz) [Pa]
+    real(wp), intent(inout) :: eqps       !! equivalent plastic strain [-]
+    real(wp), intent(out) :: dwp          !! plastic dissipation per current volume [J/m^3]
+    integer, intent(out) :: stat          !! 0 ok, 1 not converged, 2 bad input [-]
+    real(wp) :: s(4), deqps, w
+    dwp = 0.0_wp
+    deqps = 0.0_wp
+    w = 0.0_wp
+    stat = MATERIAL_BAD_INPUT
+    if (plane /= PLANE_STRAIN .and. plane /= PLANE_STRESS) return
+    select case (mat%model)
+    case (MODEL_NEOHOOKEAN)
+      if (.not. all(ieee_is_finite(F))) return
+      call neohookean_stress(mat, plane, F, s, w, stat)
+      if (stat /= MATERIAL_OK) return
+    case (MODEL_ELASTIC, MODEL_J2)
+      if (.not. (all(ieee_is_finite(L)) .and. ieee_is_finite(dt) .and. &
+                 all(ieee_is_finite(sig)) .and. ieee_is_finite(eqps))) return
+      if (dt < 0.0_wp) return
+      s = sig
+      if (plane == PLANE_STRESS) s(4) = 0.0_wp
+      call rotate_jaumann(L, dt, s)
+      call add_elastic_increment(mat, plane, L, dt, s)
+      if (mat%model == MODEL_J2) then
+        call j2_return(mat, plane, dt, eqps, s, deqps, w, stat)
+        if (stat /= MATERIAL_OK) return
+      end if
+    case default
+      return
+    end select
+    if (.not. (all(ieee_is_finite(s)) .and. ieee_is_finite(w))) then
+      stat = MATERIAL_BAD_INPUT
+      return
+    end if
+    sig = s
+    eqps = eqps + deqps
+    if (mat%model == MODEL_J2) dwp = w
+    stat = MATERIAL_OK
+  end subroutine material_stress_update
+
+  !> Stored elastic energy per unit current volume [J/m^3].
+  !! elastic/j2: (1/2) sigma : C^-1 : sigma with the 3-D compliance (sigma_zz = 0 in plane
+  !! stress, sig(4) in plane strain); neohookean: W(F) / J with J = det(F_2d) F_zz.
+  !! Returns a quiet NaN for an inadmissible F (det F <= 0) or unknown model/plane.
+  pure function material_energy_density(mat, plane, sig, F) result(w)
+    type(material_t), intent(in) :: mat  !! material [-]
+    integer, intent(in) :: plane         !! PLANE_STRAIN or PLANE_STRESS [-]
+    real(wp), intent(in) :: sig(4)       !! Cauchy stress (xx, yy, xy, zz) [Pa]
+    real(wp), intent(in) :: F(2,2)       !! in-plane deformation gradient [-]
+    real(wp) :: w
+    real(wp) :: szz, tr, ss, s(4)
+    integer :: stat
+    w = ieee_value(w, ieee_quiet_nan)
+    if (plane /= PLANE_STRAIN .and. plane /= PLANE_STRESS) return
+    select case (mat%model)
+    case (MODEL_ELASTIC, MODEL_J2)
+      szz = sig(4)
+      if (plane == PLANE_STRESS) szz = 0.0_wp
+      tr = sig(1) + sig(2) + szz
+      ss = sig(1)**2 + sig(2)**2 + szz**2 + 2.0_wp*sig(3)**2
+      w = 0.5_wp*((1.0_wp + mat%nu)*ss - mat%nu*tr**2)/mat%E  ! eps = ((1+nu) sig - nu tr I)/E
+    case (MODEL_NEOHOOKEAN)
+      if (.not. all(ieee_is_finite(F))) return
+      call neohookean_stress(mat, plane, F, s, w, stat)
+      if (stat /= MATERIAL_OK) w = ieee_value(w, ieee_quiet_nan)
+    end select
+  end function material_energy_density
+
+  ! ---------------------------------------------------------------------------------------
+  ! Hypoelastic part
+
+  !> Exact integration of the Jaumann spin term over the step: sigma <- Q sigma Q^T, Q the
+  !! rotation by w dt, w = (L21 - L12)/2; sigma_zz is unchanged.
+  pure subroutine rotate_jaumann(L, dt, s)
+    real(wp), intent(in) :: L(2,2)    !! velocity gradient [1/s]
+    real(wp), intent(in) :: dt        !! time step [s]
+    real(wp), intent(inout) :: s(4)   !! stress (xx, yy, xy, zz) [Pa]
+    real(wp) :: phi, c, sn, mean, half_diff, half_diff_new
+    phi = (L(2,1) - L(1,2))*dt   ! twice the rotation angle w dt
+    if (phi == 0.0_wp) return
+    c = cos(phi)
+    sn = sin(phi)
+    mean = 0.5_wp*(s(1) + s(2))
+    half_diff = 0.5_wp*(s(1) - s(2))
+    ! Mohr-circle form of Q sigma Q^T: the deviatoric pair turns by 2 w dt
+    half_diff_new = c*half_diff - sn*s(3)
+    s(3) = sn*half_diff + c*s(3)
+    s(1) = mean + half_diff_new
+    s(2) = mean - half_diff_new
+  end subroutine rotate_jaumann
+
+  !> Add C : D dt. Plane strain: 3-D law with D_zz = 0; plane stress: reduced law, s_zz = 0.
+  pure subroutine add_elastic_increment(mat, plane, L, dt, s)
+    type(material_t), intent(in) :: mat  !! material [-]
+    integer, intent(in) :: plane         !! PLANE_STRAIN or PLANE_STRESS [-]
+    real(wp), intent(in) :: L(2,2)       !! velocity gradient [1/s]
+    real(wp), intent(in) :: dt           !! time step [s]
+    real(wp), intent(inout) :: s(4)      !! stress (xx, yy, xy, zz) [Pa]
+    real(wp) :: dexx, deyy, dexy, tr, lam, two_mu
+    dexx = L(1,1)*dt
+    deyy = L(2,2)*dt
+    dexy = 0.5_wp*(L(1,2) + L(2,1))*dt
+    tr = dexx + deyy
+    two_mu = 2.0_wp*mat%mu
+    if (plane == PLANE_STRAIN) then
+      lam = mat%lambda
+      s(4) = s(4) + lam*tr                                  ! d sigma_zz = lambda tr(de)
+    else
+      lam = 2.0_wp*mat%lambda*mat%mu/(mat%lambda + two_mu)  ! plane-stress lambda = E nu/(1-nu^2)
+      s(4) = 0.0_wp
+    end if
+    s(1) = s(1) + lam*tr + two_mu*dexx   ! d sigma = lambda tr(de) I + 2 mu de
+    s(2) = s(2) + lam*tr + two_mu*deyy
+    s(3) = s(3) + two_mu*dexy
+  end subroutine add_elastic_increment
+
+  ! ---------------------------------------------------------------------------------------
+  ! J2 plasticity
+
+  !> Return the trial stress s to the von Mises surface (linear isotropic hardening, optional
+  !! Cowper-Symonds factor). Plane strain: 3-D radial return, closed form without rate effects.
+  !! Plane stress: plane-stress-projected return (Simo & Taylor 1986) with a scalar Newton.
+  pure subroutine j2_return(mat, plane, dt, eqps, s, deqps, dwp, stat)
+    type(material_t), intent(in) :: mat  !! material [-]
+    integer, intent(in) :: plane         !! PLANE_STRAIN or PLANE_STRESS [-]
+    real(wp), intent(in) :: dt           !! time step [s]
+    real(wp), intent(in) :: eqps         !! equivalent plastic strain at step start [-]
+    real(wp), intent(inout) :: s(4)      !! trial stress in, returned stress out [Pa]
+    real(wp), intent(out) :: deqps       !! equivalent plastic strain increment [-]
+    real(wp), intent(out) :: dwp         !! plastic dissipation per current volume [J/m^3]
+    integer, intent(out) :: stat         !! 0 ok, 1 not converged, 2 bad parameters [-]
+    real(wp) :: k0, p, dev(4), q, three_mu, x, x_hi, fac, k_end, a, t1, t2, fa, fb
+    logical :: rate
+    deqps = 0.0_wp
+    dwp = 0.0_wp
+    stat = MATERIAL_BAD_INPUT
+    rate = mat%rate_law == RATE_COWPER_SYMONDS
+    if (.not. (mat%sigma_y > 0.0_wp .and. mat%hardening >= 0.0_wp)) return
+    if (rate .and. .not. (mat%cs_d > 0.0_wp .and. mat%cs_q > 0.0_wp)) return
+    stat = MATERIAL_OK
+    three_mu = 3.0_wp*mat%mu
+    k0 = mat%sigma_y + mat%hardening*eqps       ! static yield, yield = sigma_y + H eqps
+    if (plane == PLANE_STRAIN) then
+      p = (s(1) + s(2) + s(4))/3.0_wp
+      dev = [s(1) - p, s(2) - p, s(3), s(4) - p]
+      q = sqrt(1.5_wp*(dev(1)**2 + dev(2)**2 + dev(4)**2 + 2.0_wp*dev(3)**2))  ! sqrt(3 J2)
+      if (q <= k0) return
+      deqps = (q - k0)/(three_mu + mat%hardening)  ! Simo & Hughes (1998), Box 3.2 (linear H)
+      if (.not. rate) then
+        fac = 1.0_wp - three_mu*deqps/q              ! n_{n+1} = n_trial, radial scaling
+        k_end = k0 + mat%hardening*deqps
+      else
+        if (dt == 0.0_wp) then   ! infinite rate factor: no plastic flow in zero time
+          deqps = 0.0_wp
+          return
+        end if
+        x_hi = deqps/(k0 + mat%hardening*deqps)     ! static root in x = deqps / q_end
+        call solve_multiplier(mat, dt, k0, 0.0_wp, 0.0_wp, q*q, x_hi, rate, x, stat)
+        if (stat /= MATERIAL_OK) return
+        fac = 1.0_wp/(1.0_wp + three_mu*x)          ! s_end = s_trial / (1 + 3 mu x)
+        deqps = x*q*fac
+        k_end = (k0 + mat%hardening*deqps)*cs_factor(mat, deqps, dt)
+      end if
+      s(1) = p + fac*dev(1)
+      s(2) = p + fac*dev(2)
+      s(3) = fac*dev(3)
+      s(4) = p + fac*dev(4)
+    else
+      ! Plane stress in (A, B, C) = ((sxx+syy)/2, (sxx-syy)/2, sxy): q^2 = A^2 + 3 (B^2 + C^2).
+      fa = 0.5_wp*(s(1) + s(2))
+      fb = 0.5_wp*(s(1) - s(2))
+      t1 = fa**2
+      t2 = 3.0_wp*(fb**2 + s(3)**2)
+      q = sqrt(t1 + t2)
+      if (q <= k0) return
+      if (rate .and. dt == 0.0_wp) return
+      a = mat%E/(2.0_wp*(1.0_wp - mat%nu))          ! plane-stress modulus of A: E / (2 (1 - nu))
+      ! Bracket: q(x) <= q_trial / (1 + min(a, 3 mu) x) and yield >= k0; at x = 1/H, f <= -k0.
+      x_hi = (q/k0 - 1.0_wp)/min(a, three_mu)
+      if (mat%hardening > 0.0_wp) x_hi = min(x_hi, 1.0_wp/mat%hardening)
+      call solve_multiplier(mat, dt, k0, a, t1, t2, x_hi, rate, x, stat)
+      if (stat /= MATERIAL_OK) return
+      fa = fa/(1.0_wp + a*x)                 ! A = A_trial / (1 + a x), Simo & Taylor (1986)
+      fac = 1.0_wp/(1.0_wp + three_mu*x)     ! B, C = trial / (1 + 3 mu x)
+      fb = fb*fac
+      s(3) = s(3)*fac
+      s(1) = fa + fb
+      s(2) = fa - fb
+      s(4) = 0.0_wp
+      deqps = x*sqrt(fa**2 + 3.0_wp*(fb**2 + s(3)**2))   ! deqps = x q_end
+      k_end = k0 + mat%hardening*deqps
+      if (rate) k_end = k_end*cs_factor(mat, deqps, dt)
+    end if
+    dwp = k_end*deqps    ! sigma_end : d eps_p = q_end deqps = yield_end deqps
+  end subroutine j2_return
+
+  !> Cowper-Symonds factor 1 + (deqps / (D dt))^(1/q) (Cowper & Symonds 1957; Jones 1989).
+  pure function cs_factor(mat, deqps, dt) result(r)
+    type(material_t), intent(in) :: mat  !! material [-]
+    real(wp), intent(in) :: deqps        !! equivalent plastic strain increment [-]
+    real(wp), intent(in) :: dt           !! time step [s]
+    real(wp) :: r
+    r = 1.0_wp
+    if (deqps > 0.0_wp) r = 1.0_wp + (deqps/(mat%cs_d*dt))**(1.0_wp/mat%cs_q)
+  end function cs_factor
+
+  !> Safeguarded Newton-bisection for x = deqps / q_end on the bracket [0, x_hi].
+  !! Unknown x: the returned equivalent stress is qbar(x) = sqrt(t1/(1+a x)^2 + t2/(1+3 mu x)^2)
+  !! and deqps = x qbar(x). Static: g = qbar - (k0 + H deqps). Rate form (no infinite slope):
+  !! g = D dt (qbar/(k0 + H deqps) - 1)^q - deqps. Both decrease in x, g(0) > 0, g(x_hi) <= 0.
+  pure subroutine solve_multiplier(mat, dt, k0, a, t1, t2, x_hi, rate, x, stat)
+    type(material_t), intent(in) :: mat  !! material [-]
+    real(wp), intent(in) :: dt           !! time step [s]
+    real(wp), intent(in) :: k0           !! static yield stress at step start [Pa]
+    real(wp), intent(in) :: a            !! modulus of the first invariant part [Pa]
+    real(wp), intent(in) :: t1           !! trial A^2 [Pa^2]
+    real(wp), intent(in) :: t2           !! trial 3 (B^2 + C^2) [Pa^2]
+    real(wp), intent(in) :: x_hi         !! upper bracket [1/Pa]
+    logical, intent(in) :: rate          !! Cowper-Symonds on [-]
+    real(wp), intent(out) :: x           !! root [1/Pa]
+    integer, intent(out) :: stat         !! 0 ok, 1 not converged [-]
+    real(wp) :: lo, hi, xn, g, dg
+    integer :: it
+    stat = MATERIAL_OK
+    lo = 0.0_wp
+    hi = x_hi
+    x = 0.0_wp
+    do it = 1, return_max_iter
+      call multiplier_residual(mat, dt, k0, a, t1, t2, x, rate, g, dg)
+      if (g > 0.0_wp) then
+        lo = x
+      else if (g < 0.0_wp) then
+        hi = x
+      else
+        return
+      end if
+      xn = -1.0_wp
+      if (dg < 0.0_wp) xn = x - g/dg
+      if (.not. (xn > lo .and. xn < hi)) xn = 0.5_wp*(lo + hi)
+      if (abs(xn - x) <= return_tol*xn) then
+        x = xn
+        return
+      end if
+      x = xn
+    end do
+    stat = MATERIAL_NOT_CONVERGED
+  end subroutine solve_multiplier
+
+  !> Residual g(x) and dg/dx of the return-mapping scalar equation (see solve_multiplier).
+  pure subroutine multiplier_residual(mat, dt, k0, a, t1, t2, x, rate, g, dg)
+    type(material_t), intent(in) :: mat  !! material [-]
+    real(wp), intent(in) :: dt           !! time step [s]
+    real(wp), intent(in) :: k0           !! static yield stress at step start [Pa]
+    real(wp), intent(in) :: a            !! modulus of the first invariant part [Pa]
+    real(wp), intent(in) :: t1           !! trial A^2 [Pa^2]
+    real(wp), intent(in) :: t2           !! trial 3 (B^2 + C^2) [Pa^2]
+    real(wp), intent(in) :: x            !! unknown x = deqps / q_end [1/Pa]
+    logical, intent(in) :: rate          !! Cowper-Symonds on [-]
+    real(wp), intent(out) :: g           !! residual [Pa] (static) or [-] (rate)
+    real(wp), intent(out) :: dg          !! dg/dx [Pa^2] or [Pa]
+    real(wp) :: ea, eb, b, qb, dqb, dl, ddl, ks, dks, r, dr, pw, ddt
+    b = 3.0_wp*mat%mu
+    ea = 1.0_wp/(1.0_wp + a*x)
+    eb = 1.0_wp/(1.0_wp + b*x)
+    qb = sqrt(t1*ea**2 + t2*eb**2)
+    dqb = -(a*t1*ea**3 + b*t2*eb**3)/qb
+    dl = x*qb
+    ddl = qb + x*dqb
+    ks = k0 + mat%hardening*dl
+    dks = mat%hardening*ddl
+    if (.not. rate) then
+      g = qb - ks
+      dg = dqb - dks
+    else
+      ddt = mat%cs_d*dt
+      r = qb/ks
+      dr = (dqb*ks - qb*dks)/ks**2
+      if (r > 1.0_wp) then
+        pw = (r - 1.0_wp)**mat%cs_q    ! (deqps / (D dt))^(1/q) = q_end / yield_static - 1
+        g = ddt*pw - dl
+        dg = ddt*mat%cs_q*pw/(r - 1.0_wp)*dr - ddl
+      else
+        g = -dl
+        dg = -ddl
+      end if
+    end if
+  end subroutine multiplier_residual
+
+  ! ---------------------------------------------------------------------------------------
+  ! Neo-Hookean
+
+  !> Compressible Neo-Hookean stress sigma = (lambda ln J / J) I + (mu / J)(B - I) and the
+  !! energy density W / J, W = mu/2 (tr C - 3) - mu ln J + lambda/2 (ln J)^2.
+  !! Plane strain: F_zz = 1. Plane stress: F_zz from sigma_zz = 0 (Newton in ln F_zz).
+  pure subroutine neohookean_stress(mat, plane, F, s, w, stat)
+    type(material_t), intent(in) :: mat  !! material [-]
+    integer, intent(in) :: plane         !! PLANE_STRAIN or PLANE_STRESS [-]
+    real(wp), intent(in) :: F(2,2)       !! in-plane deformation gradient [-]
+    real(wp), intent(out) :: s(4)        !! Cauchy stress (xx, yy, xy, zz) [Pa]
+    real(wp), intent(out) :: w           !! energy per current volume [J/m^3]
+    integer, intent(out) :: stat         !! 0 ok, 1 not converged, 2 det F <= 0 [-]
+    real(wp) :: j2d, lnj, t, fzz, jac, b11, b22, b12, c, m
+    s = 0.0_wp
+    w = 0.0_wp
+    stat = MATERIAL_BAD_INPUT
+    j2d = F(1,1)*F(2,2) - F(1,2)*F(2,1)
+    if (.not. (j2d > 0.0_wp)) return
+    t = 0.0_wp
+    if (plane == PLANE_STRESS) then
+      call neohookean_thickness(mat, log(j2d), t, stat)
+      if (stat /= MATERIAL_OK) return
+    end if
+    stat = MATERIAL_OK
+    fzz = exp(t)
+    lnj = log(j2d) + t
+    jac = j2d*fzz
+    b11 = F(1,1)**2 + F(1,2)**2                 ! B = F F^T
+    b22 = F(2,1)**2 + F(2,2)**2
+    b12 = F(1,1)*F(2,1) + F(1,2)*F(2,2)
+    c = mat%lambda*lnj/jac
+    m = mat%mu/jac
+    s(1) = c + m*(b11 - 1.0_wp)                 ! METHOD.md section 9 (Neo-Hookean)
+    s(2) = c + m*(b22 - 1.0_wp)
+    s(3) = m*b12
+    if (plane == PLANE_STRAIN) s(4) = c         ! B_zz = 1
+    w = (0.5_wp*mat%mu*(b11 + b22 + fzz**2 - 3.0_wp) - mat%mu*lnj &
+         + 0.5_wp*mat%lambda*lnj**2)/jac        ! Simo & Hughes (1998), compressible Neo-Hookean
+  end subroutine neohookean_stress
+
+  !> Thickness log-stretch t = ln F_zz with sigma_zz = 0:
+  !! h(t) = lambda (ln J_2d + t) + mu (exp(2 t) - 1) = 0. h is increasing and convex, the root
+  !! lies between 0 and -ln J_2d; Newton from the linearised root, bisection as a safeguard.
+  pure subroutine neohookean_thickness(mat, ln_j2d, t, stat)
+    type(material_t), intent(in) :: mat  !! material [-]
+    real(wp), intent(in) :: ln_j2d       !! ln det(F_2d) [-]
+    real(wp), intent(out) :: t           !! ln F_zz [-]
+    integer, intent(out) :: stat         !! 0 ok, 1 not converged [-]
+    real(wp) :: lo, hi, h, dh, tn, e2t
+    integer :: it
+    stat = MATERIAL_OK
+    lo = min(0.0_wp, -ln_j2d)
+    hi = max(0.0_wp, -ln_j2d)
+    t = -mat%lambda*ln_j2d/(mat%lambda + 2.0_wp*mat%mu)   ! small-strain root
+    do it = 1, stretch_max_iter
+      e2t = exp(2.0_wp*t)
+      h = mat%lambda*(ln_j2d + t) + mat%mu*(e2t - 1.0_wp)
+      dh = mat%lambda + 2.0_wp*mat%mu*e2t
+      if (h > 0.0_wp) then
+        hi = t
+      else if (h < 0.0_wp) then
+        lo = t
+      else
+        return
+      end if
+      tn = t - h/dh
+      if (.not. (tn >= lo .and. tn <= hi)) tn = 0.5_wp*(lo + hi)
+      if (abs(tn - t) <= stretch_tol) then
+        t = tn
+        return
+      end if
+      t = tn
+    end do
+    stat = MATERIAL_NOT_CONVERGED
+  end subroutine neohookean_thickness
+end module mpm_material

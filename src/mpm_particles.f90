@@ -1,0 +1,217 @@
+!> Material points as a structure of arrays, and the bodies that create them (rings, rectangles).
+! SPDX-License-Identifier: MIT
+!
+! Every particle is a quadrilateral domain. Ring particles follow METHOD.md sec. 6: radii
+! r_j = r_in + j t / n_t, angles theta_k; particle (j, k) has the corners (r_j, theta_k),
+! (r_j+1, theta_k), (r_j+1, theta_k+1), (r_j, theta_k+1), counter-clockwise. The corners are
+! stored once and shared by neighbours (CPDI2 keeps the tiling conforming); the other bases
+! use the domain's centroid, area and (CPDI1) half-vectors.
+module mpm_particles
+  use mpm_kinds, only: wp, i8
+  use mpm_constants, only: pi, SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER
+  implicit none
+  private
+  public :: particles_t, particles_allocate, ring_counts, ring_fill, rect_counts, rect_fill, &
+            quad_area_centroid, particles_memory_bytes
+
+  !> All particles of all bodies. Component index first.
+  type :: particles_t
+    integer :: np = 0                      !! number of particles
+    integer :: nc = 0                      !! number of domain corners
+    real(wp), allocatable :: x(:,:)        !! position (2, np) [m]
+    real(wp), allocatable :: v(:,:)        !! velocity (2, np) [m/s]
+    real(wp), allocatable :: mass(:)       !! mass per unit depth [kg/m]
+    real(wp), allocatable :: vol0(:)       !! initial area (volume per unit depth) [m^2]
+    real(wp), allocatable :: vol(:)        !! current area J * vol0 [m^2]
+    real(wp), allocatable :: F(:,:,:)      !! deformation gradient (2, 2, np) [-]
+    real(wp), allocatable :: stress(:,:)   !! Cauchy stress (xx, yy, xy, zz) (4, np) [Pa]
+    real(wp), allocatable :: eqps(:)       !! equivalent plastic strain [-]
+    real(wp), allocatable :: wplastic(:)   !! plastic work per unit depth [J/m]
+    real(wp), allocatable :: r10(:,:)      !! initial CPDI1 half-vector 1 (2, np) [m]
+    real(wp), allocatable :: r20(:,:)      !! initial CPDI1 half-vector 2 (2, np) [m]
+    real(wp), allocatable :: half(:,:)     !! uGIMP / linear half sizes (2, np) [m]
+    integer, allocatable :: corner(:,:)    !! corner ids (4, np), counter-clockwise
+    real(wp), allocatable :: xc(:,:)       !! corner positions (2, nc) [m]
+    integer, allocatable :: mat(:)         !! material index
+    integer, allocatable :: body(:)        !! body index
+  end type particles_t
+
+contains
+
+  !> Allocate storage for np particles and nc corners; zero the state, F = I.
+  subroutine particles_allocate(p, np, nc)
+    type(particles_t), intent(inout) :: p  !! particles
+    integer, intent(in) :: np              !! number of particles
+    integer, intent(in) :: nc              !! number of corners
+    p%np = np
+    p%nc = nc
+    allocate(p%x(2, np), p%v(2, np), p%mass(np), p%vol0(np), p%vol(np), p%F(2, 2, np))
+    allocate(p%stress(4, np), p%eqps(np), p%wplastic(np), p%r10(2, np), p%r20(2, np))
+    allocate(p%half(2, np), p%corner(4, np), p%xc(2, nc), p%mat(np), p%body(np))
+    p%x = 0.0_wp; p%v = 0.0_wp; p%mass = 0.0_wp; p%vol0 = 0.0_wp; p%vol = 0.0_wp
+    p%F = 0.0_wp
+    p%F(1, 1, :) = 1.0_wp
+    p%F(2, 2, :) = 1.0_wp
+    p%stress = 0.0_wp; p%eqps = 0.0_wp; p%wplastic = 0.0_wp
+    p%r10 = 0.0_wp; p%r20 = 0.0_wp; p%half = 0.0_wp; p%corner = 0; p%xc = 0.0_wp
+    p%mat = 0; p%body = 0
+  end subroutine particles_allocate
+
+  !> Angular span and particle/corner counts of a ring body.
+  pure subroutine ring_counts(r_inner, r_outer, n_thick, n_circ, sector, nk, np, nc)
+    real(wp), intent(in) :: r_inner, r_outer  !! radii [m]
+    integer, intent(in) :: n_thick            !! particles through the wall
+    integer, intent(in) :: n_circ             !! particles around the whole ring (0 = auto)
+    integer, intent(in) :: sector             !! SECTOR_* code
+    integer, intent(out) :: nk                !! particles around the modelled sector
+    integer, intent(out) :: np                !! particles
+    integer, intent(out) :: nc                !! corners
+    integer :: n_full, parts
+    parts = 1
+    if (sector == SECTOR_HALF) parts = 2
+    if (sector == SECTOR_QUARTER) parts = 4
+    n_full = n_circ
+    if (n_full <= 0) then   ! aspect ratio near 1 at the mid-surface, divisible by 4
+      n_full = max(4, 4*nint(2.0_wp*pi*0.5_wp*(r_inner + r_outer) &
+                    /((r_outer - r_inner)/real(n_thick, wp))/4.0_wp))
+    end if
+    nk = n_full/parts
+    np = n_thick*nk
+    if (sector == SECTOR_FULL) then
+      nc = (n_thick + 1)*nk
+    else
+      nc = (n_thick + 1)*(nk + 1)
+    end if
+  end subroutine ring_counts
+
+  !> Fill particles ip0+1.. and corners ic0+1.. of a ring (METHOD.md sec. 6).
+  !! half: the part x >= cx; quarter: x >= cx and y >= cy.
+  subroutine ring_fill(p, ip0, ic0, center, r_inner, r_outer, n_thick, nk, sector, rho, &
+                       velocity, imat, ibody)
+    type(particles_t), intent(inout) :: p     !! particles
+    integer, intent(in) :: ip0, ic0           !! particles and corners already filled
+    real(wp), intent(in) :: center(2)         !! ring centre [m]
+    real(wp), intent(in) :: r_inner, r_outer  !! radii [m]
+    integer, intent(in) :: n_thick, nk        !! particles through the wall and around
+    integer, intent(in) :: sector             !! SECTOR_* code
+    real(wp), intent(in) :: rho               !! density (mass-scaled) [kg/m^3]
+    real(wp), intent(in) :: velocity(2)       !! initial velocity [m/s]
+    integer, intent(in) :: imat, ibody        !! material and body index
+    integer :: j, k, ip, kc, nkc
+    real(wp) :: theta0, dtheta, r, th, xq(2, 4)
+    theta0 = 0.0_wp
+    dtheta = 2.0_wp*pi/real(nk, wp)
+    nkc = nk
+    select case (sector)
+    case (SECTOR_HALF)
+      theta0 = -0.5_wp*pi; dtheta = pi/real(nk, wp); nkc = nk + 1
+    case (SECTOR_QUARTER)
+      theta0 = 0.0_wp; dtheta = 0.5_wp*pi/real(nk, wp); nkc = nk + 1
+    end select
+    do k = 0, nkc - 1
+      th = theta0 + dtheta*real(k, wp)
+      do j = 0, n_thick
+        r = r_inner + (r_outer - r_inner)*real(j, wp)/real(n_thick, wp)
+        p%xc(:, ic0 + 1 + j + (n_thick + 1)*k) = center + r*[cos(th), sin(th)]
+      end do
+    end do
+    do k = 0, nk - 1
+      kc = k + 1
+      if (kc == nkc) kc = 0                   ! the full ring closes on itself
+      do j = 0, n_thick - 1
+        ip = ip0 + 1 + j + n_thick*k
+        p%corner(:, ip) = ic0 + [1 + j + (n_thick + 1)*k, 2 + j + (n_thick + 1)*k, &
+                                 2 + j + (n_thick + 1)*kc, 1 + j + (n_thick + 1)*kc]
+        xq = p%xc(:, p%corner(:, ip))
+        call set_particle(p, ip, xq, rho, velocity, imat, ibody)
+      end do
+    end do
+  end subroutine ring_fill
+
+  !> Particle and corner counts of a rectangle.
+  pure subroutine rect_counts(n_x, n_y, np, nc)
+    integer, intent(in) :: n_x, n_y           !! particles along x and y
+    integer, intent(out) :: np, nc            !! particles and corners
+    np = n_x*n_y
+    nc = (n_x + 1)*(n_y + 1)
+  end subroutine rect_counts
+
+  !> Fill particles ip0+1.. and corners ic0+1.. of an axis-aligned rectangle.
+  subroutine rect_fill(p, ip0, ic0, center, size, n_x, n_y, rho, velocity, imat, ibody)
+    type(particles_t), intent(inout) :: p     !! particles
+    integer, intent(in) :: ip0, ic0           !! particles and corners already filled
+    real(wp), intent(in) :: center(2)         !! rectangle centre [m]
+    real(wp), intent(in) :: size(2)           !! side lengths [m]
+    integer, intent(in) :: n_x, n_y           !! particles along x and y
+    real(wp), intent(in) :: rho               !! density (mass-scaled) [kg/m^3]
+    real(wp), intent(in) :: velocity(2)       !! initial velocity [m/s]
+    integer, intent(in) :: imat, ibody        !! material and body index
+    integer :: i, j, ip
+    real(wp) :: lo(2), xq(2, 4)
+    lo = center - 0.5_wp*size
+    do j = 0, n_y
+      do i = 0, n_x
+        p%xc(:, ic0 + 1 + i + (n_x + 1)*j) = lo + size*[real(i, wp)/real(n_x, wp), &
+                                                          real(j, wp)/real(n_y, wp)]
+      end do
+    end do
+    do j = 0, n_y - 1
+      do i = 0, n_x - 1
+        ip = ip0 + 1 + i + n_x*j
+        p%corner(:, ip) = ic0 + [1 + i + (n_x + 1)*j, 2 + i + (n_x + 1)*j, &
+                                 2 + i + (n_x + 1)*(j + 1), 1 + i + (n_x + 1)*(j + 1)]
+        xq = p%xc(:, p%corner(:, ip))
+        call set_particle(p, ip, xq, rho, velocity, imat, ibody)
+      end do
+    end do
+  end subroutine rect_fill
+
+  !> Initial state of one particle from its quadrilateral.
+  subroutine set_particle(p, ip, xq, rho, velocity, imat, ibody)
+    type(particles_t), intent(inout) :: p     !! particles
+    integer, intent(in) :: ip                 !! particle index
+    real(wp), intent(in) :: xq(2, 4)          !! corners, counter-clockwise [m]
+    real(wp), intent(in) :: rho               !! density [kg/m^3]
+    real(wp), intent(in) :: velocity(2)       !! [m/s]
+    integer, intent(in) :: imat, ibody        !! material and body index
+    real(wp) :: area, c(2)
+    call quad_area_centroid(xq, area, c)
+    p%x(:, ip) = c
+    p%v(:, ip) = velocity
+    p%vol0(ip) = area
+    p%vol(ip) = area
+    p%mass(ip) = rho*area
+    ! CPDI1 parallelogram: mean edge vectors (exact for parallelograms and isosceles trapezia)
+    p%r10(:, ip) = 0.25_wp*(xq(:, 2) - xq(:, 1) + xq(:, 3) - xq(:, 4))
+    p%r20(:, ip) = 0.25_wp*(xq(:, 4) - xq(:, 1) + xq(:, 3) - xq(:, 2))
+    p%half(:, ip) = 0.5_wp*sqrt(area)          ! uGIMP square of side sqrt(V0), METHOD.md sec. 3
+    p%mat(ip) = imat
+    p%body(ip) = ibody
+  end subroutine set_particle
+
+  !> Area (shoelace, positive counter-clockwise) and area centroid of a quadrilateral.
+  pure subroutine quad_area_centroid(xq, area, c)
+    real(wp), intent(in) :: xq(2, 4)          !! corners [m]
+    real(wp), intent(out) :: area             !! signed area [m^2]
+    real(wp), intent(out) :: c(2)             !! centroid [m]
+    integer :: a, b
+    real(wp) :: cr, s(2)
+    area = 0.0_wp
+    s = 0.0_wp
+    do a = 1, 4
+      b = mod(a, 4) + 1
+      cr = xq(1, a)*xq(2, b) - xq(1, b)*xq(2, a)
+      area = area + cr
+      s = s + (xq(:, a) + xq(:, b))*cr
+    end do
+    area = 0.5_wp*area
+    c = s/(6.0_wp*area)
+  end subroutine quad_area_centroid
+
+  !> Memory held per the particle arrays [bytes] (excluding the per-step basis cache).
+  pure function particles_memory_bytes(np, nc) result(b)
+    integer, intent(in) :: np, nc             !! particles and corners
+    integer(i8) :: b
+    b = int(np, i8)*(8_i8*29_i8 + 4_i8*6_i8) + int(nc, i8)*16_i8
+  end function particles_memory_bytes
+end module mpm_particles

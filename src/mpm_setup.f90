@@ -1,0 +1,299 @@
+!> Build the simulation from the case: materials, bodies, walls (with sector mirror planes),
+!! fitted grid, initial energies; the derived set-up and the experts' warnings for --check.
+! SPDX-License-Identifier: MIT
+module mpm_setup
+  use mpm_kinds, only: wp, i8
+  use mpm_constants, only: pi, EXIT_INPUT, SHAPE_RING, SHAPE_RECT, SECTOR_FULL, SECTOR_HALF, &
+                           SECTOR_QUARTER, CONTACT_SLIP, BASIS_LINEAR, basis_names, &
+                           scheme_names, plane_names, sector_names, PLANE_STRESS
+  use mpm_config, only: config_t
+  use mpm_particles, only: particles_allocate, ring_counts, ring_fill, rect_counts, rect_fill, &
+                           particles_memory_bytes
+  use mpm_grid, only: grid_init, grid_memory_bytes
+  use mpm_walls, only: wall_t, wall_travel
+  use mpm_material, only: material_new, material_wave_speed
+  use mpm_solver, only: sim_t, solver_stable_dt, solver_init_energy, solver_wall_point
+  use mpm_errors, only: append_msg
+  use mpm_strings, only: itoa
+  implicit none
+  private
+  public :: setup_sim, setup_report, sector_factor
+
+contains
+
+  !> Output factor from the modelled sector to the full ring: 1, 2 or 4.
+  pure function sector_factor(cfg) result(f)
+    type(config_t), intent(in) :: cfg      !! the case
+    real(wp) :: f
+    integer :: ib
+    f = 1.0_wp
+    do ib = 1, size(cfg%bodies)
+      if (cfg%bodies(ib)%shape_id /= SHAPE_RING) cycle
+      if (cfg%bodies(ib)%sector_id == SECTOR_HALF) f = 2.0_wp
+      if (cfg%bodies(ib)%sector_id == SECTOR_QUARTER) f = 4.0_wp
+    end do
+  end function sector_factor
+
+  !> Create particles, walls, materials and grid from a validated case.
+  subroutine setup_sim(cfg, s, stat, errmsg)
+    type(config_t), intent(in) :: cfg      !! the case (validated)
+    type(sim_t), intent(out) :: s          !! the simulation at t = 0
+    integer, intent(out) :: stat           !! 0 or EXIT_INPUT
+    character(len=:), allocatable, intent(out) :: errmsg  !! what is inconsistent
+    integer :: ib, im, k, np, nc, npb, ncb, nk, nmirror, sector_id
+    real(wp) :: lo(2), hi(2), anchor(2), rho, margin
+    type(wall_t), allocatable :: walls(:)
+    stat = 0
+    errmsg = ''
+    ! materials, with the density scaled for quasi-static runs
+    allocate(s%mats(size(cfg%materials)))
+    do im = 1, size(cfg%materials)
+      associate (m => cfg%materials(im))
+        s%mats(im) = material_new(m%model_id, m%rate_law_id, m%E, m%nu, &
+                                  m%rho*cfg%solver%mass_scale, m%sigma_y, m%hardening, &
+                                  m%cs_d, m%cs_q)
+        s%c_max = max(s%c_max, material_wave_speed(s%mats(im)))
+      end associate
+    end do
+    ! bodies: one sector kind for all rings (outputs are scaled to the full ring)
+    sector_id = SECTOR_FULL
+    np = 0
+    nc = 0
+    do ib = 1, size(cfg%bodies)
+      associate (b => cfg%bodies(ib))
+        if (b%shape_id == SHAPE_RING) then
+          if (b%sector_id /= SECTOR_FULL) then
+            if (sector_id /= SECTOR_FULL .and. sector_id /= b%sector_id) then
+              call append_msg(errmsg, trim(cfg%file)//': &body #'//itoa(ib)// &
+                ': sector = '''//trim(b%sector)//''': all ring bodies must use the same '// &
+                'sector; allowed: one of full, half, quarter for every ring')
+              stat = EXIT_INPUT
+            end if
+            sector_id = b%sector_id
+          end if
+          call ring_counts(b%r_inner, b%r_outer, b%n_thick, b%n_circ, b%sector_id, nk, npb, ncb)
+        else
+          call rect_counts(b%n_x, b%n_y, npb, ncb)
+        end if
+        np = np + npb
+        nc = nc + ncb
+      end associate
+    end do
+    if (stat /= 0) return
+    call particles_allocate(s%p, np, nc)
+    np = 0
+    nc = 0
+    do ib = 1, size(cfg%bodies)
+      associate (b => cfg%bodies(ib))
+        rho = cfg%materials(b%material_id)%rho*cfg%solver%mass_scale
+        if (b%shape_id == SHAPE_RING) then
+          call ring_counts(b%r_inner, b%r_outer, b%n_thick, b%n_circ, b%sector_id, nk, npb, ncb)
+          call ring_fill(s%p, np, nc, b%center, b%r_inner, b%r_outer, b%n_thick, nk, &
+                         b%sector_id, rho, b%velocity, b%material_id, ib)
+        else
+          call rect_counts(b%n_x, b%n_y, npb, ncb)
+          call rect_fill(s%p, np, nc, b%center, b%size, b%n_x, b%n_y, rho, b%velocity, &
+                         b%material_id, ib)
+        end if
+        np = np + npb
+        nc = nc + ncb
+      end associate
+    end do
+    ! walls: the input's, then the mirror planes of the sector (if not given already)
+    nmirror = 0
+    if (sector_id == SECTOR_HALF) nmirror = 1
+    if (sector_id == SECTOR_QUARTER) nmirror = 2
+    allocate(walls(size(cfg%walls) + nmirror))
+    do k = 1, size(cfg%walls)
+      associate (wc => cfg%walls(k))
+        walls(k)%point0 = wc%point
+        walls(k)%normal = wc%normal/sqrt(dot_product(wc%normal, wc%normal))
+        walls(k)%contact = wc%contact_id
+        walls(k)%friction = wc%friction
+        walls(k)%velocity = wc%velocity
+        walls(k)%ramp = wc%ramp
+        walls(k)%n_motion = wc%n_motion
+        walls(k)%motion_t = wc%motion_t
+        walls(k)%motion_f = wc%motion_f
+        walls(k)%mirror = wc%mirror
+      end associate
+    end do
+    if (nmirror > 0) then
+      anchor = first_sector_center(cfg)
+      k = size(cfg%walls)
+      walls(k + 1)%point0 = anchor
+      walls(k + 1)%normal = [1.0_wp, 0.0_wp]
+      walls(k + 1)%contact = CONTACT_SLIP
+      walls(k + 1)%mirror = .true.
+      if (nmirror == 2) then
+        walls(k + 2)%point0 = anchor
+        walls(k + 2)%normal = [0.0_wp, 1.0_wp]
+        walls(k + 2)%contact = CONTACT_SLIP
+        walls(k + 2)%mirror = .true.
+      end if
+    end if
+    call move_alloc(walls, s%walls)
+    s%nwall = size(s%walls)
+    do k = 1, s%nwall
+      s%walls(k)%point = s%walls(k)%point0
+    end do
+    ! solver parameters
+    s%basis = cfg%solver%basis_id
+    s%scheme = cfg%solver%scheme_id
+    s%plane = cfg%solver%plane_id
+    s%flip = cfg%solver%flip
+    s%damping = cfg%solver%damping
+    s%cfl = cfg%run%cfl
+    s%dt_fixed = cfg%run%dt
+    s%t_end = cfg%run%t_end
+    s%gravity = cfg%run%gravity
+    ! grid: given bounds, or the bodies' extent plus two cells (it grows when material leaves)
+    if (cfg%grid%fitted) then
+      lo = minval(s%p%xc, dim=2)
+      hi = maxval(s%p%xc, dim=2)
+      margin = 2.0_wp*cfg%grid%h
+      if (s%basis /= BASIS_LINEAR) margin = margin + maxval(s%p%half)
+      lo = lo - margin
+      hi = hi + margin
+      anchor = cfg%bodies(1)%center
+      if (sector_id /= SECTOR_FULL) anchor = first_sector_center(cfg)
+      call grid_init(s%g, lo, hi, cfg%grid%h, anchor, s%nwall)
+      s%g%fixed = .false.
+    else
+      call grid_init(s%g, cfg%grid%lower, cfg%grid%upper, cfg%grid%h, cfg%grid%lower, s%nwall)
+      s%g%fixed = .true.
+    end if
+    call solver_init_energy(s)
+  end subroutine setup_sim
+
+  !> Centre of the first ring body modelled as a sector [m].
+  pure function first_sector_center(cfg) result(c)
+    type(config_t), intent(in) :: cfg      !! the case
+    real(wp) :: c(2)
+    integer :: ib
+    c = 0.0_wp
+    do ib = size(cfg%bodies), 1, -1
+      if (cfg%bodies(ib)%shape_id == SHAPE_RING .and. cfg%bodies(ib)%sector_id /= SECTOR_FULL) &
+        c = cfg%bodies(ib)%center
+    end do
+  end function first_sector_center
+
+  !> The derived set-up as text lines (for --check and the run's banner), and the warnings a
+  !! mechanics expert would give, one per line in `warnings`.
+  subroutine setup_report(cfg, s, report, warnings)
+    type(config_t), intent(in) :: cfg      !! the case
+    type(sim_t), intent(in) :: s           !! the simulation at t = 0
+    character(len=:), allocatable, intent(out) :: report    !! the set-up, one item per line
+    character(len=:), allocatable, intent(out) :: warnings  !! warnings, one per line ('' none)
+    integer :: ib, nk, npb, ncb, k
+    real(wp) :: dt_stable, dt, t, rm, ei, omega2, vwall, ratio, mass
+    integer(i8) :: steps, mem
+    character(len=256) :: line
+    report = ''
+    warnings = ''
+    write(line, '(a)') 'case '''//trim(cfg%run%title)//''' from '//trim(cfg%file)
+    call append_msg(report, line)
+    write(line, '(a,a,a,a,a,a,a,l1)') 'solver: basis ', trim(basis_names(s%basis)), &
+      ', scheme ', trim(scheme_names(s%scheme)), ', plane ', trim(plane_names(s%plane)), &
+      ', deterministic ', cfg%solver%deterministic
+    call append_msg(report, line)
+    do ib = 1, size(cfg%bodies)
+      associate (b => cfg%bodies(ib))
+        if (b%shape_id == SHAPE_RING) then
+          call ring_counts(b%r_inner, b%r_outer, b%n_thick, b%n_circ, b%sector_id, nk, npb, ncb)
+          write(line, '(a,i0,a,i0,a,i0,a,i0,a,a,a,es10.3,a,f6.2)') 'body ', ib, ': ring, ', &
+            npb, ' particles (', b%n_thick, ' through the wall x ', nk, ' around, sector ', &
+            trim(sector_names(b%sector_id)), '), t = ', b%r_outer - b%r_inner, &
+            ' m, particle aspect ', (2.0_wp*pi*0.5_wp*(b%r_inner + b%r_outer)/real(nk, wp) &
+            *merge(1.0_wp, merge(0.5_wp, 0.25_wp, b%sector_id == SECTOR_HALF), &
+            b%sector_id == SECTOR_FULL))/((b%r_outer - b%r_inner)/real(b%n_thick, wp))
+        else
+          call rect_counts(b%n_x, b%n_y, npb, ncb)
+          write(line, '(a,i0,a,i0,a,i0,a,i0,a)') 'body ', ib, ': rect, ', npb, ' particles (', &
+            b%n_x, ' x ', b%n_y, ')'
+        end if
+        call append_msg(report, line)
+      end associate
+    end do
+    write(line, '(a,i0,a,i0)') 'particles: ', s%p%np, ', domain corners: ', s%p%nc
+    call append_msg(report, line)
+    write(line, '(a,i0,a,i0,a,i0,a,es10.3,a,2es11.3,a,2es11.3,a)') 'grid: ', s%g%nx, ' x ', &
+      s%g%ny, ' = ', s%g%nn, ' nodes, h = ', s%g%h, ' m, from (', s%g%origin, ') to (', &
+      s%g%origin + s%g%h*real([s%g%nx - 1, s%g%ny - 1], wp), ') m'
+    call append_msg(report, line)
+    if (.not. s%g%fixed) call append_msg(report, '      (fitted to the bodies plus two '// &
+      'cells; it grows when the material moves out)')
+    write(line, '(a,i0,a,i0,a)') 'walls: ', s%nwall, ' (', count(s%walls(:)%mirror), &
+      ' mirror planes added by the sector)'
+    call append_msg(report, line)
+    dt_stable = solver_stable_dt(s)
+    dt = dt_stable
+    if (s%dt_fixed > 0.0_wp) dt = s%dt_fixed
+    steps = ceiling(s%t_end/dt, i8)
+    write(line, '(a,es11.4,a,es11.4,a,f5.3,a,es10.3,a)') 'time step: stable limit ', &
+      s%g%h/(s%c_max + s%vmax), ' s (cfl = 1), used ', dt, ' s (cfl ', &
+      dt*(s%c_max + s%vmax)/s%g%h, '), wave speed ', s%c_max, ' m/s'
+    call append_msg(report, line)
+    write(line, '(a,es11.4,a,i0,a)') 'steps: about ', real(steps, wp), ' to t_end (', steps, &
+      ' at the initial speeds)'
+    call append_msg(report, line)
+    mem = particles_memory_bytes(s%p%np, s%p%nc) + grid_memory_bytes(s%g, s%nwall) &
+          + int(s%p%np, i8)*8_i8*27_i8
+    write(line, '(a,f10.2,a)') 'memory estimate: ', real(mem, wp)/1048576.0_wp, ' MiB'
+    call append_msg(report, line)
+    write(line, '(a,es11.4,a)') 'work estimate: ', real(steps, wp)*real(s%p%np, wp), &
+      ' particle-steps'
+    call append_msg(report, line)
+    if (sector_factor(cfg) > 1.0_wp) then
+      write(line, '(a,f3.0,a)') 'outputs: energies and masses x ', sector_factor(cfg), &
+        ' and wall forces summed over mirror images (the full ring; docs/output.md)'
+      call append_msg(report, line)
+    end if
+
+    ! warnings of a mechanics expert
+    do ib = 1, size(cfg%bodies)
+      associate (b => cfg%bodies(ib))
+        if (b%shape_id /= SHAPE_RING) cycle
+        t = b%r_outer - b%r_inner
+        if (cfg%grid%h >= t) then
+          write(line, '(a,i0,a,es10.3,a,es10.3,a)') 'body ', ib, ': h = ', cfg%grid%h, &
+            ' m is not below the wall thickness t = ', t, ' m: both faces of the wall share '// &
+            'nodes, so the wall bends wrongly and opposite walls stick when they meet. Use h <= t/2'
+          call append_msg(warnings, line)
+        end if
+        if (b%n_thick < 16) then
+          write(line, '(a,i0,a,i0,a)') 'body ', ib, ': n_thick = ', b%n_thick, &
+            ' particles through the wall; fewer than 16 make plastic hinges too stiff '// &
+            '(Sinaie et al. 2018). Use n_thick >= 16 for accurate crush forces'
+          call append_msg(warnings, line)
+        end if
+        ! quasi-static crushing: platen speed against the ovalling mode (METHOD.md sec. 7)
+        rm = 0.5_wp*(b%r_inner + b%r_outer)
+        associate (m => cfg%materials(b%material_id))
+          ei = m%E*t**3/12.0_wp
+          if (cfg%solver%plane_id /= PLANE_STRESS) ei = ei/(1.0_wp - m%nu**2)
+          mass = m%rho*cfg%solver%mass_scale*t
+          omega2 = sqrt(ei/(mass*rm**4)*4.0_wp*9.0_wp/5.0_wp)
+        end associate
+        do k = 1, size(cfg%walls)
+          vwall = abs(dot_product(cfg%walls(k)%velocity, cfg%walls(k)%normal))
+          if (vwall <= 0.0_wp .or. cfg%walls(k)%n_motion > 0) cycle
+          ratio = vwall/(omega2*2.0_wp*rm)
+          if (ratio > 0.05_wp) then
+            write(line, '(a,i0,a,es10.3,a,f6.3,a)') 'wall ', k, ': speed ', vwall, &
+              ' m/s is ', ratio, ' of D * omega_2 (ring ovalling mode); above 0.05 the '// &
+              'crush is not quasi-static: inertia adds to the force. Lower the speed or '// &
+              'mass_scale, or check kinetic/plastic in history.csv'
+            call append_msg(warnings, line)
+          end if
+        end do
+      end associate
+    end do
+    if (s%dt_fixed > 0.0_wp .and. s%dt_fixed > 0.3_wp*s%g%h/(s%c_max + s%vmax)) then
+      write(line, '(a,es10.3,a,f5.2,a)') 'dt = ', s%dt_fixed, ' s is cfl ', &
+        s%dt_fixed*(s%c_max + s%vmax)/s%g%h, ' of the grid limit; above 0.3 runs may go unstable'
+      call append_msg(warnings, line)
+    end if
+  end subroutine setup_report
+
+end module mpm_setup

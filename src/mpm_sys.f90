@@ -1,0 +1,98 @@
+!> Fortran side of the C shim src/mpm_sys.c: directories, signals, terminal, rename.
+! SPDX-License-Identifier: MIT
+module mpm_sys
+  use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char
+  implicit none
+  private
+  public :: sys_mkdir_p, sys_install_signals, sys_signal_received, sys_stdout_isatty, &
+            sys_rename
+
+  interface
+    function c_install_signals() result(r) bind(C, name='tubempm_install_signals')
+      import :: c_int
+      integer(c_int) :: r
+    end function c_install_signals
+    function c_signal_received() result(r) bind(C, name='tubempm_signal_received')
+      import :: c_int
+      integer(c_int) :: r
+    end function c_signal_received
+    function c_stdout_isatty() result(r) bind(C, name='tubempm_stdout_isatty')
+      import :: c_int
+      integer(c_int) :: r
+    end function c_stdout_isatty
+    function c_mkdir_p(path, msg, n) result(r) bind(C, name='tubempm_mkdir_p')
+      import :: c_int, c_char
+      character(kind=c_char), intent(in) :: path(*)
+      character(kind=c_char), intent(out) :: msg(*)
+      integer(c_int), value :: n
+      integer(c_int) :: r
+    end function c_mkdir_p
+    function c_rename(from, to, msg, n) result(r) bind(C, name='tubempm_rename')
+      import :: c_int, c_char
+      character(kind=c_char), intent(in) :: from(*), to(*)
+      character(kind=c_char), intent(out) :: msg(*)
+      integer(c_int), value :: n
+      integer(c_int) :: r
+    end function c_rename
+  end interface
+
+contains
+
+  !> Create a directory and its parents; stat = errno (0 ok), errmsg the reason.
+  subroutine sys_mkdir_p(path, stat, errmsg)
+    character(len=*), intent(in) :: path   !! directory
+    integer, intent(out) :: stat           !! 0 or errno
+    character(len=:), allocatable, intent(out) :: errmsg  !! reason
+    character(kind=c_char) :: msg(512)
+    stat = int(c_mkdir_p(to_c(path), msg, 512_c_int))
+    errmsg = from_c(msg)
+  end subroutine sys_mkdir_p
+
+  !> Rename a file atomically; stat = errno (0 ok).
+  subroutine sys_rename(from, to, stat, errmsg)
+    character(len=*), intent(in) :: from, to  !! paths
+    integer, intent(out) :: stat           !! 0 or errno
+    character(len=:), allocatable, intent(out) :: errmsg  !! reason
+    character(kind=c_char) :: msg(512)
+    stat = int(c_rename(to_c(from), to_c(to), msg, 512_c_int))
+    errmsg = from_c(msg)
+  end subroutine sys_rename
+
+  !> Install SIGINT/SIGTERM handlers that only set a flag. True on success.
+  logical function sys_install_signals() result(ok)
+    ok = c_install_signals() == 0
+  end function sys_install_signals
+
+  !> The signal number received (0 none).
+  integer function sys_signal_received() result(sig)
+    sig = int(c_signal_received())
+  end function sys_signal_received
+
+  !> True when standard output is a terminal.
+  logical function sys_stdout_isatty() result(tty)
+    tty = c_stdout_isatty() == 1
+  end function sys_stdout_isatty
+
+  !> Fortran string to NUL-terminated C array.
+  pure function to_c(s) result(c)
+    character(len=*), intent(in) :: s      !! text
+    character(kind=c_char) :: c(len_trim(s) + 1)
+    integer :: i
+    do i = 1, len_trim(s)
+      c(i) = s(i:i)
+    end do
+    c(len_trim(s) + 1) = c_null_char
+  end function to_c
+
+  !> NUL-terminated C array to Fortran string.
+  pure function from_c(c) result(s)
+    character(kind=c_char), intent(in) :: c(:)  !! C text
+    character(len=:), allocatable :: s
+    integer :: i
+    s = ''
+    do i = 1, size(c)
+      if (c(i) == c_null_char) exit
+      s = s//c(i)
+    end do
+  end function from_c
+end module mpm_sys

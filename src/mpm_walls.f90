@@ -1,0 +1,148 @@
+!> Rigid straight walls (platens, targets, mirror planes) acting on grid nodes (METHOD.md sec. 5).
+! SPDX-License-Identifier: MIT
+!
+! Contact engages when the material surface reaches the plane, not when a node with mass does:
+! each node carries `gap`, the smallest distance to the wall of the domains (corners) of the
+! particles it supports. A node is in contact when its velocity relative to the wall would close
+! that gap within the step; then the normal relative velocity is cut to what exactly closes it
+! (to zero once the gap is closed). The momentum removed, divided by dt, is the wall force.
+module mpm_walls
+  use mpm_kinds, only: wp
+  use mpm_constants, only: pi, max_table, CONTACT_FRICTIONLESS, CONTACT_COULOMB, CONTACT_STICK, &
+                           CONTACT_SLIP
+  implicit none
+  private
+  public :: wall_t, wall_factor, wall_travel, wall_velocity, wall_constrain_node
+
+  !> A rigid plane with prescribed motion.
+  type :: wall_t
+    real(wp) :: point0(2) = 0.0_wp        !! point on the plane at t = 0 [m]
+    real(wp) :: normal(2) = [0.0_wp, 1.0_wp]  !! unit normal into the material side [-]
+    integer :: contact = CONTACT_FRICTIONLESS  !! CONTACT_* code
+    real(wp) :: friction = 0.0_wp         !! Coulomb coefficient [-]
+    real(wp) :: velocity(2) = 0.0_wp      !! prescribed velocity (full value) [m/s]
+    real(wp) :: ramp = 0.0_wp             !! smooth rise time [s]
+    integer :: n_motion = 0               !! table points (0 = ramp law)
+    real(wp) :: motion_t(max_table) = 0.0_wp  !! table times [s]
+    real(wp) :: motion_f(max_table) = 0.0_wp  !! table factors [-]
+    logical :: mirror = .false.           !! added by a body sector
+    ! state, updated every step
+    real(wp) :: point(2) = 0.0_wp         !! current point on the plane [m]
+    real(wp) :: impulse(2) = 0.0_wp       !! impulse on the material this step [N s per depth]
+    real(wp) :: force(2) = 0.0_wp         !! force of the material on the wall, last step [N/m]
+    real(wp) :: work = 0.0_wp             !! work done on the material so far [J/m]
+  end type wall_t
+
+contains
+
+  !> Factor on the prescribed velocity at time t: smooth ramp (1 - cos)/2, or the table.
+  pure function wall_factor(w, t) result(f)
+    type(wall_t), intent(in) :: w         !! the wall
+    real(wp), intent(in) :: t             !! time [s]
+    real(wp) :: f
+    integer :: k
+    if (w%n_motion > 0) then
+      if (t <= w%motion_t(1)) then
+        f = w%motion_f(1)
+      else if (t >= w%motion_t(w%n_motion)) then
+        f = w%motion_f(w%n_motion)
+      else
+        do k = 1, w%n_motion - 1
+          if (t < w%motion_t(k + 1)) exit
+        end do
+        f = w%motion_f(k) + (w%motion_f(k + 1) - w%motion_f(k))*(t - w%motion_t(k)) &
+            /(w%motion_t(k + 1) - w%motion_t(k))
+      end if
+    else if (w%ramp > 0.0_wp .and. t < w%ramp) then
+      f = 0.5_wp*(1.0_wp - cos(pi*t/w%ramp))
+    else
+      f = 1.0_wp
+    end if
+  end function wall_factor
+
+  !> Integral of the velocity factor from 0 to t [s] (exact for the ramp and the table).
+  pure function factor_integral(w, t) result(s)
+    type(wall_t), intent(in) :: w         !! the wall
+    real(wp), intent(in) :: t             !! time [s]
+    real(wp) :: s, ta, tb
+    integer :: k
+    if (w%n_motion > 0) then
+      s = w%motion_f(1)*min(t, w%motion_t(1))
+      do k = 1, w%n_motion - 1
+        ta = w%motion_t(k)
+        if (t <= ta) exit
+        tb = min(t, w%motion_t(k + 1))
+        s = s + (tb - ta)*(w%motion_f(k) + 0.5_wp*(w%motion_f(k + 1) - w%motion_f(k)) &
+                 *(tb - ta)/(w%motion_t(k + 1) - ta))
+      end do
+      if (t > w%motion_t(w%n_motion)) s = s + w%motion_f(w%n_motion)*(t - w%motion_t(w%n_motion))
+    else if (w%ramp > 0.0_wp) then
+      ta = min(t, w%ramp)
+      s = 0.5_wp*(ta - w%ramp/pi*sin(pi*ta/w%ramp)) + max(t - w%ramp, 0.0_wp)
+    else
+      s = t
+    end if
+  end function factor_integral
+
+  !> Prescribed wall velocity at time t [m/s].
+  pure function wall_velocity(w, t) result(v)
+    type(wall_t), intent(in) :: w         !! the wall
+    real(wp), intent(in) :: t             !! time [s]
+    real(wp) :: v(2)
+    v = w%velocity*wall_factor(w, t)
+  end function wall_velocity
+
+  !> Point on the plane at time t [m] is point0 + velocity * integral of the factor; this
+  !! returns the travel along minus the normal since t = 0 [m] and sets nothing.
+  pure function wall_travel(w, t) result(d)
+    type(wall_t), intent(in) :: w         !! the wall
+    real(wp), intent(in) :: t             !! time [s]
+    real(wp) :: d
+    d = -dot_product(w%velocity, w%normal)*factor_integral(w, t)
+  end function wall_travel
+
+  !> Apply the wall to one node. vel is the node velocity after the grid update; on return it
+  !! is the constrained velocity, and dp the momentum added to the node (mass * change).
+  pure subroutine wall_constrain_node(contact, friction, normal, vwall, xnode_dist, gap, &
+                                      mass, dt, vel, dp)
+    integer, intent(in) :: contact        !! CONTACT_* code
+    real(wp), intent(in) :: friction      !! Coulomb coefficient [-]
+    real(wp), intent(in) :: normal(2)     !! unit normal into the material [-]
+    real(wp), intent(in) :: vwall(2)      !! wall velocity over the step [m/s]
+    real(wp), intent(in) :: xnode_dist    !! signed distance of the node from the plane, minus a
+                                          !! round-off tolerance [m] (slip only)
+    real(wp), intent(in) :: gap           !! distance of the nearest material surface [m]
+    real(wp), intent(in) :: mass          !! node mass [kg/m]
+    real(wp), intent(in) :: dt            !! time step [s]
+    real(wp), intent(inout) :: vel(2)     !! node velocity [m/s]
+    real(wp), intent(out) :: dp(2)        !! momentum added to the node [kg m/s per m]
+    real(wp) :: vrel(2), vn, vn_new, vt(2), vt_norm, dvn, scale
+    dp = 0.0_wp
+    vrel = vel - vwall
+    vn = dot_product(vrel, normal)
+    if (contact == CONTACT_SLIP) then
+      ! mirror plane: nodes on or behind the plane move with it along the normal
+      if (xnode_dist > 0.0_wp) return
+      vn_new = 0.0_wp
+    else
+      if (vn >= 0.0_wp) return                        ! separating: no contact
+      if (gap + dt*vn >= 0.0_wp) return               ! the surface does not reach the wall
+      vn_new = -max(gap, 0.0_wp)/dt                   ! close the gap exactly, then stop
+    end if
+    dvn = vn_new - vn
+    vrel = vrel + dvn*normal
+    select case (contact)
+    case (CONTACT_STICK)
+      vrel = vn_new*normal
+    case (CONTACT_COULOMB)
+      vt = vrel - dot_product(vrel, normal)*normal
+      vt_norm = sqrt(dot_product(vt, vt))
+      if (vt_norm > 0.0_wp) then
+        scale = max(0.0_wp, 1.0_wp - friction*abs(dvn)/vt_norm)
+        vrel = dot_product(vrel, normal)*normal + scale*vt
+      end if
+    end select
+    dp = mass*(vrel + vwall - vel)
+    vel = vrel + vwall
+  end subroutine wall_constrain_node
+end module mpm_walls
