@@ -20,12 +20,12 @@ module mpm_basis
   use mpm_kinds, only: wp
   implicit none
   private
-  public :: basis_linear, basis_ugimp, basis_cpdi1, basis_cpdi2, cpdi2_geometry, bilinear_at
+  public :: weights_linear, weights_ugimp, weights_cpdi1, weights_cpdi2, cpdi2_geometry, bilinear_at
 
 contains
 
   !> Classic MPM basis: w_i = N_i(xp), gw_i = grad N_i(xp). need = 2.
-  pure subroutine basis_linear(xp, origin, h, nb, i0, j0, w, gw, need)
+  pure subroutine weights_linear(xp, origin, h, nb, i0, j0, w, gw, need)
     real(wp), intent(in) :: xp(2)           !! particle position [m]
     real(wp), intent(in) :: origin(2)       !! position of node (0, 0) [m]
     real(wp), intent(in) :: h               !! cell size [m]
@@ -50,11 +50,11 @@ contains
     kk = [1, 2, 1 + nb, 2 + nb]
     w(kk) = n4
     gw(:, kk) = dn4*invh
-  end subroutine basis_linear
+  end subroutine weights_linear
 
   !> uGIMP basis: w_i = average of N_i over the square [xp - half, xp + half] (closed form per
   !> direction, product of the two), gw_i = d w_i / d xp. need <= 3 when half <= h/2.
-  pure subroutine basis_ugimp(xp, half, origin, h, nb, i0, j0, w, gw, need)
+  pure subroutine weights_ugimp(xp, half, origin, h, nb, i0, j0, w, gw, need)
     real(wp), intent(in) :: xp(2)           !! particle centre [m]
     real(wp), intent(in) :: half(2)         !! half side lengths of the particle (>= 0) [m]
     real(wp), intent(in) :: origin(2)       !! position of node (0, 0) [m]
@@ -65,7 +65,7 @@ contains
     real(wp), intent(out) :: w(nb*nb)       !! weights of the block nodes [-]
     real(wp), intent(out) :: gw(2, nb*nb)   !! gradients of the weights [1/m]
     integer, intent(out) :: need            !! nodes per direction the particle needs [-]
-    real(wp) :: invh, s(2), sl(2), q(2), wx, gx, wy, gy
+    real(wp) :: invh, s(2), sl(2), q(2), wy, gy
     integer :: ihi, jhi, a, b, k
 
     invh = 1.0_wp/h
@@ -82,21 +82,31 @@ contains
     if (need > nb) return
     q = 0.0_wp
     where (sl > 0.0_wp) q = 1.0_wp/sl
-    do b = 0, jhi - j0
+    ! Row 0 first holds the 1-D x factors (w: value, gw(1,:): derivative per unit of s); the
+    ! other rows are their products with the y factors; row 0 is scaled last.
+    do a = 0, ihi - i0
+      call gimp_1d(s(1) - real(i0 + a, wp), sl(1), q(1), w(1 + a), gw(1, 1 + a))
+    end do
+    do b = 1, jhi - j0
       call gimp_1d(s(2) - real(j0 + b, wp), sl(2), q(2), wy, gy)
       do a = 0, ihi - i0
-        call gimp_1d(s(1) - real(i0 + a, wp), sl(1), q(1), wx, gx)
         k = 1 + a + nb*b
-        w(k) = wx*wy                          ! Bardenhagen & Kober 2004, uGIMP tensor product
-        gw(1, k) = gx*wy*invh
-        gw(2, k) = wx*gy*invh
+        w(k) = w(1 + a)*wy                    ! Bardenhagen & Kober 2004, uGIMP tensor product
+        gw(1, k) = gw(1, 1 + a)*wy*invh
+        gw(2, k) = w(1 + a)*gy*invh
       end do
     end do
-  end subroutine basis_ugimp
+    call gimp_1d(s(2) - real(j0, wp), sl(2), q(2), wy, gy)
+    do a = 0, ihi - i0
+      gw(2, 1 + a) = w(1 + a)*gy*invh
+      gw(1, 1 + a) = gw(1, 1 + a)*wy*invh
+      w(1 + a) = w(1 + a)*wy
+    end do
+  end subroutine weights_ugimp
 
   !> CPDI1 basis for the parallelogram centred at xp with half-vectors r1, r2: w_i = mean of
   !> N_i at the four corners; gw_i = average gradient of the corner interpolant of N_i.
-  pure subroutine basis_cpdi1(xp, r1, r2, origin, h, nb, i0, j0, w, gw, need)
+  pure subroutine weights_cpdi1(xp, r1, r2, origin, h, nb, i0, j0, w, gw, need)
     real(wp), intent(in) :: xp(2)           !! particle centre [m]
     real(wp), intent(in) :: r1(2)           !! first half-vector of the domain [m]
     real(wp), intent(in) :: r2(2)           !! second half-vector of the domain [m]
@@ -108,7 +118,7 @@ contains
     real(wp), intent(out) :: w(nb*nb)       !! weights of the block nodes [-]
     real(wp), intent(out) :: gw(2, nb*nb)   !! gradients of the weights [1/m]
     integer, intent(out) :: need            !! nodes per direction the particle needs [-]
-    real(wp) :: invh, sp(2), q1(2), q2(2), sc(2, 4), vol, inv_vol, ga(2), gb(2)
+    real(wp) :: invh, sp(2), q1(2), q2(2), sc(2, 4), vol, inv_vol, wc(4), gc(2, 4)
     integer :: ihi, jhi
 
     invh = 1.0_wp/h
@@ -131,18 +141,20 @@ contains
       return
     end if
     inv_vol = 1.0_wp/vol
-    ga = [r1(2) - r2(2), r2(1) - r1(1)]*inv_vol      ! Sadeghirad et al. 2011, grad phi
-    gb = [r1(2) + r2(2), -r1(1) - r2(1)]*inv_vol     ! (METHOD.md sec. 3)
-    call scatter_corner(sc(:, 1), i0, j0, ihi, jhi, nb, 0.25_wp, ga, w, gw)
-    call scatter_corner(sc(:, 2), i0, j0, ihi, jhi, nb, 0.25_wp, gb, w, gw)
-    call scatter_corner(sc(:, 3), i0, j0, ihi, jhi, nb, 0.25_wp, -ga, w, gw)
-    call scatter_corner(sc(:, 4), i0, j0, ihi, jhi, nb, 0.25_wp, -gb, w, gw)
-  end subroutine basis_cpdi1
+    ! grad phi = (1/V) {[N(x1) - N(x3)] (r1y - r2y, r2x - r1x)
+    !                  + [N(x2) - N(x4)] (r1y + r2y, -r1x - r2x)}   Sadeghirad et al. 2011
+    gc(:, 1) = [r1(2) - r2(2), r2(1) - r1(1)]*inv_vol
+    gc(:, 2) = [r1(2) + r2(2), -r1(1) - r2(1)]*inv_vol
+    gc(:, 3) = -gc(:, 1)
+    gc(:, 4) = -gc(:, 2)
+    wc = 0.25_wp                              ! Sadeghirad et al. 2011, phi = mean of corners
+    call scatter_corners(sc, wc, gc, i0, j0, ihi, jhi, nb, w, gw)
+  end subroutine weights_cpdi1
 
   !> CPDI2 / CPDI-Q4 basis for the quadrilateral with corners xc (counter-clockwise): w_i =
   !> exact average over the quad of the isoparametric interpolant of N_i from its corner values;
   !> gw_i = average gradient of that interpolant (boundary-integral form).
-  pure subroutine basis_cpdi2(xc, origin, h, nb, i0, j0, w, gw, need)
+  pure subroutine weights_cpdi2(xc, origin, h, nb, i0, j0, w, gw, need)
     real(wp), intent(in) :: xc(2, 4)        !! corners x1..x4, counter-clockwise [m]
     real(wp), intent(in) :: origin(2)       !! position of node (0, 0) [m]
     real(wp), intent(in) :: h               !! cell size [m]
@@ -152,7 +164,7 @@ contains
     real(wp), intent(out) :: w(nb*nb)       !! weights of the block nodes [-]
     real(wp), intent(out) :: gw(2, nb*nb)   !! gradients of the weights [1/m]
     integer, intent(out) :: need            !! nodes per direction the particle needs [-]
-    real(wp) :: invh, sc(2, 4), cj(4), area, wc(4), inv_2a, g1(2), g2(2)
+    real(wp) :: invh, sc(2, 4), cj(4), area, wc(4), inv_2a, gc(2, 4)
     integer :: ihi, jhi, c
 
     invh = 1.0_wp/h
@@ -171,13 +183,12 @@ contains
     call corner_weights(cj, area, wc)
     inv_2a = 0.5_wp/area
     ! grad phi = 1/(2V) [N1 (y24, x42) + N2 (y31, x13) + N3 (y42, x24) + N4 (y13, x31)]
-    g1 = [xc(2, 2) - xc(2, 4), xc(1, 4) - xc(1, 2)]*inv_2a   ! Sadeghirad et al. 2013, grad phi
-    g2 = [xc(2, 3) - xc(2, 1), xc(1, 1) - xc(1, 3)]*inv_2a   ! (METHOD.md sec. 3)
-    call scatter_corner(sc(:, 1), i0, j0, ihi, jhi, nb, wc(1), g1, w, gw)
-    call scatter_corner(sc(:, 2), i0, j0, ihi, jhi, nb, wc(2), g2, w, gw)
-    call scatter_corner(sc(:, 3), i0, j0, ihi, jhi, nb, wc(3), -g1, w, gw)
-    call scatter_corner(sc(:, 4), i0, j0, ihi, jhi, nb, wc(4), -g2, w, gw)
-  end subroutine basis_cpdi2
+    gc(:, 1) = [xc(2, 2) - xc(2, 4), xc(1, 4) - xc(1, 2)]*inv_2a   ! Sadeghirad et al. 2013
+    gc(:, 2) = [xc(2, 3) - xc(2, 1), xc(1, 1) - xc(1, 3)]*inv_2a
+    gc(:, 3) = -gc(:, 1)
+    gc(:, 4) = -gc(:, 2)
+    call scatter_corners(sc, wc, gc, i0, j0, ihi, jhi, nb, w, gw)
+  end subroutine weights_cpdi2
 
   !> Geometry of a CPDI2 quadrilateral: signed area, area centroid and the smallest corner
   !> Jacobian of the bilinear map relative to its mean (1 for a parallelogram; <= 0 when the quad
@@ -268,43 +279,50 @@ contains
     integer, intent(out) :: ihi, jhi        !! upper-right node [-]
     integer, intent(out) :: need            !! nodes per direction needed [-]
 
-    call node_range(minval(sc(1, :)), maxval(sc(1, :)), i0, ihi)
-    call node_range(minval(sc(2, :)), maxval(sc(2, :)), j0, jhi)
+    call node_range(min(sc(1, 1), sc(1, 2), sc(1, 3), sc(1, 4)), &
+                    max(sc(1, 1), sc(1, 2), sc(1, 3), sc(1, 4)), i0, ihi)
+    call node_range(min(sc(2, 1), sc(2, 2), sc(2, 3), sc(2, 4)), &
+                    max(sc(2, 1), sc(2, 2), sc(2, 3), sc(2, 4)), j0, jhi)
     ihi = max(ihi, i0 + 1)
     jhi = max(jhi, j0 + 1)
     need = max(ihi - i0, jhi - j0) + 1
   end subroutine corner_block
 
-  ! Add the corner's contribution: weight wc*N_i(corner) and gradient N_i(corner)*gc to the four
-  ! nodes of its cell. The cell is clamped so that a corner lying exactly on the last node line
-  ! (local coordinate 1) stays inside the tight block.
-  pure subroutine scatter_corner(s, i0, j0, ihi, jhi, nb, wc, gc, w, gw)
-    real(wp), intent(in) :: s(2)            !! scaled corner position [-]
+  ! Add the corners' contributions: weight wc(c)*N_i(x_c) and gradient N_i(x_c)*gc(:, c) to the
+  ! four nodes of the cell of corner c. The cell is clamped so that a corner lying exactly on the
+  ! last node line (local coordinate 1) stays inside the tight block.
+  pure subroutine scatter_corners(sc, wc, gc, i0, j0, ihi, jhi, nb, w, gw)
+    real(wp), intent(in) :: sc(2, 4)        !! scaled corner positions [-]
+    real(wp), intent(in) :: wc(4)           !! corner weights [-]
+    real(wp), intent(in) :: gc(2, 4)        !! corner gradient coefficients [1/m]
     integer, intent(in) :: i0, j0           !! lower-left node of the block [-]
     integer, intent(in) :: ihi, jhi         !! upper-right node of the block [-]
     integer, intent(in) :: nb               !! nodes per direction of the block [-]
-    real(wp), intent(in) :: wc              !! corner weight [-]
-    real(wp), intent(in) :: gc(2)           !! corner gradient coefficient [1/m]
     real(wp), intent(inout) :: w(nb*nb)     !! weights [-]
     real(wp), intent(inout) :: gw(2, nb*nb) !! gradients [1/m]
-    real(wp) :: fx, fy, n4(4)
-    integer :: ic, jc, k
+    real(wp) :: fx, fy, n1, n2, n3, n4
+    integer :: c, ic, jc, k
 
-    ic = min(floor(s(1)), ihi - 1)
-    jc = min(floor(s(2)), jhi - 1)
-    fx = s(1) - real(ic, wp)
-    fy = s(2) - real(jc, wp)
-    n4 = [(1.0_wp - fx)*(1.0_wp - fy), fx*(1.0_wp - fy), (1.0_wp - fx)*fy, fx*fy]
-    k = 1 + (ic - i0) + nb*(jc - j0)
-    w(k) = w(k) + wc*n4(1)
-    w(k + 1) = w(k + 1) + wc*n4(2)
-    w(k + nb) = w(k + nb) + wc*n4(3)
-    w(k + nb + 1) = w(k + nb + 1) + wc*n4(4)
-    gw(:, k) = gw(:, k) + n4(1)*gc
-    gw(:, k + 1) = gw(:, k + 1) + n4(2)*gc
-    gw(:, k + nb) = gw(:, k + nb) + n4(3)*gc
-    gw(:, k + nb + 1) = gw(:, k + nb + 1) + n4(4)*gc
-  end subroutine scatter_corner
+    do c = 1, 4
+      ic = min(floor(sc(1, c)), ihi - 1)
+      jc = min(floor(sc(2, c)), jhi - 1)
+      fx = sc(1, c) - real(ic, wp)
+      fy = sc(2, c) - real(jc, wp)
+      n1 = (1.0_wp - fx)*(1.0_wp - fy)      ! bilinear N of the cell's nodes at the corner
+      n2 = fx*(1.0_wp - fy)
+      n3 = (1.0_wp - fx)*fy
+      n4 = fx*fy
+      k = 1 + (ic - i0) + nb*(jc - j0)
+      w(k) = w(k) + wc(c)*n1
+      w(k + 1) = w(k + 1) + wc(c)*n2
+      w(k + nb) = w(k + nb) + wc(c)*n3
+      w(k + nb + 1) = w(k + nb + 1) + wc(c)*n4
+      gw(:, k) = gw(:, k) + n1*gc(:, c)
+      gw(:, k + 1) = gw(:, k + 1) + n2*gc(:, c)
+      gw(:, k + nb) = gw(:, k + nb) + n3*gc(:, c)
+      gw(:, k + nb + 1) = gw(:, k + nb + 1) + n4*gc(:, c)
+    end do
+  end subroutine scatter_corners
 
   ! 1-D uGIMP factor of one node: average of the hat H(u) = max(0, 1 - |u|) over
   ! [u - sl, u + sl] and its derivative d/du, u = (xp - x_i)/h. Written as the point value

@@ -19,7 +19,8 @@ module mpm_material
   integer, parameter :: MATERIAL_NOT_CONVERGED = 1  !! stat: an iteration did not converge
   integer, parameter :: MATERIAL_BAD_INPUT = 2      !! stat: non-finite or invalid input/result
 
-  real(wp), parameter :: return_tol = 1.0e-12_wp    ! relative step tolerance, return mapping
+  real(wp), parameter :: return_tol = 1.0e-12_wp    ! relative bracket width, return mapping
+  real(wp), parameter :: newton_step_tol = 1.0e-8_wp ! relative last Newton step, return mapping
   integer, parameter :: return_max_iter = 100
   real(wp), parameter :: stretch_tol = 1.0e-14_wp   ! absolute tolerance on ln(F_zz)
   integer, parameter :: stretch_max_iter = 100
@@ -92,39 +93,39 @@ contains
     real(wp), intent(inout) :: eqps       !! equivalent plastic strain [-]
     real(wp), intent(out) :: dwp          !! plastic dissipation per current volume [J/m^3]
     integer, intent(out) :: stat          !! 0 ok, 1 not converged, 2 bad input [-]
-    real(wp) :: s(4), deqps, w
+    real(wp) :: s(4), deqps, dissipation, energy
     dwp = 0.0_wp
     deqps = 0.0_wp
-    w = 0.0_wp
+    dissipation = 0.0_wp
     stat = MATERIAL_BAD_INPUT
     if (plane /= PLANE_STRAIN .and. plane /= PLANE_STRESS) return
     select case (mat%model)
     case (MODEL_NEOHOOKEAN)
       if (.not. all(ieee_is_finite(F))) return
-      call neohookean_stress(mat, plane, F, s, w, stat)
+      call neohookean_stress(mat, plane, F, s, energy, stat)
       if (stat /= MATERIAL_OK) return
     case (MODEL_ELASTIC, MODEL_J2)
+      ! Check before any arithmetic: an ordered comparison with NaN would itself trap.
       if (.not. (all(ieee_is_finite(L)) .and. ieee_is_finite(dt) .and. &
                  all(ieee_is_finite(sig)) .and. ieee_is_finite(eqps))) return
       if (dt < 0.0_wp) return
       s = sig
-      if (plane == PLANE_STRESS) s(4) = 0.0_wp
       call rotate_jaumann(L, dt, s)
       call add_elastic_increment(mat, plane, L, dt, s)
       if (mat%model == MODEL_J2) then
-        call j2_return(mat, plane, dt, eqps, s, deqps, w, stat)
+        call j2_return(mat, plane, dt, eqps, s, deqps, dissipation, stat)
         if (stat /= MATERIAL_OK) return
       end if
     case default
       return
     end select
-    if (.not. (all(ieee_is_finite(s)) .and. ieee_is_finite(w))) then
-      stat = MATERIAL_BAD_INPUT
+    if (.not. (all(ieee_is_finite(s)) .and. ieee_is_finite(dissipation))) then
+      stat = MATERIAL_BAD_INPUT   ! overflow from a huge but finite input
       return
     end if
     sig = s
     eqps = eqps + deqps
-    if (mat%model == MODEL_J2) dwp = w
+    dwp = dissipation
     stat = MATERIAL_OK
   end subroutine material_stress_update
 
@@ -235,7 +236,7 @@ contains
       dev = [s(1) - p, s(2) - p, s(3), s(4) - p]
       q = sqrt(1.5_wp*(dev(1)**2 + dev(2)**2 + dev(4)**2 + 2.0_wp*dev(3)**2))  ! sqrt(3 J2)
       if (q <= k0) return
-      deqps = (q - k0)/(three_mu + mat%hardening)  ! Simo & Hughes (1998), Box 3.2 (linear H)
+      deqps = (q - k0)/(three_mu + mat%hardening)  ! radial return, Simo & Hughes (1998) ch. 3
       if (.not. rate) then
         fac = 1.0_wp - three_mu*deqps/q              ! n_{n+1} = n_trial, radial scaling
         k_end = k0 + mat%hardening*deqps
@@ -245,6 +246,7 @@ contains
           return
         end if
         x_hi = deqps/(k0 + mat%hardening*deqps)     ! static root in x = deqps / q_end
+        x = 0.0_wp
         call solve_multiplier(mat, dt, k0, 0.0_wp, 0.0_wp, q*q, x_hi, rate, x, stat)
         if (stat /= MATERIAL_OK) return
         fac = 1.0_wp/(1.0_wp + three_mu*x)          ! s_end = s_trial / (1 + 3 mu x)
@@ -268,6 +270,8 @@ contains
       ! Bracket: q(x) <= q_trial / (1 + min(a, 3 mu) x) and yield >= k0; at x = 1/H, f <= -k0.
       x_hi = (q/k0 - 1.0_wp)/min(a, three_mu)
       if (mat%hardening > 0.0_wp) x_hi = min(x_hi, 1.0_wp/mat%hardening)
+      x = 0.0_wp
+      if (.not. rate) x = min((q - k0)/(q*mat%hardening + three_mu*k0), 0.5_wp*x_hi)
       call solve_multiplier(mat, dt, k0, a, t1, t2, x_hi, rate, x, stat)
       if (stat /= MATERIAL_OK) return
       fa = fa/(1.0_wp + a*x)                 ! A = A_trial / (1 + a x), Simo & Taylor (1986)
@@ -297,7 +301,8 @@ contains
   !> Safeguarded Newton-bisection for x = deqps / q_end on the bracket [0, x_hi].
   !! Unknown x: the returned equivalent stress is qbar(x) = sqrt(t1/(1+a x)^2 + t2/(1+3 mu x)^2)
   !! and deqps = x qbar(x). Static: g = qbar - (k0 + H deqps). Rate form (no infinite slope):
-  !! g = D dt (qbar/(k0 + H deqps) - 1)^q - deqps. Both decrease in x, g(0) > 0, g(x_hi) <= 0.
+  !! g = D dt (r - 1)|r - 1|^(q-1) - deqps, r = qbar/(k0 + H deqps). Both decrease in x,
+  !! g(0) > 0 and g(x_hi) <= 0. Stops on a Newton step < 1e-8 x or a bracket < 1e-12 x_hi.
   pure subroutine solve_multiplier(mat, dt, k0, a, t1, t2, x_hi, rate, x, stat)
     type(material_t), intent(in) :: mat  !! material [-]
     real(wp), intent(in) :: dt           !! time step [s]
@@ -307,14 +312,13 @@ contains
     real(wp), intent(in) :: t2           !! trial 3 (B^2 + C^2) [Pa^2]
     real(wp), intent(in) :: x_hi         !! upper bracket [1/Pa]
     logical, intent(in) :: rate          !! Cowper-Symonds on [-]
-    real(wp), intent(out) :: x           !! root [1/Pa]
+    real(wp), intent(inout) :: x         !! start value in [0, x_hi), root out [1/Pa]
     integer, intent(out) :: stat         !! 0 ok, 1 not converged [-]
     real(wp) :: lo, hi, xn, g, dg
     integer :: it
     stat = MATERIAL_OK
     lo = 0.0_wp
     hi = x_hi
-    x = 0.0_wp
     do it = 1, return_max_iter
       call multiplier_residual(mat, dt, k0, a, t1, t2, x, rate, g, dg)
       if (g > 0.0_wp) then
@@ -325,13 +329,16 @@ contains
         return
       end if
       xn = -1.0_wp
-      if (dg < 0.0_wp) xn = x - g/dg
-      if (.not. (xn > lo .and. xn < hi)) xn = 0.5_wp*(lo + hi)
-      if (abs(xn - x) <= return_tol*xn) then
-        x = xn
-        return
+      if (dg < 0.0_wp) then
+        xn = x - g/dg                          ! Newton
+        if (abs(xn - x) <= newton_step_tol*x) then   ! quadratic: error of xn ~ (step/x)^2
+          x = xn
+          return
+        end if
       end if
+      if (.not. (xn > lo .and. xn < hi)) xn = 0.5_wp*(lo + hi)   ! bisection safeguard
       x = xn
+      if (hi - lo <= return_tol*hi) return
     end do
     stat = MATERIAL_NOT_CONVERGED
   end subroutine solve_multiplier
@@ -348,7 +355,7 @@ contains
     logical, intent(in) :: rate          !! Cowper-Symonds on [-]
     real(wp), intent(out) :: g           !! residual [Pa] (static) or [-] (rate)
     real(wp), intent(out) :: dg          !! dg/dx [Pa^2] or [Pa]
-    real(wp) :: ea, eb, b, qb, dqb, dl, ddl, ks, dks, r, dr, pw, ddt
+    real(wp) :: ea, eb, b, qb, dqb, dl, ddl, ks, dks, r, dr, rm1, pw, ddt
     b = 3.0_wp*mat%mu
     ea = 1.0_wp/(1.0_wp + a*x)
     eb = 1.0_wp/(1.0_wp + b*x)
@@ -365,10 +372,13 @@ contains
       ddt = mat%cs_d*dt
       r = qb/ks
       dr = (dqb*ks - qb*dks)/ks**2
-      if (r > 1.0_wp) then
-        pw = (r - 1.0_wp)**mat%cs_q    ! (deqps / (D dt))^(1/q) = q_end / yield_static - 1
-        g = ddt*pw - dl
-        dg = ddt*mat%cs_q*pw/(r - 1.0_wp)*dr - ddl
+      ! (deqps / (D dt))^(1/q) = q_end / yield_static - 1, raised to the power q; continued
+      ! as an odd function below r = 1 (no kink for q > 1, still decreasing in x)
+      rm1 = r - 1.0_wp
+      if (rm1 /= 0.0_wp) then
+        pw = abs(rm1)**(mat%cs_q - 1.0_wp)
+        g = ddt*pw*rm1 - dl
+        dg = ddt*mat%cs_q*pw*dr - ddl
       else
         g = -dl
         dg = -ddl
