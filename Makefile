@@ -14,8 +14,8 @@ CASE ?= namelists/default.nml
 
 FFLAGS_common  := -std=f2008 -fimplicit-none -Wall -Wextra -Wimplicit-interface \
                   -Wconversion-extra -Wno-compare-reals -fopenmp
-FFLAGS_release := -O2 -g -march=x86-64-v2 -fno-math-errno
-FFLAGS_debug   := -O0 -g -fcheck=all -fbacktrace -ffpe-trap=invalid,zero,overflow \
+FFLAGS_release := -O2 -g
+FFLAGS_debug   := -Og -g -fcheck=all -fbacktrace -ffpe-trap=invalid,zero,overflow \
                   -finit-real=snan -finit-integer=-99999999
 HDF5_FFLAGS ?= $(shell pkg-config --cflags hdf5 2>/dev/null)
 HDF5_LIBS   ?= $(shell pkg-config --libs-only-L hdf5 2>/dev/null) -lhdf5_fortran -lhdf5

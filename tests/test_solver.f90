@@ -187,20 +187,23 @@ contains
 
   !> Slender elastic bar on a rigid frictionless target (METHOD.md sec. 9): contact lasts
   !! 2 L / c and the bar leaves with its impact speed, c = sqrt(E / rho) (plane stress).
+  !! L / h = 160: the rebound deficit is first order in h (4.2, 2.5, 1.3 % at L/h = 80, 160,
+  !! 320 with CPDI2), the smeared unloading front leaving the bar end briefly in tension.
   subroutine test_bar_impact(b)
     integer, intent(in) :: b
     type(config_t) :: cfg
     type(sim_t) :: s
-    real(wp), parameter :: E = 100.0_wp, rho = 1.0_wp, L = 1.0_wp, wdt = 0.05_wp, V = 0.01_wp
-    real(wp), parameter :: gap0 = 0.002_wp
-    real(wp) :: c, t_first, t_last, vrebound, pm(2), dt_contact
+    real(wp), parameter :: E = 100.0_wp, rho = 1.0_wp, L = 1.0_wp, V = 0.01_wp
+    real(wp), parameter :: gap0 = 0.002_wp, h = L/160.0_wp
+    real(wp) :: c, t_first, t_end_contact, vrebound, pm(2), dt_contact
     integer :: stat, k
+    logical :: in_contact
     character(len=:), allocatable :: errmsg
     call begin_test('elastic bar on a rigid target, '//trim(basis_names(b)))
     c = sqrt(E/rho)
-    cfg = base_case(E, 0.3_wp, rho, L/80.0_wp, gap0/V + 2.0_wp*L/c + 0.05_wp, b, &
-                    SCHEME_MUSL, PLANE_STRESS)
-    call add_rect(cfg, [gap0 + 0.5_wp*L, 0.0_wp], [L, wdt], 160, 8, [-V, 0.0_wp])
+    cfg = base_case(E, 0.3_wp, rho, h, gap0/V + 2.0_wp*L/c + 0.03_wp, b, SCHEME_MUSL, &
+                    PLANE_STRESS)
+    call add_rect(cfg, [gap0 + 0.5_wp*L, 0.0_wp], [L, 2.0_wp*h], 320, 4, [-V, 0.0_wp])
     deallocate(cfg%walls)
     allocate(cfg%walls(1))
     cfg%walls(1)%point = [0.0_wp, 0.0_wp]
@@ -208,17 +211,22 @@ contains
     cfg%walls(1)%contact_id = CONTACT_FRICTIONLESS
     call must_setup(cfg, s)
     t_first = -1.0_wp
-    t_last = -1.0_wp
+    t_end_contact = -1.0_wp
+    dt_contact = 0.0_wp
+    in_contact = .false.
     do k = 1, 1000000
       if (s%t >= s%t_end) exit
       call solver_step(s, stat, errmsg)
       if (stat /= 0) exit
-      if (abs(s%walls(1)%force(1)) > 0.0_wp) then
-        if (t_first < 0.0_wp) then
-          t_first = s%t - s%dt
-          dt_contact = s%dt
-        end if
-        t_last = s%t
+      if (abs(s%walls(1)%force(1)) > 0.0_wp .and. t_first < 0.0_wp) then
+        t_first = s%t - s%dt
+        dt_contact = s%dt
+        in_contact = .true.
+      end if
+      ! end of the first contact phase (later light taps of the vibrating bar do not count)
+      if (in_contact .and. abs(s%walls(1)%force(1)) == 0.0_wp) then
+        t_end_contact = s%t - s%dt
+        in_contact = .false.
       end if
     end do
     call check(stat == 0, 'run ok: '//errmsg)
@@ -226,10 +234,11 @@ contains
     vrebound = pm(1)/sum(s%p%mass)
     call check_close(t_first, gap0/V, 'contact begins at gap / V (within 2 steps)', &
                      atol=2.0_wp*dt_contact)
-    call check_close(t_last - t_first, 2.0_wp*L/c, 'contact duration = 2 L / c', rtol=0.03_wp)
+    call check_close(t_end_contact - t_first, 2.0_wp*L/c, 'contact duration = 2 L / c', &
+                     rtol=0.03_wp)
     call check_close(vrebound, V, 'rebound speed = impact speed', rtol=0.03_wp)
     print '(a,a8,a,f8.4,a,f8.4)', '  bar ', trim(basis_names(b)), ': contact time / (2L/c) = ', &
-      (t_last - t_first)/(2.0_wp*L/c), ', rebound / V = ', vrebound/V
+      (t_end_contact - t_first)/(2.0_wp*L/c), ', rebound / V = ', vrebound/V
   end subroutine test_bar_impact
 
   !> Two identical elastic rings colliding head on, no other forces: momentum constant,
