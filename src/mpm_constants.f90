@@ -15,7 +15,7 @@ module mpm_constants
   public :: SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER, sector_names
   public :: CONTACT_FRICTIONLESS, CONTACT_COULOMB, CONTACT_STICK, CONTACT_SLIP, contact_names
 
-  real(wp), parameter :: pi = 3.14159265358979323846264338327950288_wp
+  real(wp), parameter :: pi = 3.141592653589793_wp
   character(len=*), parameter :: version_string = '0.1.0'
 
   integer, parameter :: EXIT_OK = 0         !! success

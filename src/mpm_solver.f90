@@ -19,7 +19,7 @@ module mpm_solver
   use mpm_grid, only: grid_t, grid_grow
   use mpm_walls, only: wall_t, wall_velocity, wall_constrain_node, wall_travel
   use mpm_material, only: material_t, material_stress_update, material_energy_density
-  use mpm_basis, only: basis_linear, basis_ugimp, basis_cpdi1, basis_cpdi2, cpdi2_geometry, &
+  use mpm_basis, only: weights_linear, weights_ugimp, weights_cpdi1, weights_cpdi2, cpdi2_geometry, &
                        bilinear_at
   use mpm_strings, only: itoa, rtoa
   implicit none
@@ -232,13 +232,13 @@ contains
       do ip = 1, s%p%np
         select case (s%basis)
         case (BASIS_LINEAR)
-          call basis_linear(s%p%x(:, ip), origin, h, nb, s%blk(1, ip), s%blk(2, ip), &
+          call weights_linear(s%p%x(:, ip), origin, h, nb, s%blk(1, ip), s%blk(2, ip), &
                             s%w(:, ip), s%gw(:, :, ip), need)
         case (BASIS_UGIMP)
-          call basis_ugimp(s%p%x(:, ip), s%p%half(:, ip), origin, h, nb, s%blk(1, ip), &
+          call weights_ugimp(s%p%x(:, ip), s%p%half(:, ip), origin, h, nb, s%blk(1, ip), &
                            s%blk(2, ip), s%w(:, ip), s%gw(:, :, ip), need)
         case (BASIS_CPDI1)
-          call basis_cpdi1(s%p%x(:, ip), matmul(s%p%F(:, :, ip), s%p%r10(:, ip)), &
+          call weights_cpdi1(s%p%x(:, ip), matmul(s%p%F(:, :, ip), s%p%r10(:, ip)), &
                            matmul(s%p%F(:, :, ip), s%p%r20(:, ip)), origin, h, nb, &
                            s%blk(1, ip), s%blk(2, ip), s%w(:, ip), s%gw(:, :, ip), need)
         case default
@@ -249,7 +249,7 @@ contains
           call cpdi2_geometry(xq, area, cen, jmin)
           if (.not. jmin > 0.0_wp) bad = max(bad, ip)
           jmin_all = min(jmin_all, jmin)
-          call basis_cpdi2(xq, origin, h, nb, s%blk(1, ip), s%blk(2, ip), s%w(:, ip), &
+          call weights_cpdi2(xq, origin, h, nb, s%blk(1, ip), s%blk(2, ip), s%w(:, ip), &
                            s%gw(:, :, ip), need)
         end select
         need_max = max(need_max, need)

@@ -1,4 +1,4 @@
-!> Fortran side of the C shim src/mpm_sys.c: directories, signals, terminal, rename.
+!> Fortran side of the C shim src/mpm_sys_c.c: directories, signals, terminal, rename.
 ! SPDX-License-Identifier: MIT
 module mpm_sys
   use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char

@@ -9,7 +9,7 @@ program tubempm
                                            compiler_options
   !$ use omp_lib, only: omp_set_num_threads, omp_get_max_threads
   use mpm_kinds, only: wp, i8
-  use mpm_constants, only: version_string, EXIT_INPUT, EXIT_IO, EXIT_NUMERIC, EXIT_INTERNAL, &
+  use mpm_constants, only: version_string, EXIT_INPUT, EXIT_IO, &
                            EXIT_INTERRUPTED, path_len
   use mpm_errors, only: fatal, warn
   use mpm_config, only: config_t, read_config, write_config, write_config_unit, default_config
@@ -26,7 +26,7 @@ program tubempm
   character(len=path_len) :: case_file, arg
   logical :: check_only, quiet, restart
   integer :: i, nargs, stat
-  character(len=:), allocatable :: errmsg, report, warnings
+  character(len=:), allocatable :: errmsg, report, warnings, input_warnings
   type(config_t) :: cfg
   type(sim_t) :: s
 
@@ -78,8 +78,9 @@ program tubempm
     'run the case again from its namelist', EXIT_INPUT)
 
   ! input, set-up, report
-  call read_config(case_file, cfg, stat, errmsg)
+  call read_config(case_file, cfg, stat, errmsg, input_warnings)
   if (stat /= 0) call fatal('input', errmsg, stat)
+  if (len(input_warnings) > 0) call print_warnings(input_warnings)
   call setup_sim(cfg, s, stat, errmsg)
   if (stat /= 0) call fatal('input', errmsg, stat)
   if (cfg%run%threads > 0) then
@@ -164,7 +165,7 @@ contains
     type(particles_t) :: good
     real(wp) :: t_good, dt_good, next_snap, last_progress, elapsed
     integer(i8) :: step_good, c0, c1, crate
-    integer :: st, u, sig
+    integer :: st, sig
     logical :: tty
     integer, parameter :: backup_every = 50
 
@@ -204,7 +205,8 @@ contains
       if (st /= 0) then
         call system_clock(c1)
         sm%wall_seconds = real(c1 - c0, wp)/real(crate, wp)
-        call on_failure(st, msg)
+        call on_failure(st, msg, dir, input_text, s, good, t_good, dt_good, step_good, snaps, &
+                        hist, sm)
       end if
       call history_write(hist, s, s%t >= s%t_end, st, msg)
       if (st /= 0) call fatal('output', msg, EXIT_IO)
@@ -227,7 +229,7 @@ contains
       call system_clock(c1)
       elapsed = real(c1 - c0, wp)/real(crate, wp)
       if (.not. quiet .and. (elapsed - last_progress > merge(0.5_wp, 10.0_wp, tty))) then
-        call progress(elapsed, tty)
+        call progress(s, elapsed, tty)
         last_progress = elapsed
       end if
       sig = sys_signal_received()
@@ -262,48 +264,57 @@ contains
       call fatal('run', trim(sm%message)//'; outputs are complete up to that time', &
                  EXIT_INTERRUPTED)
     end if
-    u = 0
-
-  contains
-
-    subroutine progress(elapsed, tty)
-      real(wp), intent(in) :: elapsed
-      logical, intent(in) :: tty
-      real(wp) :: frac, eta
-      character(len=160) :: line
-      frac = s%t/s%t_end
-      eta = elapsed*(1.0_wp - frac)/max(frac, 1.0e-12_wp)
-      write(line, '(f6.2,a,es10.3,a,i0,a,f9.1,a,f9.1,a)') 100.0_wp*frac, ' %  t = ', s%t, &
-        ' s  step ', s%step, '  ', real(s%step, wp)/max(elapsed, 1.0e-9_wp), &
-        ' steps/s  ETA ', eta, ' s'
-      if (tty) then
-        write(output_unit, '(2a)', advance='no') achar(13), trim(line)
-      else
-        write(output_unit, '(a)') trim(line)
-      end if
-      flush(output_unit)
-    end subroutine progress
-
-    subroutine on_failure(code, what)
-      integer, intent(in) :: code
-      character(len=*), intent(in) :: what
-      character(len=:), allocatable :: crash, m2
-      type(snapfile_t) :: cf
-      integer :: st2
-      crash = dir//'/crash_'//itoa(step_good)//'.h5'
-      call snap_create(cf, crash, input_text, st2, m2)
-      if (st2 == 0) call snap_write(cf, good, s%basis, t_good, step_good, dt_good, st2, m2)
-      if (st2 == 0) call snap_close(cf, st2, m2)
-      call snap_close(snaps, st2, m2)
-      call history_close(hist)
-      sm%status = 'unstable'
-      sm%message = what
-      call write_summary(dir//'/summary.nml', s, sm, st2, m2)
-      call fatal('run', what//new_line('a')//'the last good state (step '// &
-        itoa(step_good)//', t = '//rtoa(t_good)//' s) is in '//crash// &
-        '; history.csv holds every row up to the failure', code)
-    end subroutine on_failure
   end subroutine run_case
+
+  !> One progress line: in place on a terminal, a new line otherwise.
+  subroutine progress(s, elapsed, tty)
+    type(sim_t), intent(in) :: s
+    real(wp), intent(in) :: elapsed
+    logical, intent(in) :: tty
+    real(wp) :: frac, eta
+    character(len=160) :: line
+    frac = s%t/s%t_end
+    eta = elapsed*(1.0_wp - frac)/max(frac, 1.0e-12_wp)
+    write(line, '(f6.2,a,es10.3,a,i0,a,f9.1,a,f9.1,a)') 100.0_wp*frac, ' %  t = ', s%t, &
+      ' s  step ', s%step, '  ', real(s%step, wp)/max(elapsed, 1.0e-9_wp), &
+      ' steps/s  ETA ', eta, ' s'
+    if (tty) then
+      write(output_unit, '(2a)', advance='no') achar(13), trim(line)
+    else
+      write(output_unit, '(a)') trim(line)
+    end if
+    flush(output_unit)
+  end subroutine progress
+
+  !> Numerical failure: save the last good state, close the outputs, write the summary, stop.
+  subroutine on_failure(code, what, dir, input_text, s, good, t_good, dt_good, step_good, &
+                        snaps, hist, sm)
+    integer, intent(in) :: code
+    character(len=*), intent(in) :: what, dir, input_text
+    type(sim_t), intent(in) :: s
+    type(particles_t), intent(in) :: good
+    real(wp), intent(in) :: t_good, dt_good
+    integer(i8), intent(in) :: step_good
+    type(snapfile_t), intent(inout) :: snaps
+    type(history_t), intent(inout) :: hist
+    type(summary_t), intent(inout) :: sm
+    character(len=:), allocatable :: crash, m2
+    type(snapfile_t) :: cf
+    integer :: st2
+    crash = dir//'/crash_'//itoa(step_good)//'.h5'
+    call snap_create(cf, crash, input_text, st2, m2)
+    if (st2 == 0) call snap_write(cf, good, s%basis, t_good, step_good, dt_good, st2, m2)
+    if (st2 == 0) call snap_close(cf, st2, m2)
+    if (st2 /= 0) call warn('run', 'could not write the last good state: '//m2)
+    call snap_close(snaps, st2, m2)
+    call history_close(hist)
+    sm%status = 'unstable'
+    sm%message = what
+    call write_summary(dir//'/summary.nml', s, sm, st2, m2)
+    call fatal('run', what//new_line('a')//'the last good state (step '// &
+      itoa(step_good)//', t = '//rtoa(t_good)//' s) is in '//crash// &
+      '; history.csv holds every row up to the failure', code)
+  end subroutine on_failure
 
   !> Whole text of a file ('' if unreadable).
   function read_text(path) result(text)

@@ -19,10 +19,18 @@ if [ $want_fortran = 1 ]; then
   command -v gfortran >/dev/null 2>&1 || missing_deb+=(gfortran)
   command -v pkg-config >/dev/null 2>&1 || missing_deb+=(pkg-config)
   command -v make >/dev/null 2>&1 || missing_deb+=(make)
-  if ! pkg-config --exists hdf5 2>/dev/null || \
-     ! ls "$(pkg-config --variable=libdir hdf5 2>/dev/null)"/libhdf5_fortran.so >/dev/null 2>&1; then
-    missing_deb+=(libhdf5-dev)
+  hdf5_ok=0
+  if pkg-config --exists hdf5 2>/dev/null; then
+    # the Fortran library sits in a -L directory; the module file in an -I directory
+    for d in $(pkg-config --libs-only-L hdf5 | sed 's/-L//g') /usr/lib/x86_64-linux-gnu /usr/lib64 /usr/lib; do
+      if [ -e "$d/libhdf5_fortran.so" ]; then
+        for inc in $(pkg-config --cflags-only-I hdf5 | sed 's/-I//g') /usr/include; do
+          [ -e "$inc/hdf5.mod" ] && hdf5_ok=1
+        done
+      fi
+    done
   fi
+  [ $hdf5_ok = 1 ] || missing_deb+=(libhdf5-dev)
 fi
 py=${PYTHON:-python3}
 missing_py=()

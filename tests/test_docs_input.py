@@ -1,0 +1,125 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
+"""The tables of docs/input.md must list exactly the namelist variables of src/mpm_config.f90.
+
+For every group, the names in the first column of the table under the heading `## &<group>`
+are compared with the names in the statement `namelist /<group>/ ...` of the source; a name
+in one but not the other is a failure. The variables used in the full example of the docs must
+be in the tables as well. Prints `test_docs_input: N passed, M failed` last; exit 1 on failure.
+Standard library only.
+"""
+import re
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+DOC = ROOT / "docs" / "input.md"
+SRC = ROOT / "src" / "mpm_config.f90"
+
+passed = 0
+failed = 0
+
+
+def check(cond, msg):
+    global passed, failed
+    if cond:
+        passed += 1
+    else:
+        failed += 1
+        print(f"FAIL [test_docs_input]: {msg}")
+
+
+def source_groups(text):
+    """{group: [variables]} from `namelist /g/ a, b, &` statements (with continuation lines)."""
+    groups = {}
+    lines = text.splitlines()
+    i = 0
+    while i < len(lines):
+        line = lines[i].split("!", 1)[0]
+        m = re.match(r"\s*namelist\s*/\s*(\w+)\s*/(.*)$", line, re.IGNORECASE)
+        if m:
+            group, rest = m.group(1).lower(), m.group(2)
+            while rest.rstrip().endswith("&"):
+                i += 1
+                rest = rest.rstrip()[:-1] + " " + lines[i].split("!", 1)[0].lstrip(" &")
+            names = [n.strip().lower() for n in rest.split(",") if n.strip()]
+            groups.setdefault(group, []).extend(names)
+        i += 1
+    return groups
+
+
+def doc_groups(text):
+    """{group: [variables]} from the first column of the table after each `## &group`."""
+    groups = {}
+    current = None
+    for line in text.splitlines():
+        h = re.match(r"^##\s+&(\w+)\s*$", line)
+        if h:
+            current = h.group(1).lower()
+            groups.setdefault(current, [])
+            continue
+        if line.startswith("## "):
+            current = None
+            continue
+        if current is None or not line.startswith("|"):
+            continue
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if not cells or cells[0] in ("name", "") or set(cells[0]) <= set("-: "):
+            continue
+        for name in re.findall(r"`([A-Za-z_]\w*)`", cells[0]):
+            groups[current].append(name.lower())
+    return groups
+
+
+def example_names(text):
+    """{group: set of variables assigned} in the fenced example block of the docs."""
+    m = re.search(r"## Full example.*?```\w*\n(.*?)```", text, re.DOTALL)
+    used = {}
+    if not m:
+        return None
+    group = None
+    for line in m.group(1).splitlines():
+        line = line.split("!", 1)[0].strip()
+        g = re.match(r"^&(\w+)", line)
+        if g:
+            group = g.group(1).lower()
+            used.setdefault(group, set())
+            line = line[g.end():]
+        if group is None:
+            continue
+        for name in re.findall(r"([A-Za-z_]\w*)\s*(?:\([^)]*\))?\s*=", line):
+            used[group].add(name.lower())
+        if line.endswith("/"):
+            group = None
+    return used
+
+
+def main():
+    src_text = SRC.read_text()
+    doc_text = DOC.read_text()
+    src = source_groups(src_text)
+    doc = doc_groups(doc_text)
+    check(len(src) > 0, f"no namelist statements found in {SRC}")
+    check(len(doc) > 0, f"no '## &group' tables found in {DOC}")
+    for group in sorted(set(src) | set(doc)):
+        check(group in doc, f"&{group} is read by {SRC.name} but has no table in {DOC.name}")
+        check(group in src, f"&{group} has a table in {DOC.name} but no namelist in {SRC.name}")
+        s = set(src.get(group, []))
+        d = set(doc.get(group, []))
+        for name in sorted(s | d):
+            check(name in d, f"&{group}: {name} is in the namelist but not in the docs table")
+            check(name in s, f"&{group}: {name} is in the docs table but not in the namelist")
+        dup = sorted({n for n in doc.get(group, []) if doc[group].count(n) > 1})
+        check(not dup, f"&{group}: listed more than once in the docs: {dup}")
+    used = example_names(doc_text)
+    check(used is not None, "docs/input.md has no '## Full example' with a fenced block")
+    for group, names in (used or {}).items():
+        for name in sorted(names):
+            check(name in set(doc.get(group, [])),
+                  f"the full example sets &{group}: {name}, which no table documents")
+    print(f"test_docs_input: {passed} passed, {failed} failed")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
