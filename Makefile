@@ -32,7 +32,10 @@ FC_ALL  := $(FC) $(FFLAGS_common) $(FFLAGS_$(BUILD))
 
 .PHONY: all deps test run plots clean help check-namelists bench study stability figures
 
-all: deps bin/tubempm
+# HDF5 flags come from pkg-config when make reads this file, so everything that compiles runs
+# in a sub-make started after `deps` has installed what was missing (a fresh machine).
+all: deps
+	@$(MAKE) --no-print-directory bin/tubempm
 
 ## deps: install what is missing (Debian packages, Python packages); silent when all is there
 deps:

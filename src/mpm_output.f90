@@ -20,6 +20,7 @@ module mpm_output
     integer :: unit = -1                   !! Fortran unit
     integer :: rows = 0                    !! rows written
     real(wp) :: next_time = 0.0_wp         !! time of the next row [s]
+    real(wp) :: last_time = 0.0_wp         !! time of the last row [s]
     real(wp) :: every = 0.0_wp             !! interval [s] (0: every step)
     real(wp) :: depth = 1.0_wp             !! out-of-plane length [m]
     real(wp) :: factor = 1.0_wp            !! sector factor for energies and masses
@@ -59,6 +60,7 @@ contains
     h%factor = factor
     h%probe = probe
     h%next_time = s%t
+    h%last_time = s%t
     errmsg = ''
     if (app) then
       open(newunit=h%unit, file=path, status='old', position='append', action='write', &
@@ -86,10 +88,12 @@ contains
     if (stat /= 0) errmsg = 'cannot write '//trim(path)//': '//trim(msg)
   end subroutine history_open
 
-  !> Write a row if the interval has passed (or force); flushes every row.
+  !> Write a row if the interval has passed (or force); flushes every row. Wall forces are the
+  !! mean over the time since the previous row (impulse / time), as a load cell reports them;
+  !! with history_every = 0 that is the force of the last step.
   subroutine history_write(h, s, force, stat, errmsg)
     type(history_t), intent(inout) :: h    !! the history file
-    type(sim_t), intent(in) :: s           !! simulation
+    type(sim_t), intent(inout) :: s        !! simulation (the walls' impulse sums are reset)
     logical, intent(in) :: force           !! write regardless of the interval
     integer, intent(out) :: stat           !! 0 or iostat
     character(len=:), allocatable, intent(out) :: errmsg  !! the I/O problem
@@ -107,7 +111,13 @@ contains
     row(1) = s%t
     i = 1
     do k = 1, s%nwall
-      f = full_force(s, k, s%walls(k)%force)*h%depth
+      if (s%t > h%last_time) then
+        f = -s%walls(k)%impulse_acc/(s%t - h%last_time)
+      else
+        f = s%walls(k)%force
+      end if
+      s%walls(k)%impulse_acc = 0.0_wp
+      f = full_force(s, k, f)*h%depth
       row(i + 1) = wall_travel(s%walls(k), s%t)
       row(i + 2) = -dot_product(f, s%walls(k)%normal)
       row(i + 3:i + 4) = f
@@ -139,6 +149,7 @@ contains
     end if
     flush(h%unit, iostat=stat, iomsg=msg)
     h%rows = h%rows + 1
+    h%last_time = s%t
   end subroutine history_write
 
   !> Close the history file.

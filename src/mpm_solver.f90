@@ -176,6 +176,7 @@ contains
     s%step = s%step + 1_i8
     do k = 1, s%nwall
       s%walls(k)%force = -s%walls(k)%impulse/dt
+      s%walls(k)%impulse_acc = s%walls(k)%impulse_acc + s%walls(k)%impulse
       s%walls(k)%work = s%walls(k)%work + dot_product(s%walls(k)%impulse, &
                         wall_velocity(s%walls(k), s%t - 0.5_wp*dt))
     end do

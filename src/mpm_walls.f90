@@ -30,6 +30,7 @@ module mpm_walls
     real(wp) :: point(2) = 0.0_wp         !! current point on the plane [m]
     real(wp) :: impulse(2) = 0.0_wp       !! impulse on the material this step [N s per depth]
     real(wp) :: force(2) = 0.0_wp         !! force of the material on the wall, last step [N/m]
+    real(wp) :: impulse_acc(2) = 0.0_wp   !! impulse on the material since the last history row
     real(wp) :: work = 0.0_wp             !! work done on the material so far [J/m]
   end type wall_t
 

@@ -13,7 +13,7 @@ run_one() {  # name, command...
   local name=$1; shift
   local out="$scratch/$name.log" start=$(date +%s.%N) rc
   mkdir -p "$scratch/$name"
-  OMP_NUM_THREADS=${OMP_NUM_THREADS:-2} "$@" "$scratch/$name" > "$out" 2>&1; rc=$?
+  OMP_NUM_THREADS=${OMP_NUM_THREADS:-1} "$@" "$scratch/$name" > "$out" 2>&1; rc=$?
   local line; line=$(grep -E '^[A-Za-z0-9_.-]+: [0-9]+ passed, [0-9]+ failed' "$out" | tail -n 1)
   local p=0 f=0
   if [ -n "$line" ]; then
