@@ -9,8 +9,7 @@ program tubempm
                                            compiler_options
   !$ use omp_lib, only: omp_set_num_threads, omp_get_max_threads
   use mpm_kinds, only: wp, i8
-  use mpm_constants, only: version_string, EXIT_INPUT, EXIT_IO, &
-                           EXIT_INTERRUPTED, path_len
+  use mpm_constants, only: version_string, EXIT_INPUT, EXIT_IO, path_len
   use mpm_errors, only: fatal, warn
   use mpm_config, only: config_t, read_config, write_config, write_config_unit, default_config
   use mpm_setup, only: setup_sim, setup_report, sector_factor
@@ -18,12 +17,13 @@ program tubempm
   use mpm_particles, only: particles_t
   use mpm_output, only: history_t, history_open, history_write, history_close, write_summary, &
                         summary_t
-  use mpm_io_hdf5, only: snapfile_t, snap_create, snap_write, snap_close, xdmf_write
+  use mpm_io_hdf5, only: snapfile_t, snap_create, snap_reopen, snap_write, snap_close, xdmf_write
+  use mpm_restart, only: checkpoint_write, checkpoint_read, ckpt_extra_t
   use mpm_sys, only: sys_mkdir_p, sys_install_signals, sys_signal_received, sys_stdout_isatty
   use mpm_strings, only: itoa, rtoa
   implicit none
 
-  character(len=path_len) :: case_file, arg
+  character(len=path_len) :: case_file, arg, restart_dir
   logical :: check_only, quiet, restart
   integer :: i, nargs, stat
   character(len=:), allocatable :: errmsg, report, warnings, input_warnings
@@ -60,6 +60,10 @@ program tubempm
       quiet = .true.
     case ('--restart')
       restart = .true.
+      if (i == nargs) call fatal('command line', '--restart needs the output folder of the '// &
+        'run to continue. Usage: tubempm --restart DIR', EXIT_INPUT)
+      i = i + 1
+      call get_command_argument(i, restart_dir)
     case default
       if (arg(1:1) == '-') then
         call fatal('command line', 'unknown option '''//trim(arg)//'''. Usage: tubempm '// &
@@ -72,14 +76,18 @@ program tubempm
       case_file = arg
     end select
   end do
+  if (restart) then
+    if (len_trim(case_file) > 0) call fatal('command line', '--restart DIR takes no case '// &
+      'file: the case is DIR/input.nml. Usage: tubempm --restart DIR', EXIT_INPUT)
+    case_file = trim(restart_dir)//'/input.nml'
+  end if
   if (len_trim(case_file) == 0) call fatal('command line', 'no case file given. Usage: '// &
     'tubempm [--check] [--quiet] CASE.nml | --restart DIR | --help', EXIT_INPUT)
-  if (restart) call fatal('command line', '--restart is not available in this version; '// &
-    'run the case again from its namelist', EXIT_INPUT)
 
   ! input, set-up, report
   call read_config(case_file, cfg, stat, errmsg, input_warnings)
   if (stat /= 0) call fatal('input', errmsg, stat)
+  if (restart) cfg%run%output_dir = restart_dir
   if (len(input_warnings) > 0) call print_warnings(input_warnings)
   call setup_sim(cfg, s, stat, errmsg)
   if (stat /= 0) call fatal('input', errmsg, stat)
@@ -96,7 +104,7 @@ program tubempm
     write(output_unit, '(a)') 'input ok: '//trim(case_file)
     stop
   end if
-  call run_case(cfg, s, quiet)
+  call run_case(cfg, s, quiet, restart)
 
 contains
 
@@ -153,45 +161,70 @@ contains
     end do
   end function probe_particles
 
-  !> The time loop with outputs, progress, failure handling.
-  subroutine run_case(cfg, s, quiet)
-    type(config_t), intent(in) :: cfg
+  !> The time loop with outputs, progress, checkpoints, failure and signal handling.
+  subroutine run_case(cfg, s, quiet, restart)
+    type(config_t), intent(inout) :: cfg
     type(sim_t), intent(inout) :: s
-    logical, intent(in) :: quiet
+    logical, intent(in) :: quiet, restart
     character(len=:), allocatable :: dir, msg, input_text
     type(history_t) :: hist
     type(snapfile_t) :: snaps
     type(summary_t) :: sm
     type(particles_t) :: good
-    real(wp) :: t_good, dt_good, next_snap, last_progress, elapsed
+    type(ckpt_extra_t) :: ex
+    real(wp) :: t_good, dt_good, next_snap, last_progress, elapsed, last_ckpt, seconds0
     integer(i8) :: step_good, c0, c1, crate
     integer :: st, sig
     logical :: tty
     integer, parameter :: backup_every = 50
+    integer, allocatable :: probes(:)
 
     dir = trim(cfg%run%output_dir)
-    call sys_mkdir_p(dir, st, msg)
-    if (st /= 0) call fatal('output', 'cannot create the output folder '//dir//': '//msg// &
-      '. Choose a writable &run output_dir', EXIT_IO)
-    call write_config(cfg, dir//'/input.nml', st, msg)
-    if (st /= 0) call fatal('output', msg, EXIT_IO)
-    input_text = read_text(dir//'/input.nml')
-    call history_open(hist, dir//'/history.csv', s, cfg%run%history_every, cfg%run%depth, &
-                      sector_factor(cfg), probe_particles(cfg, s), st, msg)
-    if (st /= 0) call fatal('output', msg, EXIT_IO)
-    call snap_create(snaps, dir//'/particles.h5', input_text, st, msg)
-    if (st /= 0) call fatal('output', msg//' ('//dir//'/particles.h5)', EXIT_IO)
+    seconds0 = 0.0_wp
+    probes = probe_particles(cfg, s)         ! nearest particles at t = 0 (before a restart)
+    if (restart) then
+      input_text = read_text(dir//'/input.nml')
+      call checkpoint_read(dir, input_text, s, ex, st, msg)
+      if (st == 2) call fatal('restart', msg, EXIT_INPUT)
+      if (st /= 0) call fatal('restart', msg, EXIT_IO)
+      seconds0 = ex%wall_seconds
+      call history_truncate(dir//'/history.csv', ex%history_rows, st, msg)
+      if (st /= 0) call fatal('restart', msg, EXIT_IO)
+      call history_open(hist, dir//'/history.csv', s, cfg%run%history_every, cfg%run%depth, &
+                        sector_factor(cfg), probes, st, msg, append=.true.)
+      if (st /= 0) call fatal('output', msg, EXIT_IO)
+      hist%rows = ex%history_rows
+      hist%next_time = ex%history_next
+      hist%last_time = ex%history_last
+      call snap_reopen(snaps, dir//'/particles.h5', ex%snap_times, ex%snap_np, ex%snap_nc, st, &
+                       msg)
+      if (st /= 0) call fatal('restart', msg, EXIT_IO)
+      next_snap = ex%snapshot_next
+      if (.not. quiet) write(output_unit, '(a)') 'restarting from the checkpoint at t = '// &
+        rtoa(s%t)//' s, step '//itoa(s%step)
+    else
+      call sys_mkdir_p(dir, st, msg)
+      if (st /= 0) call fatal('output', 'cannot create the output folder '//dir//': '//msg// &
+        '. Choose a writable &run output_dir', EXIT_IO)
+      call write_config(cfg, dir//'/input.nml', st, msg)
+      if (st /= 0) call fatal('output', msg, EXIT_IO)
+      input_text = read_text(dir//'/input.nml')
+      call history_open(hist, dir//'/history.csv', s, cfg%run%history_every, cfg%run%depth, &
+                        sector_factor(cfg), probes, st, msg)
+      if (st /= 0) call fatal('output', msg, EXIT_IO)
+      call snap_create(snaps, dir//'/particles.h5', input_text, st, msg)
+      if (st /= 0) call fatal('output', msg//' ('//dir//'/particles.h5)', EXIT_IO)
+      call history_write(hist, s, .true., st, msg)
+      if (st /= 0) call fatal('output', msg, EXIT_IO)
+      call snap_write(snaps, s%p, s%basis, s%t, s%step, s%dt, st, msg)
+      if (st /= 0) call fatal('output', msg, EXIT_IO)
+      call xdmf_write(snaps, dir//'/particles.xdmf', 'particles.h5', st, msg)
+      if (st /= 0) call fatal('output', msg, EXIT_IO)
+      next_snap = cfg%run%snapshot_every
+    end if
     if (.not. sys_install_signals()) call warn('run', 'could not install signal handlers')
     sm%threads = 1
     !$ sm%threads = omp_get_max_threads()
-
-    call history_write(hist, s, .true., st, msg)
-    if (st /= 0) call fatal('output', msg, EXIT_IO)
-    call snap_write(snaps, s%p, s%basis, s%t, s%step, s%dt, st, msg)
-    if (st /= 0) call fatal('output', msg, EXIT_IO)
-    call xdmf_write(snaps, dir//'/particles.xdmf', 'particles.h5', st, msg)
-    if (st /= 0) call fatal('output', msg, EXIT_IO)
-    next_snap = cfg%run%snapshot_every
     good = s%p
     t_good = s%t
     dt_good = s%dt
@@ -199,12 +232,14 @@ contains
     tty = sys_stdout_isatty()
     call system_clock(c0, crate)
     last_progress = 0.0_wp
+    last_ckpt = 0.0_wp
+    sig = 0
 
     do while (s%t < s%t_end)
       call solver_step(s, st, msg)
       if (st /= 0) then
         call system_clock(c1)
-        sm%wall_seconds = real(c1 - c0, wp)/real(crate, wp)
+        sm%wall_seconds = seconds0 + real(c1 - c0, wp)/real(crate, wp)
         call on_failure(st, msg, dir, input_text, s, good, t_good, dt_good, step_good, snaps, &
                         hist, sm)
       end if
@@ -233,19 +268,37 @@ contains
         last_progress = elapsed
       end if
       sig = sys_signal_received()
+      if (sig /= 0 .or. (cfg%run%checkpoint_every > 0.0_wp .and. &
+                         elapsed - last_ckpt >= cfg%run%checkpoint_every)) then
+        ! checkpoint with the output positions; an I/O failure here stops the run (exit 3)
+        ex%history_rows = hist%rows
+        ex%history_next = hist%next_time
+        ex%history_last = hist%last_time
+        ex%snapshot_next = next_snap
+        ex%snap_times = snaps%times
+        ex%snap_np = snaps%nps
+        ex%snap_nc = snaps%ncs
+        ex%wall_seconds = seconds0 + elapsed
+        call checkpoint_write(dir, input_text, s, ex, st, msg)
+        if (st /= 0) call fatal('checkpoint', msg, EXIT_IO)
+        last_ckpt = elapsed
+      end if
       if (sig /= 0) then
         sm%status = 'interrupted'
-        sm%message = 'stopped by signal '//itoa(sig)//' at t = '//rtoa(s%t)//' s'
+        sm%message = 'stopped by signal '//itoa(sig)//' at t = '//rtoa(s%t)//' s, step '// &
+                     itoa(s%step)//'; continue with: tubempm --restart '//dir
         exit
       end if
     end do
     call system_clock(c1)
-    sm%wall_seconds = real(c1 - c0, wp)/real(crate, wp)
+    sm%wall_seconds = seconds0 + real(c1 - c0, wp)/real(crate, wp)
     if (.not. quiet .and. tty) write(output_unit, '(a)') ''
-    call snap_write(snaps, s%p, s%basis, s%t, s%step, s%dt, st, msg)
-    if (st /= 0) call fatal('output', msg, EXIT_IO)
-    call xdmf_write(snaps, dir//'/particles.xdmf', 'particles.h5', st, msg)
-    if (st /= 0) call fatal('output', msg, EXIT_IO)
+    if (sig == 0) then
+      call snap_write(snaps, s%p, s%basis, s%t, s%step, s%dt, st, msg)
+      if (st /= 0) call fatal('output', msg, EXIT_IO)
+      call xdmf_write(snaps, dir//'/particles.xdmf', 'particles.h5', st, msg)
+      if (st /= 0) call fatal('output', msg, EXIT_IO)
+    end if
     call snap_close(snaps, st, msg)
     if (st /= 0) call fatal('output', msg, EXIT_IO)
     call history_close(hist)
@@ -260,11 +313,51 @@ contains
         ', energy error ', s%energy_error
       write(output_unit, '(a)') 'outputs in '//dir
     end if
-    if (sm%status == 'interrupted') then
-      call fatal('run', trim(sm%message)//'; outputs are complete up to that time', &
-                 EXIT_INTERRUPTED)
+    if (sig /= 0) then
+      call write_err('ERROR [run]: '//trim(sm%message)//'; a checkpoint is in '//dir// &
+                     '/checkpoint.bin and the outputs are complete up to that time')
+      select case (sig)
+      case (2); error stop 130
+      case (15); error stop 143
+      case default; error stop 5
+      end select
     end if
+
   end subroutine run_case
+
+  !> Keep the header and the first `rows` rows of a history file (restart).
+  subroutine history_truncate(path, rows, stat, errmsg)
+    character(len=*), intent(in) :: path
+    integer, intent(in) :: rows
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: errmsg
+    character(len=:), allocatable :: text, line
+    character(len=512) :: msg
+    integer :: u, k, i0, i1
+    errmsg = ''
+    text = read_text(path)
+    open(newunit=u, file=path, status='replace', action='write', iostat=stat, iomsg=msg)
+    if (stat /= 0) then
+      errmsg = 'cannot rewrite '//path//': '//trim(msg)
+      return
+    end if
+    i0 = 1
+    do k = 0, rows
+      i1 = index(text(i0:), new_line('a'))
+      if (i1 == 0) exit
+      line = text(i0:i0 + i1 - 2)
+      write(u, '(a)', iostat=stat, iomsg=msg) line
+      i0 = i0 + i1
+    end do
+    close(u, iostat=stat, iomsg=msg)
+    if (stat /= 0) errmsg = 'cannot rewrite '//path//': '//trim(msg)
+  end subroutine history_truncate
+
+  subroutine write_err(text)
+    character(len=*), intent(in) :: text
+    write(error_unit, '(a)') text
+    flush(error_unit)
+  end subroutine write_err
 
   !> One progress line: in place on a terminal, a new line otherwise.
   subroutine progress(s, elapsed, tty)
@@ -321,7 +414,7 @@ contains
     character(len=*), intent(in) :: path
     character(len=:), allocatable :: text
     integer :: u, ios
-    character(len=1024) :: line
+    character(len=65536) :: line
     text = ''
     open(newunit=u, file=path, status='old', action='read', iostat=ios)
     if (ios /= 0) return
