@@ -30,7 +30,7 @@ TESTSRC := $(wildcard tests/test_*.f90)
 TESTS   := $(patsubst tests/%.f90,$(BLD)/%,$(TESTSRC))
 FC_ALL  := $(FC) $(FFLAGS_common) $(FFLAGS_$(BUILD))
 
-.PHONY: all deps test run plots clean help check-namelists bench study stability figures
+.PHONY: all deps test run plots clean help check-namelists bench study stability figures fuzz
 
 # HDF5 flags come from pkg-config when make reads this file, so everything that compiles runs
 # in a sub-make started after `deps` has installed what was missing (a fresh machine).
@@ -95,6 +95,10 @@ run: all
 ## check-namelists: bin/tubempm --check on every file in namelists/
 check-namelists: all
 	@for f in namelists/*.nml; do bin/tubempm --check --quiet $$f > /dev/null || exit 1; echo "ok  $$f"; done
+
+## fuzz: mutate the shipped namelists N times (default 5000) through --check (release build)
+fuzz: all
+	$(PYTHON) tools/fuzz_namelists.py --bin bin/tubempm --count $(or $(N),5000) --seed $(or $(SEED),1) --out build/fuzz
 
 ## clean: remove build/ and bin/
 clean:
