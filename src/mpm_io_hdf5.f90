@@ -147,13 +147,13 @@ contains
     call h5_check(ierr, 'h5gcreate_f '//name, stat, errmsg)
     if (stat /= 0) return
     call write_real_attr(gid, 'time', t, stat, errmsg)
-    call write_real_attr(gid, 'step', real(step, wp), stat, errmsg)
+    call write_int_attr(gid, 'step', int(step), stat, errmsg)
     call write_real_attr(gid, 'dt', dt, stat, errmsg)
-    call write_real_attr(gid, 'ndim', 2.0_wp, stat, errmsg)
+    call write_int_attr(gid, 'ndim', 2, stat, errmsg)
     call particle_corners(p, basis, corners, quads)
     ncorner = size(corners, 2)
-    call write_real_attr(gid, 'np', real(p%np, wp), stat, errmsg)
-    call write_real_attr(gid, 'ncorner', real(ncorner, wp), stat, errmsg)
+    call write_int_attr(gid, 'np', p%np, stat, errmsg)
+    call write_int_attr(gid, 'ncorner', ncorner, stat, errmsg)
     call write_real_2d(gid, 'x', p%x, 'm', 'particle position (domain centroid)', stat, errmsg)
     call write_real_2d(gid, 'v', p%v, 'm/s', 'particle velocity', stat, errmsg)
     call write_real_1d(gid, 'mass', p%mass, 'kg/m', 'particle mass per unit depth', stat, errmsg)
@@ -325,6 +325,27 @@ contains
     call h5aclose_f(aid, ierr)
     call h5sclose_f(sid, ierr)
   end subroutine write_real_attr
+
+  !> An integer scalar attribute.
+  subroutine write_int_attr(loc, name, value, stat, errmsg)
+    integer(hid_t), intent(in) :: loc      !! group
+    character(len=*), intent(in) :: name   !! attribute name
+    integer, intent(in) :: value           !! value
+    integer, intent(inout) :: stat         !! status
+    character(len=:), allocatable, intent(inout) :: errmsg  !! message
+    integer(hid_t) :: sid, aid
+    integer(hsize_t) :: dims(1) = [1_hsize_t]
+    integer :: ierr
+    if (stat /= 0) return
+    call h5screate_f(H5S_SCALAR_F, sid, ierr)
+    call h5_check(ierr, 'h5screate_f '//name, stat, errmsg)
+    call h5acreate_f(loc, name, H5T_NATIVE_INTEGER, sid, aid, ierr)
+    call h5_check(ierr, 'h5acreate_f '//name, stat, errmsg)
+    call h5awrite_f(aid, H5T_NATIVE_INTEGER, value, dims, ierr)
+    call h5_check(ierr, 'h5awrite_f '//name, stat, errmsg)
+    call h5aclose_f(aid, ierr)
+    call h5sclose_f(sid, ierr)
+  end subroutine write_int_attr
 
   !> A string attribute.
   subroutine write_string_attr(loc, name, value, stat, errmsg)

@@ -142,6 +142,7 @@ contains
     row(i + 2) = real(s%step, wp)
     row(i + 3) = s%dt
     row(i + 4) = s%energy_error
+    row = row + 0.0_wp                     ! no negative zeros in the file
     write(h%unit, '(es24.16e3,*(:",",es24.16e3))', iostat=stat, iomsg=msg) row
     if (stat /= 0) then
       errmsg = 'cannot write a history row: '//trim(msg)

@@ -1,0 +1,173 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
+"""Deformed shapes of a tubempm run: the particle domains coloured by plastic strain.
+
+One panel per snapshot of particles.h5 (by default up to six, spread evenly over the run),
+each particle drawn as its domain polygon (the CPDI corners) coloured by the equivalent
+plastic strain, with the walls that are not mirror planes drawn at their position at that time
+(the point moved by the wall's travel, history column wall<k>_disp, along minus its normal).
+
+    python3 plots/plot_shapes.py --case namelists/crush.nml
+    python3 plots/plot_shapes.py --dir out/impact --frames 0 5 -1 --out impact_shapes.png
+    python3 plots/plot_shapes.py --dir out/crush --h5 out/crush/crash_001234.h5
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import sys
+from typing import Any
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import style  # noqa: E402  (Agg backend and rcParams, before pyplot)
+import mpmplot  # noqa: E402
+
+import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.collections import PolyCollection  # noqa: E402
+from matplotlib.colors import Normalize  # noqa: E402
+
+MAX_DEFAULT_FRAMES = 6
+
+
+def pick_frames(count: int, wanted: list[int] | None) -> list[int]:
+    """Snapshot positions to draw: the wanted ones (negative from the end), or up to six
+    spread evenly over the run, first and last included."""
+    if count == 0:
+        return []
+    if wanted:
+        out = []
+        for k in wanted:
+            j = k + count if k < 0 else k
+            if not 0 <= j < count:
+                raise IndexError(f"frame {k} out of range: the file holds {count} snapshots "
+                                 f"(0..{count - 1})")
+            out.append(j)
+        return out
+    n = min(count, MAX_DEFAULT_FRAMES)
+    return sorted({int(round(x)) for x in np.linspace(0, count - 1, n)})
+
+
+def wall_positions(walls: list[dict[str, Any]], history: dict[str, np.ndarray] | None,
+                   time: float) -> list[tuple[np.ndarray, np.ndarray, int]]:
+    """(current point [m], unit normal, wall number) of each non-mirror wall at a time: the
+    input point moved by wall<k>_disp of the history row nearest the time along -normal."""
+    out = []
+    row = None
+    if history is not None and history["time"].size:
+        row = int(np.argmin(np.abs(history["time"] - time)))
+    for w in walls:
+        if w["mirror"]:
+            continue
+        k = w["index"]
+        travel = 0.0
+        if row is not None and f"wall{k}_disp" in history:
+            travel = float(history[f"wall{k}_disp"][row])
+        out.append((w["point"] - travel * w["normal"], w["normal"], k))
+    return out
+
+
+def draw_wall(ax: plt.Axes, point: np.ndarray, normal: np.ndarray, size: float,
+              scale: float) -> None:
+    """A wall as a line with a hatched band on its solid side (behind the normal)."""
+    tangent = np.array([-normal[1], normal[0]])
+    far = 20.0 * size
+    p = point * scale
+    a, b = p - far * tangent, p + far * tangent
+    band = 0.035 * size
+    poly = np.array([a, b, b - band * normal, a - band * normal])
+    ax.fill(poly[:, 0], poly[:, 1], facecolor="0.85", edgecolor="0.4", hatch="///", lw=0.0,
+            zorder=1)
+    ax.plot([a[0], b[0]], [a[1], b[1]], color="0.2", lw=1.5, zorder=3)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Draw the selected snapshots into one figure."""
+    p = argparse.ArgumentParser(description="Deformed particle domains of a tubempm run, "
+                                "coloured by equivalent plastic strain, with the walls.")
+    src = p.add_mutually_exclusive_group(required=True)
+    src.add_argument("--case", metavar="FILE.nml", help="the case file")
+    src.add_argument("--dir", metavar="OUTDIR", help="the output folder of a run")
+    p.add_argument("--frames", type=int, nargs="+", metavar="K",
+                   help="snapshot positions (0-based, negative from the end); default: up to "
+                        f"{MAX_DEFAULT_FRAMES} spread evenly")
+    p.add_argument("--h5", metavar="FILE", help="particle file (default <outdir>/particles.h5; "
+                   "a crash_<step>.h5 works too)")
+    p.add_argument("--out", metavar="PNG", help="output image (default <outdir>/shapes.png)")
+    p.add_argument("--edges", action="store_true", help="outline every particle domain")
+    args = p.parse_args(argv)
+
+    try:
+        outdir, inputs = mpmplot.resolve_case(args.case, args.dir)
+        h5 = args.h5 or os.path.join(outdir, "particles.h5")
+        names = mpmplot.read_frames(h5)
+        chosen = pick_frames(len(names), args.frames)
+        if not chosen:
+            raise ValueError(f"{h5}: no snapshots")
+        frames = [mpmplot.read_frame(h5, names[j]) for j in chosen]
+    except (OSError, ValueError, KeyError, IndexError) as exc:
+        print(f"ERROR [plot_shapes]: {exc}", file=sys.stderr)
+        return 2
+    history = None
+    hpath = os.path.join(outdir, "history.csv")
+    if os.path.isfile(hpath):
+        try:
+            history = mpmplot.read_history(hpath)
+        except ValueError as exc:
+            print(f"warning: {exc}; walls drawn at their initial position", file=sys.stderr)
+    walls = mpmplot.wall_table(inputs, mpmplot.history_walls(history) if history else None)
+
+    mm = 1e3
+    allc = np.vstack([f["corners"] for f in frames]) * mm
+    lo, hi = allc.min(axis=0), allc.max(axis=0)
+    size = float(max(hi - lo)) or 1.0
+    pad = 0.07 * size
+    lo, hi = lo - pad, hi + pad
+    vmax = max(float(np.max(f["eqps"])) for f in frames)
+    norm = Normalize(vmin=0.0, vmax=vmax if vmax > 0.0 else 1.0)
+    tmax = max(float(f.get("time", 0.0)) for f in frames)
+    tscale, tunit = (1e3, "ms") if tmax >= 1e-3 else (1e6, "µs")
+
+    n = len(frames)
+    ncols = min(n, 3)
+    nrows = math.ceil(n / ncols)
+    aspect = (hi[1] - lo[1]) / (hi[0] - lo[0])
+    fig, axes = plt.subplots(nrows, ncols, layout="constrained", squeeze=False,
+                             figsize=(3.6 * ncols + 1.2, (3.6 * aspect + 0.8) * nrows + 0.4))
+    pc = None
+    for ax, frame in zip(axes.flat, frames):
+        verts = frame["corners"][frame["quads"]] * mm
+        pc = PolyCollection(verts, array=frame["eqps"], cmap=style.CMAP, norm=norm,
+                            edgecolors=(0, 0, 0, 0.35) if args.edges else "face",
+                            linewidths=0.15 if args.edges else 0.3, zorder=2)
+        ax.add_collection(pc)
+        for point, normal, _ in wall_positions(walls, history, float(frame.get("time", 0.0))):
+            draw_wall(ax, point, normal, size, mm)
+        ax.set_xlim(lo[0], hi[0])
+        ax.set_ylim(lo[1], hi[1])
+        ax.set_aspect("equal")
+        ax.set_xlabel("x [mm]")
+        ax.set_ylabel("y [mm]")
+        ax.set_title(f"t = {float(frame.get('time', 0.0)) * tscale:.4g} {tunit}\n"
+                     f"{frame['name']}, max eqps {np.max(frame['eqps']):.3g}", fontsize=9)
+        ax.grid(False)
+    for ax in list(axes.flat)[n:]:
+        ax.set_visible(False)
+    label = "equivalent plastic strain [-]"
+    if vmax <= 0.0:
+        label += " (zero everywhere)"
+    fig.colorbar(pc, ax=axes, label=label, shrink=0.9)
+    run = (inputs.get("run") or [{}])[0]
+    title = str(run.get("title") or os.path.basename(os.path.normpath(outdir)))
+    fig.suptitle(f"{title}: deformed particle domains ({frames[0]['np']} particles)")
+    out = args.out or os.path.join(outdir, "shapes.png")
+    fig.savefig(out, dpi=style.DPI)
+    plt.close(fig)
+    print(f"wrote {out} ({n} frames: {', '.join(f['name'] for f in frames)})")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,44 @@
+# SPDX-License-Identifier: MIT
+"""Shared matplotlib settings of the tubempm plotting scripts.
+
+Import this module before ``matplotlib.pyplot``: it selects the non-interactive Agg backend
+(the scripts only write PNG files) and sets the common rcParams (viridis, dpi 150, readable
+font sizes, no LaTeX).
+"""
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+#: Resolution of every PNG written by the scripts.
+DPI: int = 150
+
+#: Colour map for scalar fields (equivalent plastic strain, ...).
+CMAP: str = "viridis"
+
+RC: dict[str, object] = {
+    "figure.dpi": DPI,
+    "savefig.dpi": DPI,
+    "image.cmap": CMAP,
+    "text.usetex": False,
+    "font.size": 10,
+    "axes.titlesize": 10,
+    "axes.labelsize": 10,
+    "legend.fontsize": 8,
+    "legend.framealpha": 0.85,
+    "xtick.labelsize": 9,
+    "ytick.labelsize": 9,
+    "axes.grid": True,
+    "grid.alpha": 0.3,
+    "lines.linewidth": 1.4,
+    "axes.formatter.useoffset": False,
+}
+
+
+def apply() -> None:
+    """Apply the shared rcParams (idempotent)."""
+    matplotlib.rcParams.update(RC)
+
+
+apply()
