@@ -1087,7 +1087,11 @@ contains
     if (chk_text(rd, io, 'output_dir', output_dir, path_len)) &
       r%output_dir = trim(adjustl(output_dir))
     if (chk_real(rd, io, 't_end', t_end, .true., gt=0.0_wp)) r%t_end = t_end
-    if (chk_real(rd, io, 'cfl', cfl, .false., gt=0.0_wp, le=1.0_wp)) r%cfl = cfl
+    if (chk_real(rd, io, 'cfl', cfl, .false., gt=0.0_wp, le=2.0_wp)) then
+      r%cfl = cfl
+      if (cfl > 1.0_wp) call warn_var(rd, io, 'cfl', 'above 1 the explicit step exceeds the '// &
+        'stable limit of the grid: the run will most likely stop with exit 4 (use 0.1-0.3)')
+    end if
     if (chk_real(rd, io, 'dt', dt, .false., ge=0.0_wp)) r%dt = dt
     if (chk_real(rd, io, 'history_every', history_every, .false., ge=0.0_wp)) &
       r%history_every = history_every
@@ -1963,7 +1967,8 @@ contains
     case ('run.t_end')
       s = 'a real number > 0 [s] (required)'
     case ('run.cfl')
-      s = 'a real number with 0 < cfl <= 1 (default 0.2)'
+      s = 'a real number with 0 < cfl <= 2 (default 0.2; above 1 is unstable, allowed for '// &
+          'stability studies)'
     case ('run.dt')
       s = 'a real number >= 0 [s] (0 = from cfl; default 0)'
     case ('run.history_every', 'run.snapshot_every', 'run.checkpoint_every')
