@@ -75,7 +75,17 @@ if [ ${#missing_py[@]} -gt 0 ]; then
     pipflags="$pipflags --break-system-packages"
   fi
   if [ "$(id -u)" != 0 ] && [ -z "${VIRTUAL_ENV:-}" ]; then pipflags="$pipflags --user"; fi
-  PIP_ROOT_USER_ACTION=ignore PIP_DISABLE_PIP_VERSION_CHECK=1 "$py" -m pip install $pipflags -r "$here/plots/requirements.txt" \
-    || { echo "install-deps: pip install failed; run by hand: $py -m pip install -r $here/plots/requirements.txt" >&2; exit 2; }
+  if ! PIP_ROOT_USER_ACTION=ignore PIP_DISABLE_PIP_VERSION_CHECK=1 \
+       "$py" -m pip install $pipflags -r "$here/plots/requirements.txt"; then
+    # Debian's own python3 can take the same libraries from Debian's packages instead
+    if [ "$(command -v "$py")" = /usr/bin/python3 ] && [ "$sudo" != NONE ] && command -v apt-get >/dev/null 2>&1 \
+       && $sudo apt-get install -y -qq python3-numpy python3-matplotlib python3-h5py >/dev/null; then
+      echo "install-deps: pip failed; installed python3-numpy python3-matplotlib python3-h5py with apt-get"
+    else
+      echo "install-deps: pip install failed; run by hand: $py -m pip install -r $here/plots/requirements.txt" >&2
+      echo "  (or on Debian: sudo apt-get install python3-numpy python3-matplotlib python3-h5py)" >&2
+      exit 2
+    fi
+  fi
 fi
 exit 0
