@@ -121,10 +121,19 @@ def plot_crush(history: History, inputs: Inputs, outdir: str, experiment: str | 
     top = moving[0]
     k = top["index"]
     # wall<k>_disp is the travel along minus the normal: negative for a platen moving into the
-    # tube. The platen displacement (compression) is plotted positive.
-    raw = history[f"wall{k}_disp"]
-    sign = -1.0 if raw.size and raw[np.argmax(np.abs(raw))] < 0.0 else 1.0
-    disp = sign * raw
+    # tube. The crush displacement delta is the relative approach of the platens: the advance of
+    # every moving platen, plus that of its mirror image where a mirror plane of a half/quarter
+    # model is parallel to it (the quarter model's bottom platen is the top one's image).
+    disp = np.zeros_like(history[f"wall{k}_disp"])
+    mirrors = [w for w in _walls(inputs, history) if w["mirror"]]
+    for w in moving:
+        advance = -history[f"wall{w['index']}_disp"]
+        disp = disp + advance
+        for m in mirrors:
+            if abs(float(np.dot(m["normal"], w["normal"]))) > 0.999:
+                disp = disp + advance
+    if disp.size and disp[np.argmax(np.abs(disp))] < 0.0:
+        disp = -disp
     force = history[f"wall{k}_force"]
     ring = _ring(inputs)
     depth = mpmplot.depth_of(inputs)
@@ -182,7 +191,7 @@ def plot_crush(history: History, inputs: Inputs, outdir: str, experiment: str | 
     if exp is not None:
         ax.plot(exp[0] * 1e3, exp[1] * 1e-3, "o", ms=3, mfc="none", color="k",
                 label="experiment")
-    ax.set_xlabel("platen displacement [mm]")
+    ax.set_xlabel(r"platen approach $\delta$ [mm]")
     ax.set_ylabel(f"platen force [kN] (depth {depth:g} m)")
     ax.set_title(f"{title}: force–displacement")
     ax.set_xlim(left=0.0)
@@ -206,7 +215,7 @@ def plot_crush(history: History, inputs: Inputs, outdir: str, experiment: str | 
         absorbed = float(np.sum(0.5 * (force[1:] + force[:-1]) * np.diff(disp)))
         numbers.append(f"work on platen    {absorbed:.6g} J (integral of F d delta); plastic "
                        f"{history['plastic'][-1]:.6g} J")
-    ax2.set_xlabel("platen displacement [mm]")
+    ax2.set_xlabel(r"platen approach $\delta$ [mm]")
     ax2.set_ylabel(f"energy [J] (depth {depth:g} m)")
     ax2.set_title("energies")
     ax2.set_xlim(left=0.0)
