@@ -43,13 +43,20 @@ contains
     i0 = floor(s(1))
     j0 = floor(s(2))
     need = 2
-    w = 0.0_wp
-    gw = 0.0_wp
-    if (need > nb) return
     call cell_values(s(1) - real(i0, wp), s(2) - real(j0, wp), n4, dn4)
-    kk = [1, 2, 1 + nb, 2 + nb]
-    w(kk) = n4
-    gw(:, kk) = dn4*invh
+    if (need > nb) then
+      w = 0.0_wp
+      gw = 0.0_wp
+    else if (nb == 2) then                       ! the usual block: every node is one of the cell's
+      w = n4
+      gw = dn4*invh
+    else
+      w = 0.0_wp
+      gw = 0.0_wp
+      kk = [1, 2, 1 + nb, 2 + nb]
+      w(kk) = n4
+      gw(:, kk) = dn4*invh
+    end if
   end subroutine weights_linear
 
   !> uGIMP basis: w_i = average of N_i over the square [xp - half, xp + half] (closed form per
@@ -130,9 +137,11 @@ contains
     sc(:, 3) = sp + q1 + q2
     sc(:, 4) = sp - q1 + q2
     call corner_block(sc, i0, j0, ihi, jhi, need)
-    w = 0.0_wp
-    gw = 0.0_wp
-    if (need > nb) return
+    if (need > nb) then
+      w = 0.0_wp
+      gw = 0.0_wp
+      return
+    end if
     ! Signed volume: equals 4|r1 x r2| for r1 x r2 > 0 (r_k = F r_k0 keeps the sign of the
     ! initial pair), and keeps sum_i x_i (x) gw_i = I for either orientation.
     vol = 4.0_wp*(r1(1)*r2(2) - r1(2)*r2(1))  ! Sadeghirad et al. 2011, V_p = 4|r1 x r2|
@@ -153,8 +162,9 @@ contains
 
   !> CPDI2 / CPDI-Q4 basis for the quadrilateral with corners xc (counter-clockwise): w_i =
   !> exact average over the quad of the isoparametric interpolant of N_i from its corner values;
-  !> gw_i = average gradient of that interpolant (boundary-integral form).
-  pure subroutine weights_cpdi2(xc, origin, h, nb, i0, j0, w, gw, need)
+  !> gw_i = average gradient of that interpolant (boundary-integral form). Optionally also the
+  !> jmin of cpdi2_geometry (the folding check), from the same corner Jacobians.
+  pure subroutine weights_cpdi2(xc, origin, h, nb, i0, j0, w, gw, need, jmin)
     real(wp), intent(in) :: xc(2, 4)        !! corners x1..x4, counter-clockwise [m]
     real(wp), intent(in) :: origin(2)       !! position of node (0, 0) [m]
     real(wp), intent(in) :: h               !! cell size [m]
@@ -164,18 +174,28 @@ contains
     real(wp), intent(out) :: w(nb*nb)       !! weights of the block nodes [-]
     real(wp), intent(out) :: gw(2, nb*nb)   !! gradients of the weights [1/m]
     integer, intent(out) :: need            !! nodes per direction the particle needs [-]
-    real(wp) :: invh, sc(2, 4), cj(4), area, wc(4), inv_2a, gc(2, 4)
+    real(wp), intent(out), optional :: jmin !! min corner Jacobian / (area/4), as cpdi2_geometry
+    real(wp) :: invh, sc(2, 4), cj(4), area, wc(4), inv_2a, gc(2, 4), cen(2)
     integer :: ihi, jhi, c
 
     invh = 1.0_wp/h
     do c = 1, 4
       sc(:, c) = (xc(:, c) - origin)*invh
     end do
-    call corner_block(sc, i0, j0, ihi, jhi, need)
-    w = 0.0_wp
-    gw = 0.0_wp
-    if (need > nb) return
     call quad_jacobians(xc, cj, area)
+    if (present(jmin)) then
+      if (area > 0.0_wp) then
+        jmin = minval(cj)/area
+      else
+        call cpdi2_geometry(xc, area, cen, jmin)
+      end if
+    end if
+    call corner_block(sc, i0, j0, ihi, jhi, need)
+    if (need > nb) then
+      w = 0.0_wp
+      gw = 0.0_wp
+      return
+    end if
     if (.not. abs(area) > 0.0_wp) then
       call fill_nan(w, gw)
       return
@@ -288,9 +308,10 @@ contains
     need = max(ihi - i0, jhi - j0) + 1
   end subroutine corner_block
 
-  ! Add the corners' contributions: weight wc(c)*N_i(x_c) and gradient N_i(x_c)*gc(:, c) to the
-  ! four nodes of the cell of corner c. The cell is clamped so that a corner lying exactly on the
-  ! last node line (local coordinate 1) stays inside the tight block.
+  ! Weights and gradients from the corners: zero, then add weight wc(c)*N_i(x_c) and gradient
+  ! N_i(x_c)*gc(:, c) to the four nodes of the cell of corner c, corner by corner. The cell is
+  ! clamped so that a corner lying exactly on the last node line (local coordinate 1) stays
+  ! inside the tight block.
   pure subroutine scatter_corners(sc, wc, gc, i0, j0, ihi, jhi, nb, w, gw)
     real(wp), intent(in) :: sc(2, 4)        !! scaled corner positions [-]
     real(wp), intent(in) :: wc(4)           !! corner weights [-]
@@ -298,11 +319,13 @@ contains
     integer, intent(in) :: i0, j0           !! lower-left node of the block [-]
     integer, intent(in) :: ihi, jhi         !! upper-right node of the block [-]
     integer, intent(in) :: nb               !! nodes per direction of the block [-]
-    real(wp), intent(inout) :: w(nb*nb)     !! weights [-]
-    real(wp), intent(inout) :: gw(2, nb*nb) !! gradients [1/m]
+    real(wp), intent(out) :: w(nb*nb)       !! weights [-]
+    real(wp), intent(out) :: gw(2, nb*nb)   !! gradients [1/m]
     real(wp) :: fx, fy, n1, n2, n3, n4
     integer :: c, ic, jc, k
 
+    w = 0.0_wp
+    gw = 0.0_wp
     do c = 1, 4
       ic = min(floor(sc(1, c)), ihi - 1)
       jc = min(floor(sc(2, c)), jhi - 1)

@@ -143,6 +143,7 @@ contains
     s%plane = cfg%solver%plane_id
     s%flip = cfg%solver%flip
     s%damping = cfg%solver%damping
+    s%deterministic = cfg%solver%deterministic
     s%cfl = cfg%run%cfl
     s%dt_fixed = cfg%run%dt
     s%t_end = cfg%run%t_end

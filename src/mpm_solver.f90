@@ -2,30 +2,52 @@
 ! SPDX-License-Identifier: MIT
 !
 ! One step, as numbered in docs/algorithm.md:
-!   1. basis: node block, weights and gradients of every particle (once per step, reused)
-!   2. P2G: mass, momentum, internal and body forces (USF: stress update first)
+!   1. basis: node block, weights and gradients of every particle (once per step, reused);
+!      the particles are binned into grid tiles (mpm_grid), which bound the live region
+!   2. P2G: mass, momentum, internal and body forces in one pass (USF: mass and momentum,
+!      stress update, then forces)
 !   3. grid update, damping, walls (reaction = momentum removed / dt)
 !   4. G2P: FLIP/PIC velocity blend, positions
-!   5. MUSL: momenta mapped back to the grid, walls re-applied
+!   5. MUSL: momenta mapped back to the grid (the mass is unchanged), walls re-applied
 !   6. deformation: L, F, volume, stress; CPDI domains (corners / half-vectors)
 !   7. energies and health checks
 ! Everything is per unit depth inside; outputs scale by depth (and the sector factor).
+!
+! Performance (docs/performance.md): grid loops visit the live tiles only (mass, momentum and
+! force are zero outside them), so no step touches the whole grid. P2G accumulates per thread
+! (thread 0 into the grid, the others into buffers added on the live tiles); with
+! `deterministic` it is a four-colour sweep over the tiles instead, whose sums do not depend on
+! the thread count. Particle sums (energies) are formed per fixed chunk of particles, node sums
+! (wall impulses, damping) per live span, and added in order, so they do not depend on the
+! thread count either. Loops run in parallel only from sim_t%parallel_min particles on. Every
+! per-particle operation is the same, in the same order, as in the plain serial algorithm, so
+! one-thread results are bit-identical to it. The only allocation in a step is errmsg = ''.
 module mpm_solver
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  !$ use omp_lib, only: omp_get_thread_num, omp_get_num_threads, omp_get_max_threads
   use mpm_kinds, only: wp, i8
-  use mpm_constants, only: msg_len, EXIT_NUMERIC, BASIS_LINEAR, BASIS_UGIMP, BASIS_CPDI1, &
-                           BASIS_CPDI2, SCHEME_USL, SCHEME_USF, SCHEME_MUSL, CONTACT_SLIP
-  use mpm_particles, only: particles_t, quad_area_centroid
-  use mpm_grid, only: grid_t, grid_grow
+  use mpm_constants, only: EXIT_NUMERIC, BASIS_LINEAR, BASIS_UGIMP, BASIS_CPDI1, &
+                           BASIS_CPDI2, SCHEME_USF, SCHEME_MUSL, CONTACT_SLIP
+  use mpm_particles, only: particles_t, quad_area_centroid, particles_memory_bytes
+  use mpm_grid, only: grid_t, grid_grow, grid_set_tiles, grid_clear_live, grid_span, &
+                      grid_thread_buffers, grid_memory_bytes
   use mpm_walls, only: wall_t, wall_velocity, wall_constrain_node, wall_travel
   use mpm_material, only: material_t, material_stress_update, material_energy_density
-  use mpm_basis, only: weights_linear, weights_ugimp, weights_cpdi1, weights_cpdi2, cpdi2_geometry, &
-                       bilinear_at
+  use mpm_basis, only: weights_linear, weights_ugimp, weights_cpdi1, weights_cpdi2, bilinear_at
+  use mpm_timers, only: clock_seconds, n_phases, PHASE_BASIS, PHASE_P2G, PHASE_GRID, &
+                        PHASE_G2P, PHASE_REMAP, PHASE_STRESS, PHASE_CORNERS, PHASE_OTHER
   use mpm_strings, only: itoa, rtoa
   implicit none
   private
   public :: sim_t, solver_step, solver_stable_dt, solver_energies, solver_wall_point, &
-            solver_init_energy
+            solver_init_energy, solver_memory_bytes
+
+  integer, parameter :: chunk = 1024         !! particles per partial sum [-]
+  integer, parameter :: tile_side = 4        !! grid tile side: bounds the live region [nodes]
+  integer, parameter :: tile_side_colour = 16  !! tile side of the deterministic colour sweep:
+                                             !! long particle runs, little halo [nodes]
+  ! what a P2G pass maps (bit flags)
+  integer, parameter :: P2G_MASS = 1, P2G_MOM = 2, P2G_FORCE = 4
 
   !> Everything that evolves, plus the parameters of the step.
   type :: sim_t
@@ -45,6 +67,9 @@ module mpm_solver
     real(wp) :: gravity(2) = 0.0_wp        !! body acceleration [m/s^2]
     real(wp) :: c_max = 0.0_wp             !! largest dilatational wave speed [m/s]
     real(wp) :: energy_tol = 0.2_wp        !! energy growth that counts as blow-up [-]
+    logical :: deterministic = .false.     !! results independent of the thread count
+    integer :: parallel_min = 4096         !! particles from which loops run in parallel: below,
+                                           !! OpenMP start-up and barriers cost more than they save
     ! time
     real(wp) :: t = 0.0_wp                 !! time [s]
     real(wp) :: dt = 0.0_wp                !! last time step [s]
@@ -56,6 +81,16 @@ module mpm_solver
     real(wp), allocatable :: w(:,:)        !! weights (nb*nb, np)
     real(wp), allocatable :: gw(:,:,:)     !! gradients (2, nb*nb, np) [1/m]
     real(wp), allocatable :: bacc(:,:)     !! optional per-particle body acceleration [m/s^2]
+    ! per-step work arrays
+    logical :: par = .false.               !! loops run in parallel this step
+    integer, allocatable :: tile(:)        !! grid tile of each particle's block (np)
+    integer, allocatable :: perm(:)        !! particles sorted by tile (deterministic) (np)
+    integer, allocatable :: near(:)        !! particles near a wall, listed per chunk (np)
+    integer, allocatable :: nnear(:)       !! near particles per chunk
+    real(wp), allocatable :: chunk_sum(:,:) !! partial sums per chunk (2, nchunk)
+    real(wp), allocatable :: wall_work(:,:) !! per wall: velocity over the step, point, normal
+                                           !! (6, nwall) [m/s, m, -]
+    real(wp) :: phase_time(n_phases) = 0.0_wp  !! wall time spent per phase (mpm_timers) [s]
     ! energies per unit depth of the modelled part [J/m]
     real(wp) :: e_kin = 0.0_wp, e_strain = 0.0_wp, e_plastic = 0.0_wp
     real(wp) :: e_external = 0.0_wp, e_damped = 0.0_wp, e0 = 0.0_wp
@@ -112,16 +147,31 @@ contains
     end do
   end subroutine solver_init_energy
 
+  !> Memory held by the simulation: particles, basis cache, work arrays and grid [bytes].
+  function solver_memory_bytes(s) result(b)
+    type(sim_t), intent(in) :: s           !! simulation
+    integer(i8) :: b
+    b = particles_memory_bytes(s%p%np, s%p%nc) + grid_memory_bytes(s%g, s%nwall)
+    if (allocated(s%w)) b = b + 8_i8*(size(s%w, kind=i8) + size(s%gw, kind=i8)) &
+                          + 4_i8*size(s%blk, kind=i8)
+    if (allocated(s%tile)) b = b + 4_i8*(size(s%tile, kind=i8) + size(s%perm, kind=i8) &
+                             + size(s%near, kind=i8) + size(s%nnear, kind=i8)) &
+                             + 8_i8*size(s%chunk_sum, kind=i8)
+    if (allocated(s%bacc)) b = b + 8_i8*size(s%bacc, kind=i8)
+  end function solver_memory_bytes
+
   !> Advance by one time step (clipped to end exactly at t_end).
   !! stat = EXIT_NUMERIC with a message naming what failed, where and the remedy.
   subroutine solver_step(s, stat, errmsg)
     type(sim_t), intent(inout) :: s        !! simulation
     integer, intent(out) :: stat           !! 0 or EXIT_NUMERIC
     character(len=:), allocatable, intent(out) :: errmsg  !! what failed
-    real(wp) :: dt, emech, scale, excess
+    real(wp) :: dt, emech, scale, excess, clock
     integer :: k
+    logical :: remap
     stat = 0
     errmsg = ''
+    clock = clock_seconds()
     ! time step
     if (s%dt_fixed > 0.0_wp) then
       dt = s%dt_fixed
@@ -140,36 +190,48 @@ contains
       s%walls(k)%point = solver_wall_point(s, k)
       s%walls(k)%impulse = 0.0_wp
     end do
+    s%par = s%p%np >= s%parallel_min
+    call tick(s, PHASE_OTHER, clock)
 
-    ! 1. basis: weights and gradients once per step, reused by every transfer
+    ! 1. basis: weights and gradients once per step, reused by every transfer; tiles
     call compute_basis(s, stat, errmsg)
     if (stat /= 0) return
+    call bin_particles(s)
+    call tick(s, PHASE_BASIS, clock)
     ! 2. P2G (USF: stress first, from the velocity mapped at the start of the step)
-    call p2g(s, with_force=.false.)
     if (s%scheme == SCHEME_USF) then
-      call grid_velocity_from_momentum(s)
-      call apply_walls(s, dt, record=.false.)
+      call p2g(s, P2G_MASS + P2G_MOM)
+      call grid_velocity_walls(s, dt)
+      call tick(s, PHASE_P2G, clock)
       call update_deformation(s, dt, stat, errmsg)
       if (stat /= 0) return
+      call tick(s, PHASE_STRESS, clock)
+      call p2g(s, P2G_FORCE)
+    else
+      call p2g(s, P2G_MASS + P2G_MOM + P2G_FORCE)   ! the stress is the previous step's
     end if
-    call p2g(s, with_force=.true.)
+    call tick(s, PHASE_P2G, clock)
     ! 3. grid update, damping and walls
-    call grid_update(s, dt)
-    call apply_walls(s, dt, record=.true.)
-    ! 4. G2P
-    call g2p(s, dt)
-    ! 5. MUSL: map the new particle momenta back to the grid, re-apply the walls
-    if (s%scheme == SCHEME_MUSL) then
-      call p2g(s, with_force=.false.)
-      call grid_velocity_from_momentum(s)
-      call apply_walls(s, dt, record=.false.)
+    call grid_update_walls(s, dt)
+    call tick(s, PHASE_GRID, clock)
+    ! 4. G2P (and 5. the MUSL momentum map in the same pass, unless deterministic)
+    remap = s%scheme == SCHEME_MUSL
+    call g2p(s, dt, remap .and. .not. s%deterministic)
+    call tick(s, PHASE_G2P, clock)
+    ! 5. MUSL: the new particle momenta back on the grid, walls re-applied
+    if (remap) then
+      if (s%deterministic) call p2g(s, P2G_MOM)
+      call grid_velocity_walls(s, dt)
+      call tick(s, PHASE_REMAP, clock)
     end if
     ! 6. deformation and stress (USF did it in step 2), then the particle domains
     if (s%scheme /= SCHEME_USF) then
       call update_deformation(s, dt, stat, errmsg)
       if (stat /= 0) return
+      call tick(s, PHASE_STRESS, clock)
     end if
     call update_domains(s, dt)
+    call tick(s, PHASE_CORNERS, clock)
 
     ! 7. time, wall forces and work, energy balance
     s%t = s%t + dt
@@ -188,6 +250,7 @@ contains
     scale = max(s%e0, abs(s%e_external), tiny(1.0_wp))
     excess = emech - s%e_external - s%e0
     s%energy_error = max(s%energy_error, abs(excess)/scale)
+    call tick(s, PHASE_OTHER, clock)
     if (excess > s%energy_tol*scale .and. s%step > 10_i8) then
       stat = EXIT_NUMERIC
       errmsg = 'energy blow-up at step '//itoa(s%step)//', t = '//rtoa(s%t)// &
@@ -199,16 +262,26 @@ contains
     end if
   end subroutine solver_step
 
+  !> Add the time since `clock` to phase `phase`; clock becomes now.
+  subroutine tick(s, phase, clock)
+    type(sim_t), intent(inout) :: s        !! simulation
+    integer, intent(in) :: phase           !! PHASE_* code
+    real(wp), intent(inout) :: clock       !! last reading [s]
+    real(wp) :: now
+    now = clock_seconds()
+    s%phase_time(phase) = s%phase_time(phase) + (now - clock)
+    clock = now
+  end subroutine tick
+
   !> Step 1: block, weights and gradients of every particle; grows the block width and the
   !! grid as needed; detects folded CPDI2 domains and particles leaving a fixed grid.
   subroutine compute_basis(s, stat, errmsg)
     type(sim_t), intent(inout) :: s        !! simulation
     integer, intent(out) :: stat           !! 0 or EXIT_NUMERIC
-    character(len=:), allocatable, intent(out) :: errmsg  !! what failed
-    integer :: ip, need, need_max, lo(2), hi(2), add(4), bad, attempt, nb, nx, ny
-    real(wp) :: origin(2), h, xq(2, 4), area, cen(2), jmin, jmin_all
+    character(len=:), allocatable, intent(inout) :: errmsg  !! what failed (set on failure)
+    integer :: ip, ic, nchunk, need_max, lo(2), hi(2), add(4), bad, attempt, nb, nx, ny
+    real(wp) :: origin(2), h, jmin_all
     stat = 0
-    errmsg = ''
     if (s%nb == 0) then
       select case (s%basis)
       case (BASIS_LINEAR); s%nb = 2
@@ -227,35 +300,14 @@ contains
       hi = -huge(1)
       jmin_all = huge(1.0_wp)
       bad = 0
-      !$omp parallel do default(none) schedule(static) &
-      !$omp   shared(s, origin, h, nb) private(ip, need, xq, area, cen, jmin) &
-      !$omp   reduction(max: need_max, bad) reduction(min: lo, jmin_all) reduction(max: hi)
-      do ip = 1, s%p%np
-        select case (s%basis)
-        case (BASIS_LINEAR)
-          call weights_linear(s%p%x(:, ip), origin, h, nb, s%blk(1, ip), s%blk(2, ip), &
-                            s%w(:, ip), s%gw(:, :, ip), need)
-        case (BASIS_UGIMP)
-          call weights_ugimp(s%p%x(:, ip), s%p%half(:, ip), origin, h, nb, s%blk(1, ip), &
-                           s%blk(2, ip), s%w(:, ip), s%gw(:, :, ip), need)
-        case (BASIS_CPDI1)
-          call weights_cpdi1(s%p%x(:, ip), matmul(s%p%F(:, :, ip), s%p%r10(:, ip)), &
-                           matmul(s%p%F(:, :, ip), s%p%r20(:, ip)), origin, h, nb, &
-                           s%blk(1, ip), s%blk(2, ip), s%w(:, ip), s%gw(:, :, ip), need)
-        case default
-          xq(:, 1) = s%p%xc(:, s%p%corner(1, ip))
-          xq(:, 2) = s%p%xc(:, s%p%corner(2, ip))
-          xq(:, 3) = s%p%xc(:, s%p%corner(3, ip))
-          xq(:, 4) = s%p%xc(:, s%p%corner(4, ip))
-          call cpdi2_geometry(xq, area, cen, jmin)
-          if (.not. jmin > 0.0_wp) bad = max(bad, ip)
-          jmin_all = min(jmin_all, jmin)
-          call weights_cpdi2(xq, origin, h, nb, s%blk(1, ip), s%blk(2, ip), s%w(:, ip), &
-                           s%gw(:, :, ip), need)
-        end select
-        need_max = max(need_max, need)
-        lo = min(lo, s%blk(:, ip))
-        hi = max(hi, s%blk(:, ip) + need - 1)
+      nchunk = (s%p%np + chunk - 1)/chunk
+      !$omp parallel do default(none) schedule(static) shared(s, origin, h, nb, nchunk) &
+      !$omp   private(ic) reduction(max: need_max, bad, hi) reduction(min: lo, jmin_all) &
+      !$omp   if(s%par)
+      do ic = 1, nchunk
+        call basis_kernel(1 + (ic - 1)*chunk, min(ic*chunk, s%p%np), s%p%np, s%p%nc, &
+               s%basis, nb, origin, h, s%p%x, s%p%half, s%p%F, s%p%r10, s%p%r20, s%p%corner, &
+               s%p%xc, s%blk, s%w, s%gw, need_max, lo, hi, bad, jmin_all)
       end do
       !$omp end parallel do
       if (s%basis == BASIS_CPDI2) s%jmin_seen = min(s%jmin_seen, jmin_all)
@@ -302,263 +354,759 @@ contains
              ': positions are probably not finite; lower cfl'
   end subroutine compute_basis
 
-  !> (Re)allocate the per-step basis cache for the current block width.
+  !> Step 1 for particles ip0..ip1: block, weights and gradients; the largest block width
+  !! needed, the node range touched, the last folded CPDI2 domain and the smallest corner
+  !! Jacobian ratio (all merged into the caller's values).
+  subroutine basis_kernel(ip0, ip1, np, nc, basis, nb, origin, h, x, half, F, r10, r20, &
+                          corner, xc, blk, w, gw, need_max, lo, hi, bad, jmin_all)
+    integer, intent(in) :: ip0, ip1        !! particles
+    integer, intent(in) :: np, nc          !! particles, corners
+    integer, intent(in) :: basis           !! BASIS_* code
+    integer, intent(in) :: nb              !! block width [nodes]
+    real(wp), intent(in) :: origin(2)      !! grid origin [m]
+    real(wp), intent(in) :: h              !! cell size [m]
+    real(wp), intent(in) :: x(2, np)       !! positions [m]
+    real(wp), intent(in) :: half(2, np)    !! uGIMP half sizes [m]
+    real(wp), intent(in) :: F(2, 2, np)    !! deformation gradients [-]
+    real(wp), intent(in) :: r10(2, np), r20(2, np)  !! initial CPDI1 half-vectors [m]
+    integer, intent(in) :: corner(4, np)   !! corner ids
+    real(wp), intent(in) :: xc(2, nc)      !! corner positions [m]
+    integer, intent(out) :: blk(2, np)     !! lower-left node of each block
+    real(wp), intent(out) :: w(nb*nb, np)  !! weights [-]
+    real(wp), intent(out) :: gw(2, nb*nb, np)  !! gradients [1/m]
+    integer, intent(inout) :: need_max     !! largest block width needed
+    integer, intent(inout) :: lo(2), hi(2) !! node range touched
+    integer, intent(inout) :: bad          !! last particle with a folded CPDI2 domain (or 0)
+    real(wp), intent(inout) :: jmin_all    !! smallest CPDI2 corner Jacobian ratio [-]
+    integer :: ip, need
+    real(wp) :: xq(2, 4), jmin
+    do ip = ip0, ip1
+      select case (basis)
+      case (BASIS_LINEAR)
+        call weights_linear(x(:, ip), origin, h, nb, blk(1, ip), blk(2, ip), w(:, ip), &
+                            gw(:, :, ip), need)
+      case (BASIS_UGIMP)
+        call weights_ugimp(x(:, ip), half(:, ip), origin, h, nb, blk(1, ip), blk(2, ip), &
+                           w(:, ip), gw(:, :, ip), need)
+      case (BASIS_CPDI1)
+        call weights_cpdi1(x(:, ip), matmul(F(:, :, ip), r10(:, ip)), &
+                           matmul(F(:, :, ip), r20(:, ip)), origin, h, nb, blk(1, ip), &
+                           blk(2, ip), w(:, ip), gw(:, :, ip), need)
+      case default
+        xq(:, 1) = xc(:, corner(1, ip))
+        xq(:, 2) = xc(:, corner(2, ip))
+        xq(:, 3) = xc(:, corner(3, ip))
+        xq(:, 4) = xc(:, corner(4, ip))
+        call weights_cpdi2(xq, origin, h, nb, blk(1, ip), blk(2, ip), w(:, ip), gw(:, :, ip), &
+                           need, jmin)
+        if (.not. jmin > 0.0_wp) bad = max(bad, ip)
+        jmin_all = min(jmin_all, jmin)
+      end select
+      need_max = max(need_max, need)
+      lo = min(lo, blk(:, ip))
+      hi = max(hi, blk(:, ip) + need - 1)
+    end do
+  end subroutine basis_kernel
+
+  !> (Re)allocate the per-step basis cache for the current block width, and (once) the
+  !! per-particle work arrays.
   subroutine allocate_cache(s)
     type(sim_t), intent(inout) :: s        !! simulation
+    integer :: np
+    np = s%p%np
     if (allocated(s%w)) deallocate(s%w, s%gw, s%blk)
-    allocate(s%blk(2, s%p%np), s%w(s%nb*s%nb, s%p%np), s%gw(2, s%nb*s%nb, s%p%np))
+    allocate(s%blk(2, np), s%w(s%nb*s%nb, np), s%gw(2, s%nb*s%nb, np))
+    if (.not. allocated(s%tile)) then
+      allocate(s%tile(np), s%perm(np), s%near(np), s%nnear((np + chunk - 1)/chunk), &
+               s%chunk_sum(2, (np + chunk - 1)/chunk))
+    end if
   end subroutine allocate_cache
 
-  !> Step 2 / 5: P2G of mass and momentum, and with_force the internal and body forces.
-  subroutine p2g(s, with_force)
+  !> Bin the particles into grid tiles (by the lower-left node of their block): mark the
+  !! occupied tiles, clear the previous live region, list the new live tiles, and for the
+  !! deterministic scatter sort the particles by tile and group the tiles by colour.
+  subroutine bin_particles(s)
     type(sim_t), intent(inout) :: s        !! simulation
-    logical, intent(in) :: with_force      !! also map forces
-    integer :: n, k
-    real(wp) :: mmax, cutoff
-    if (with_force) then
-      call p2g_force_kernel(s%p%np, s%nb, s%g%nx, s%blk, s%w, s%gw, s%p%mass, s%p%vol, &
-                            s%p%stress, s%gravity, allocated(s%bacc), s%bacc, s%g%force)
-      return
-    end if
-    call p2g_mass_kernel(s%p%np, s%nb, s%g%nx, s%blk, s%w, s%p%mass, s%p%v, s%g%mass, s%g%mom)
-    ! active nodes: those with mass above the cut-off (METHOD.md sec. 2)
-    mmax = maxval(s%g%mass)
-    cutoff = 1.0e-12_wp*mmax
-    k = 0
-    do n = 1, s%g%nn
-      if (s%g%mass(n) > cutoff) then
-        k = k + 1
-        s%g%active(k) = n
-      end if
+    integer :: ts
+    ! tiles must hold a block: nb <= ts + 1 (the colour sweep relies on it)
+    ts = merge(tile_side_colour, tile_side, s%deterministic)
+    do while (ts + 1 < s%nb)
+      ts = 2*ts
     end do
-    s%g%nactive = k
-  end subroutine p2g
+    call grid_set_tiles(s%g, ts, s%par)
+    if (s%g%stamp == huge(1)) then
+      s%g%occupied = 0
+      s%g%stamp = 0
+    end if
+    s%g%stamp = s%g%stamp + 1
+    call mark_tiles(s%p%np, s%g%ts_shift, s%g%ntx, s%g%stamp, s%blk, s%tile, s%g%occupied, &
+                    s%par)
+    call grid_clear_live(s%g, s%par)
+    call list_live_tiles(s%g)
+    if (s%deterministic) call sort_by_tile(s)
+    if (.not. allocated(s%g%span_sum)) allocate(s%g%span_sum(1 + 2*s%nwall, size(s%g%span, 2)))
+  end subroutine bin_particles
 
-  !> Mass and momentum scatter with an array reduction over threads.
-  subroutine p2g_mass_kernel(np, nb, nx, blk, w, mass, v, gmass, gmom)
-    integer, intent(in) :: np, nb, nx      !! particles, block width, nodes along x
-    integer, intent(in) :: blk(:,:)        !! block origins (2, np)
-    real(wp), intent(in) :: w(:,:)         !! weights (nb*nb, np)
-    real(wp), intent(in) :: mass(:)        !! particle mass [kg/m]
-    real(wp), intent(in) :: v(:,:)         !! particle velocity [m/s]
-    real(wp), intent(inout) :: gmass(:)    !! node mass [kg/m]
-    real(wp), intent(inout) :: gmom(:,:)   !! node momentum [kg/s]
-    integer :: ip, a, b, k, n
-    real(wp) :: wm
-    gmass = 0.0_wp
-    gmom = 0.0_wp
-    !$omp parallel do default(none) schedule(static) shared(np, nb, nx, blk, w, mass, v) &
-    !$omp   private(ip, a, b, k, n, wm) reduction(+: gmass, gmom)
+  !> Tile of every particle's block, and the stamp on every occupied tile.
+  subroutine mark_tiles(np, shift, ntx, stamp, blk, tile, occupied, par)
+    integer, intent(in) :: np              !! particles
+    integer, intent(in) :: shift           !! log2 of the tile side
+    integer, intent(in) :: ntx             !! tiles along x
+    integer, intent(in) :: stamp           !! this pass's mark
+    integer, intent(in) :: blk(2, np)      !! lower-left node of each block (0-based)
+    integer, intent(out) :: tile(np)       !! tile id of each particle
+    integer, intent(inout) :: occupied(:)  !! stamp of the last pass binning into each tile
+    logical, intent(in) :: par             !! run in parallel
+    integer :: ip, t
+    !$omp parallel do default(none) schedule(static) shared(np, shift, ntx, stamp, blk, tile, &
+    !$omp   occupied) private(ip, t) if(par)
     do ip = 1, np
-      do b = 0, nb - 1
-        n = 1 + blk(1, ip) + nx*(blk(2, ip) + b)
-        do a = 0, nb - 1
-          k = 1 + a + nb*b
-          wm = w(k, ip)*mass(ip)
-          gmass(n + a) = gmass(n + a) + wm
-          gmom(1, n + a) = gmom(1, n + a) + wm*v(1, ip)
-          gmom(2, n + a) = gmom(2, n + a) + wm*v(2, ip)
-        end do
-      end do
+      t = 1 + ishft(blk(1, ip), -shift) + ntx*ishft(blk(2, ip), -shift)
+      tile(ip) = t
+      !$omp atomic write
+      occupied(t) = stamp
     end do
     !$omp end parallel do
-  end subroutine p2g_mass_kernel
+  end subroutine mark_tiles
 
-  !> Internal force -V sigma . grad phi and body force phi m (g + b_p) (METHOD.md sec. 2).
-  subroutine p2g_force_kernel(np, nb, nx, blk, w, gw, mass, vol, stress, gravity, has_bacc, &
-                              bacc, gforce)
-    integer, intent(in) :: np, nb, nx      !! particles, block width, nodes along x
-    integer, intent(in) :: blk(:,:)        !! block origins (2, np)
-    real(wp), intent(in) :: w(:,:)         !! weights (nb*nb, np)
-    real(wp), intent(in) :: gw(:,:,:)      !! gradients (2, nb*nb, np) [1/m]
-    real(wp), intent(in) :: mass(:)        !! particle mass [kg/m]
-    real(wp), intent(in) :: vol(:)         !! particle area [m^2]
-    real(wp), intent(in) :: stress(:,:)    !! Cauchy stress (4, np) [Pa]
+  !> Live tiles: occupied tiles and their right, upper and upper-right neighbours (a block
+  !! reaches at most one tile further in x and y), as spans of consecutive live tiles in each
+  !! tile row, ascending.
+  subroutine list_live_tiles(g)
+    type(grid_t), intent(inout) :: g       !! grid
+    integer :: tx, ty, t, k, st, first
+    logical :: live
+    st = g%stamp
+    k = 0
+    do ty = 0, g%nty - 1
+      first = -1
+      do tx = 0, g%ntx
+        live = .false.
+        if (tx < g%ntx) then
+          t = 1 + tx + g%ntx*ty
+          live = g%occupied(t) == st
+          if (tx > 0) live = live .or. g%occupied(t - 1) == st
+          if (ty > 0) then
+            live = live .or. g%occupied(t - g%ntx) == st
+            if (tx > 0) live = live .or. g%occupied(t - g%ntx - 1) == st
+          end if
+        end if
+        if (live .and. first < 0) first = tx
+        if (.not. live .and. first >= 0) then          ! a span ends before tx
+          k = k + 1
+          g%span(:, k) = [g%ts*first, min(g%ts*tx, g%nx) - 1, g%ts*ty, min(g%ts*(ty + 1), g%ny) - 1]
+          first = -1
+        end if
+      end do
+    end do
+    g%nspan = k
+  end subroutine list_live_tiles
+
+  !> Deterministic scatter: a stable counting sort of the particles by tile (perm), and the
+  !! occupied tiles grouped by colour (tx mod 2, ty mod 2), each colour in the order of the
+  !! tiles' first particles, so that a colour pass walks the particle arrays forward.
+  subroutine sort_by_tile(s)
+    type(sim_t), intent(inout) :: s        !! simulation
+    integer :: ip, t, c, ntiles, ncol(4), pos(4)
+    associate (g => s%g)
+      ntiles = g%ntx*g%nty
+      g%tile_start = 0
+      do ip = 1, s%p%np
+        g%tile_start(s%tile(ip) + 1) = g%tile_start(s%tile(ip) + 1) + 1
+      end do
+      ncol = 0
+      do t = 1, ntiles
+        if (g%tile_start(t + 1) == 0) cycle
+        c = tile_colour(t, g%ntx)
+        ncol(c) = ncol(c) + 1
+      end do
+      g%colour_start(1) = 1
+      do c = 1, 4
+        g%colour_start(c + 1) = g%colour_start(c) + ncol(c)
+      end do
+      pos = g%colour_start(1:4)
+      do ip = 1, s%p%np                      ! tiles in the order of their first particle
+        t = s%tile(ip)
+        if (g%tile_start(t + 1) <= 0) cycle  ! listed already (count made negative)
+        c = tile_colour(t, g%ntx)
+        g%colour_tiles(pos(c)) = t
+        pos(c) = pos(c) + 1
+        g%tile_start(t + 1) = -g%tile_start(t + 1)
+      end do
+      g%tile_start(1) = 1
+      do t = 1, ntiles
+        g%tile_start(t + 1) = g%tile_start(t) - g%tile_start(t + 1)
+      end do
+      do ip = 1, s%p%np                      ! tile_start(t) runs to the start of tile t + 1
+        s%perm(g%tile_start(s%tile(ip))) = ip
+        g%tile_start(s%tile(ip)) = g%tile_start(s%tile(ip)) + 1
+      end do
+      do t = ntiles, 1, -1
+        g%tile_start(t + 1) = g%tile_start(t)
+      end do
+      g%tile_start(1) = 1
+    end associate
+  end subroutine sort_by_tile
+
+  !> Colour 1..4 of tile t: 1 + (tx mod 2) + 2 (ty mod 2).
+  pure integer function tile_colour(t, ntx) result(c)
+    integer, intent(in) :: t               !! tile id
+    integer, intent(in) :: ntx             !! tiles along x
+    c = 1 + mod(mod(t - 1, ntx), 2) + 2*mod((t - 1)/ntx, 2)
+  end function tile_colour
+
+  !> Steps 2 and 5: P2G of what (P2G_MASS, P2G_MOM, P2G_FORCE). Mass and momentum come
+  !! with the active-node cut-off; the momentum alone (MUSL re-map) replaces the old one.
+  subroutine p2g(s, what)
+    type(sim_t), intent(inout) :: s        !! simulation
+    integer, intent(in) :: what            !! sum of P2G_* flags
+    logical :: do_mass, do_mom, do_force
+    do_mass = iand(what, P2G_MASS) /= 0
+    do_mom = iand(what, P2G_MOM) /= 0
+    do_force = iand(what, P2G_FORCE) /= 0
+    if (do_mom .and. .not. do_mass) call zero_momentum(s%g, s%par)
+    if (s%deterministic) then
+      call p2g_coloured(s, do_mass, do_mom, do_force)
+    else
+      call p2g_threads(s, do_mass, do_mom, do_force)
+    end if
+    if (do_mass) call set_mass_cut(s%g, s%par)
+  end subroutine p2g
+
+  !> P2G by per-thread accumulation: each thread maps a contiguous range of particles, thread 0
+  !! into the grid and the others into their buffers, which are then added on the live tiles
+  !! (and zeroed again).
+  subroutine p2g_threads(s, do_mass, do_mom, do_force)
+    type(sim_t), intent(inout) :: s        !! simulation
+    logical, intent(in) :: do_mass, do_mom, do_force  !! what to map
+    integer :: it, nt, ip0, ip1, np, k
+    logical :: has_bacc
+    np = s%p%np
+    has_bacc = allocated(s%bacc)
+    nt = 1
+    !$ if (s%par) nt = omp_get_max_threads()
+    call grid_thread_buffers(s%g, nt)
+    !$omp parallel default(none) shared(s, np, has_bacc, do_mass, do_mom, do_force) &
+    !$omp   private(it, nt, ip0, ip1, k) if(s%par)
+    it = 0
+    nt = 1
+    !$ it = omp_get_thread_num()
+    !$ nt = omp_get_num_threads()
+    ip0 = 1 + int(int(np, i8)*int(it, i8)/int(nt, i8))
+    ip1 = int(int(np, i8)*int(it + 1, i8)/int(nt, i8))
+    if (it == 0) then
+      call p2g_kernel(ip0, ip1, .false., s%perm, np, s%g%nn, s%nb, s%g%nx, s%blk, s%w, s%gw, &
+                      s%p%mass, s%p%v, s%p%vol, s%p%stress, s%gravity, has_bacc, s%bacc, &
+                      do_mass, do_mom, do_force, s%g%mass, s%g%mom, s%g%force)
+    else
+      call p2g_kernel(ip0, ip1, .false., s%perm, np, s%g%nn, s%nb, s%g%nx, s%blk, s%w, s%gw, &
+                      s%p%mass, s%p%v, s%p%vol, s%p%stress, s%gravity, has_bacc, s%bacc, &
+                      do_mass, do_mom, do_force, s%g%buf_mass(:, it), s%g%buf_mom(:, :, it), &
+                      s%g%buf_force(:, :, it))
+    end if
+    if (nt > 1) then
+      !$omp barrier
+      !$omp do schedule(static)
+      do k = 1, s%g%nspan
+        call add_buffers(s%g, k, nt - 1, do_mass, do_mom, do_force)
+      end do
+      !$omp end do
+    end if
+    !$omp end parallel
+  end subroutine p2g_threads
+
+  !> Deterministic P2G: the occupied tiles of one colour write disjoint node sets (blocks fit
+  !! in two tiles), so each colour is a parallel loop over its tiles straight into the grid;
+  !! every node sums its particles in (colour, tile, index) order whatever the thread count.
+  subroutine p2g_coloured(s, do_mass, do_mom, do_force)
+    type(sim_t), intent(inout) :: s        !! simulation
+    logical, intent(in) :: do_mass, do_mom, do_force  !! what to map
+    integer :: c, k, t, np
+    logical :: has_bacc
+    np = s%p%np
+    has_bacc = allocated(s%bacc)
+    do c = 1, 4
+      !$omp parallel do default(none) schedule(dynamic, 4) &
+      !$omp   shared(s, c, np, has_bacc, do_mass, do_mom, do_force) private(k, t) if(s%par)
+      do k = s%g%colour_start(c), s%g%colour_start(c + 1) - 1
+        t = s%g%colour_tiles(k)
+        call p2g_kernel(s%g%tile_start(t), s%g%tile_start(t + 1) - 1, .true., s%perm, np, &
+                        s%g%nn, s%nb, s%g%nx, s%blk, s%w, s%gw, s%p%mass, s%p%v, s%p%vol, &
+                        s%p%stress, s%gravity, has_bacc, s%bacc, do_mass, do_mom, do_force, &
+                        s%g%mass, s%g%mom, s%g%force)
+      end do
+      !$omp end parallel do
+    end do
+  end subroutine p2g_coloured
+
+  !> Scatter of particles k0..k1 (perm(k0..k1) when sorted): mass m_p phi, momentum
+  !! m_p v_p phi, force -V sigma . grad phi + phi m_p (g + b_p) (METHOD.md sec. 2, step 1).
+  subroutine p2g_kernel(k0, k1, sorted, perm, np, nn, nb, nx, blk, w, gw, mass, v, vol, &
+                        stress, gravity, has_bacc, bacc, do_mass, do_mom, do_force, &
+                        gmass, gmom, gforce)
+    integer, intent(in) :: k0, k1          !! range of particles (or of perm)
+    logical, intent(in) :: sorted          !! particles are perm(k0..k1)
+    integer, intent(in) :: np, nn, nb, nx  !! particles, nodes, block width, nodes along x
+    integer, intent(in) :: perm(np)        !! particle order (sorted only)
+    integer, intent(in) :: blk(2, np)      !! block origins
+    real(wp), intent(in) :: w(nb*nb, np)   !! weights [-]
+    real(wp), intent(in) :: gw(2, nb*nb, np)  !! gradients [1/m]
+    real(wp), intent(in) :: mass(np)       !! particle mass [kg/m]
+    real(wp), intent(in) :: v(2, np)       !! particle velocity [m/s]
+    real(wp), intent(in) :: vol(np)        !! particle area [m^2]
+    real(wp), intent(in) :: stress(4, np)  !! Cauchy stress [Pa]
     real(wp), intent(in) :: gravity(2)     !! gravity [m/s^2]
     logical, intent(in) :: has_bacc        !! per-particle body acceleration given
     real(wp), intent(in), allocatable :: bacc(:,:)  !! body acceleration (2, np) [m/s^2]
-    real(wp), intent(inout) :: gforce(:,:) !! node force [N/m]
-    integer :: ip, a, b, k, n
-    real(wp) :: sxx, syy, sxy, vp, fb(2)
-    gforce = 0.0_wp
-    !$omp parallel do default(none) schedule(static) &
-    !$omp   shared(np, nb, nx, blk, w, gw, mass, vol, stress, gravity, has_bacc, bacc) &
-    !$omp   private(ip, a, b, k, n, sxx, syy, sxy, vp, fb) reduction(+: gforce)
-    do ip = 1, np
-      vp = vol(ip)
-      sxx = vp*stress(1, ip)
-      syy = vp*stress(2, ip)
-      sxy = vp*stress(3, ip)
-      fb = mass(ip)*gravity
-      if (has_bacc) fb = fb + mass(ip)*bacc(:, ip)
-      do b = 0, nb - 1
-        n = 1 + blk(1, ip) + nx*(blk(2, ip) + b)
-        do a = 0, nb - 1
-          k = 1 + a + nb*b
-          gforce(1, n + a) = gforce(1, n + a) - (sxx*gw(1, k, ip) + sxy*gw(2, k, ip)) &
-                             + w(k, ip)*fb(1)
-          gforce(2, n + a) = gforce(2, n + a) - (sxy*gw(1, k, ip) + syy*gw(2, k, ip)) &
-                             + w(k, ip)*fb(2)
+    logical, intent(in) :: do_mass, do_mom, do_force  !! what to map
+    real(wp), intent(inout) :: gmass(nn)   !! node mass [kg/m]
+    real(wp), intent(inout) :: gmom(2, nn) !! node momentum [kg/s]
+    real(wp), intent(inout) :: gforce(2, nn)  !! node force [N/m]
+    integer :: k, ip, a, b, kk, n
+    real(wp) :: wm, sxx, syy, sxy, vp, fb(2)
+    do k = k0, k1
+      ip = k
+      if (sorted) ip = perm(k)
+      if (do_mass) then
+        do b = 0, nb - 1
+          n = 1 + blk(1, ip) + nx*(blk(2, ip) + b)
+          do a = 0, nb - 1
+            kk = 1 + a + nb*b
+            wm = w(kk, ip)*mass(ip)
+            gmass(n + a) = gmass(n + a) + wm
+            gmom(1, n + a) = gmom(1, n + a) + wm*v(1, ip)
+            gmom(2, n + a) = gmom(2, n + a) + wm*v(2, ip)
+          end do
+        end do
+      else if (do_mom) then
+        do b = 0, nb - 1
+          n = 1 + blk(1, ip) + nx*(blk(2, ip) + b)
+          do a = 0, nb - 1
+            kk = 1 + a + nb*b
+            wm = w(kk, ip)*mass(ip)
+            gmom(1, n + a) = gmom(1, n + a) + wm*v(1, ip)
+            gmom(2, n + a) = gmom(2, n + a) + wm*v(2, ip)
+          end do
+        end do
+      end if
+      if (do_force) then
+        vp = vol(ip)
+        sxx = vp*stress(1, ip)
+        syy = vp*stress(2, ip)
+        sxy = vp*stress(3, ip)
+        fb = mass(ip)*gravity
+        if (has_bacc) fb = fb + mass(ip)*bacc(:, ip)
+        do b = 0, nb - 1
+          n = 1 + blk(1, ip) + nx*(blk(2, ip) + b)
+          do a = 0, nb - 1
+            kk = 1 + a + nb*b
+            gforce(1, n + a) = gforce(1, n + a) - (sxx*gw(1, kk, ip) + sxy*gw(2, kk, ip)) &
+                               + w(kk, ip)*fb(1)
+            gforce(2, n + a) = gforce(2, n + a) - (sxy*gw(1, kk, ip) + syy*gw(2, kk, ip)) &
+                               + w(kk, ip)*fb(2)
+          end do
+        end do
+      end if
+    end do
+  end subroutine p2g_kernel
+
+  !> Add the thread buffers 1..nbuf to the grid on live span k, and zero them there.
+  subroutine add_buffers(g, k, nbuf, do_mass, do_mom, do_force)
+    type(grid_t), intent(inout) :: g       !! grid
+    integer, intent(in) :: k               !! span index
+    integer, intent(in) :: nbuf            !! buffers in use
+    logical, intent(in) :: do_mass, do_mom, do_force  !! fields mapped
+    integer :: i0, i1, j0, j1, j, n0, n1, ib
+    call grid_span(g, k, i0, i1, j0, j1)
+    do ib = 1, nbuf
+      do j = j0, j1
+        n0 = 1 + i0 + g%nx*j
+        n1 = 1 + i1 + g%nx*j
+        if (do_mass) then
+          g%mass(n0:n1) = g%mass(n0:n1) + g%buf_mass(n0:n1, ib)
+          g%buf_mass(n0:n1, ib) = 0.0_wp
+        end if
+        if (do_mom) then
+          g%mom(:, n0:n1) = g%mom(:, n0:n1) + g%buf_mom(:, n0:n1, ib)
+          g%buf_mom(:, n0:n1, ib) = 0.0_wp
+        end if
+        if (do_force) then
+          g%force(:, n0:n1) = g%force(:, n0:n1) + g%buf_force(:, n0:n1, ib)
+          g%buf_force(:, n0:n1, ib) = 0.0_wp
+        end if
+      end do
+    end do
+  end subroutine add_buffers
+
+  !> Zero the node momentum on the live tiles (before the MUSL re-map).
+  subroutine zero_momentum(g, par)
+    type(grid_t), intent(inout) :: g       !! grid
+    logical, intent(in) :: par             !! run in parallel
+    integer :: k, i0, i1, j0, j1, j
+    !$omp parallel do default(none) schedule(static) shared(g) private(k, i0, i1, j0, j1, j) &
+    !$omp   if(par)
+    do k = 1, g%nspan
+      call grid_span(g, k, i0, i1, j0, j1)
+      do j = j0, j1
+        g%mom(:, 1 + i0 + g%nx*j:1 + i1 + g%nx*j) = 0.0_wp
+      end do
+    end do
+    !$omp end parallel do
+  end subroutine zero_momentum
+
+  !> Active nodes: mass above 1e-12 of the largest (METHOD.md sec. 2).
+  subroutine set_mass_cut(g, par)
+    type(grid_t), intent(inout) :: g       !! grid
+    logical, intent(in) :: par             !! run in parallel
+    integer :: k, i0, i1, j0, j1, j
+    real(wp) :: mmax
+    mmax = 0.0_wp
+    !$omp parallel do default(none) schedule(static) shared(g) private(k, i0, i1, j0, j1, j) &
+    !$omp   reduction(max: mmax) if(par)
+    do k = 1, g%nspan
+      call grid_span(g, k, i0, i1, j0, j1)
+      do j = j0, j1
+        mmax = max(mmax, maxval(g%mass(1 + i0 + g%nx*j:1 + i1 + g%nx*j)))
+      end do
+    end do
+    !$omp end parallel do
+    g%mass_cut = 1.0e-12_wp*mmax
+  end subroutine set_mass_cut
+
+  !> Steps 2 (USF) and 5 (MUSL): node velocity = momentum / mass on active nodes (zero
+  !! elsewhere), then the walls on each active node (no reactions recorded).
+  subroutine grid_velocity_walls(s, dt)
+    type(sim_t), intent(inout) :: s        !! simulation
+    real(wp), intent(in) :: dt             !! time step [s]
+    integer :: k, i0, i1, j0, j1, i, j, n
+    real(wp) :: tol
+    call wall_setup(s, dt, tol)
+    !$omp parallel do default(none) schedule(static) shared(s, dt, tol) &
+    !$omp   private(k, i0, i1, j0, j1, i, j, n) if(s%par)
+    do k = 1, s%g%nspan
+      call grid_span(s%g, k, i0, i1, j0, j1)
+      do j = j0, j1
+        do i = i0, i1
+          n = 1 + i + s%g%nx*j
+          if (s%g%mass(n) > s%g%mass_cut) then
+            s%g%vel(:, n) = s%g%mom(:, n)/s%g%mass(n)
+            if (s%nwall > 0) call node_walls(s, i, j, n, dt, tol, 0)
+          else
+            s%g%vel(:, n) = 0.0_wp
+          end if
         end do
       end do
     end do
     !$omp end parallel do
-  end subroutine p2g_force_kernel
+  end subroutine grid_velocity_walls
 
-  !> Node velocity = momentum / mass on active nodes (zero elsewhere).
-  subroutine grid_velocity_from_momentum(s)
-    type(sim_t), intent(inout) :: s        !! simulation
-    integer :: k, n
-    s%g%vel = 0.0_wp
-    do k = 1, s%g%nactive
-      n = s%g%active(k)
-      s%g%vel(:, n) = s%g%mom(:, n)/s%g%mass(n)
-    end do
-  end subroutine grid_velocity_from_momentum
-
-  !> Step 3: momentum update with the nodal force and mass-proportional damping.
-  !! vel = new velocity, dvel = its change (before the walls, which adjust both).
-  subroutine grid_update(s, dt)
+  !> Step 3: momentum update with the nodal force and mass-proportional damping, then the
+  !! walls, node by node. vel = new velocity, dvel = its change (with the walls' part, so that
+  !! FLIP sees the contact); the momentum the walls add is their impulse on the material.
+  subroutine grid_update_walls(s, dt)
     type(sim_t), intent(inout) :: s        !! simulation
     real(wp), intent(in) :: dt             !! time step [s]
-    integer :: k, n
-    real(wp) :: v0(2), v1(2), fac, edamp
-    s%g%vel = 0.0_wp
-    s%g%dvel = 0.0_wp
+    integer :: k, i0, i1, j0, j1, i, j, n, nact, iw
+    real(wp) :: v0(2), v1(2), fac, edamp, damping, tol
+    call wall_setup(s, dt, tol)
+    if (s%nwall > 0) call wall_gaps(s)
     fac = 1.0_wp/(1.0_wp + s%damping*dt)      ! implicit decay of the damping term
-    edamp = 0.0_wp
-    do k = 1, s%g%nactive
-      n = s%g%active(k)
-      v0 = s%g%mom(:, n)/s%g%mass(n)
-      v1 = v0 + dt*s%g%force(:, n)/s%g%mass(n)
-      if (s%damping > 0.0_wp) then
-        edamp = edamp + 0.5_wp*s%g%mass(n)*(1.0_wp - fac*fac)*dot_product(v1, v1)
-        v1 = fac*v1
-      end if
-      s%g%vel(:, n) = v1
-      s%g%dvel(:, n) = v1 - v0
+    damping = s%damping
+    nact = 0
+    !$omp parallel do default(none) schedule(static) shared(s, dt, fac, damping, tol) &
+    !$omp   private(k, i0, i1, j0, j1, i, j, n, v0, v1, edamp) reduction(+: nact) if(s%par)
+    do k = 1, s%g%nspan
+      call grid_span(s%g, k, i0, i1, j0, j1)
+      edamp = 0.0_wp
+      s%g%span_sum(:, k) = 0.0_wp
+      do j = j0, j1
+        do i = i0, i1
+          n = 1 + i + s%g%nx*j
+          if (.not. s%g%mass(n) > s%g%mass_cut) then
+            s%g%vel(:, n) = 0.0_wp
+            s%g%dvel(:, n) = 0.0_wp
+            cycle
+          end if
+          nact = nact + 1
+          v0 = s%g%mom(:, n)/s%g%mass(n)
+          v1 = v0 + dt*s%g%force(:, n)/s%g%mass(n)
+          if (damping > 0.0_wp) then
+            edamp = edamp + 0.5_wp*s%g%mass(n)*(1.0_wp - fac*fac)*dot_product(v1, v1)
+            v1 = fac*v1
+          end if
+          s%g%vel(:, n) = v1
+          s%g%dvel(:, n) = v1 - v0
+          if (s%nwall > 0) call node_walls(s, i, j, n, dt, tol, k)
+        end do
+      end do
+      s%g%span_sum(1, k) = edamp
     end do
-    s%e_damped = s%e_damped + edamp
-  end subroutine grid_update
+    !$omp end parallel do
+    s%g%nactive = nact
+    s%e_damped = s%e_damped + sum(s%g%span_sum(1, 1:s%g%nspan))
+    do iw = 1, s%nwall                     ! tile order: independent of the thread count
+      do k = 1, s%g%nspan
+        s%walls(iw)%impulse = s%walls(iw)%impulse + s%g%span_sum(2*iw:2*iw + 1, k)
+      end do
+    end do
+  end subroutine grid_update_walls
 
-  !> Walls on the nodes. With record, the momentum change is the wall's impulse and the
-  !! velocity change also enters dvel (so FLIP sees the contact).
-  subroutine apply_walls(s, dt, record)
+  !> Per wall the velocity over the step, the point and the normal (s%wall_work), and the
+  !! round-off tolerance of the 'slip' planes.
+  subroutine wall_setup(s, dt, tol)
     type(sim_t), intent(inout) :: s        !! simulation
     real(wp), intent(in) :: dt             !! time step [s]
-    logical, intent(in) :: record          !! record reactions (step 3) or not (re-maps)
-    integer :: iw, k, n
-    real(wp) :: vw(2), xn(2), dist, dp(2), imp(2), tol
-    if (s%nwall == 0) return
-    if (record) call wall_gaps(s)
-    tol = 1.0e-6_wp*s%g%h
+    real(wp), intent(out) :: tol           !! tolerance on the node distance [m]
+    integer :: iw
+    if (.not. allocated(s%wall_work)) allocate(s%wall_work(6, s%nwall))
     do iw = 1, s%nwall
-      vw = wall_velocity(s%walls(iw), s%t + 0.5_wp*dt)
-      imp = 0.0_wp
-      do k = 1, s%g%nactive
-        n = s%g%active(k)
-        xn(1) = s%g%origin(1) + s%g%h*real(mod(n - 1, s%g%nx), wp)
-        xn(2) = s%g%origin(2) + s%g%h*real((n - 1)/s%g%nx, wp)
-        dist = dot_product(xn - s%walls(iw)%point, s%walls(iw)%normal) - tol
-        call wall_constrain_node(s%walls(iw)%contact, s%walls(iw)%friction, &
-               s%walls(iw)%normal, vw, dist, s%g%gap(iw, n), s%g%mass(n), dt, &
-               s%g%vel(:, n), dp)
-        if (record) then
-          s%g%dvel(:, n) = s%g%dvel(:, n) + dp/s%g%mass(n)
-          imp = imp + dp
-        end if
-      end do
-      if (record) s%walls(iw)%impulse = s%walls(iw)%impulse + imp
+      s%wall_work(1:2, iw) = wall_velocity(s%walls(iw), s%t + 0.5_wp*dt)
+      s%wall_work(3:4, iw) = s%walls(iw)%point
+      s%wall_work(5:6, iw) = s%walls(iw)%normal
     end do
-  end subroutine apply_walls
+    tol = 1.0e-6_wp*s%g%h
+  end subroutine wall_setup
 
-  !> For every wall, the smallest distance to the plane of the material supported by each node:
-  !! the lowest corner of each particle's domain (CPDI) or of its extent (linear, uGIMP).
+  !> The walls, in order, on active node n = (i, j) (METHOD.md sec. 5). With k > 0 (step 3)
+  !! the velocity change also enters dvel and the momentum added is summed into the partial
+  !! sums of span k. A wall other than 'slip' cannot act where no material is within reach
+  !! (gap = huge); a 'slip' wall acts on the nodes on or behind its plane.
+  subroutine node_walls(s, i, j, n, dt, tol, k)
+    type(sim_t), intent(inout) :: s        !! simulation
+    integer, intent(in) :: i, j, n         !! node indices and id
+    real(wp), intent(in) :: dt             !! time step [s]
+    real(wp), intent(in) :: tol            !! tolerance on the node distance [m]
+    integer, intent(in) :: k               !! span of the node, or 0: no reactions recorded
+    integer :: iw
+    real(wp) :: xn(2), dist, dp(2)
+    xn(1) = s%g%origin(1) + s%g%h*real(i, wp)
+    xn(2) = s%g%origin(2) + s%g%h*real(j, wp)
+    do iw = 1, s%nwall
+      if (s%walls(iw)%contact == CONTACT_SLIP) then
+        dist = dot_product(xn - s%wall_work(3:4, iw), s%wall_work(5:6, iw)) - tol
+        if (dist > 0.0_wp) cycle
+      else
+        if (s%g%gap(iw, n) == huge(1.0_wp)) cycle
+        dist = 0.0_wp                         ! (read by 'slip' only)
+      end if
+      call wall_constrain_node(s%walls(iw)%contact, s%walls(iw)%friction, &
+                               s%wall_work(5:6, iw), s%wall_work(1:2, iw), dist, &
+                               s%g%gap(iw, n), s%g%mass(n), dt, s%g%vel(:, n), dp)
+      if (k > 0) then
+        s%g%dvel(:, n) = s%g%dvel(:, n) + dp/s%g%mass(n)
+        s%g%span_sum(2*iw:2*iw + 1, k) = s%g%span_sum(2*iw:2*iw + 1, k) + dp
+      end if
+    end do
+  end subroutine node_walls
+
+  !> For every wall but 'slip', the smallest distance to the plane of the material supported
+  !! by each node: the lowest corner of each particle's domain (CPDI) or of its extent (linear,
+  !! uGIMP); huge where no material is within reach. The particles that may be within reach
+  !! are listed per chunk in parallel, then mapped to their nodes in order.
   subroutine wall_gaps(s)
     type(sim_t), intent(inout) :: s        !! simulation
-    integer :: iw, ip, a, b, k, n, nb, nx
-    real(wp) :: nrm(2), pt(2), d, r1(2), r2(2), reach
+    integer :: iw, ip, a, b, k, n, nb, nx, ic, nchunk, i0, i1, j0, j1, j, cnt
+    real(wp) :: d, reach
+    logical :: keep
+    if (all(s%walls(:)%contact == CONTACT_SLIP)) return
     nb = s%nb
     nx = s%g%nx
     reach = 2.0_wp*s%g%h + s%dt*(s%vmax + 100.0_wp)   ! particles farther away cannot touch
+    nchunk = (s%p%np + chunk - 1)/chunk
+    !$omp parallel default(none) shared(s, reach, nchunk) &
+    !$omp   private(iw, ip, k, i0, i1, j0, j1, j, ic, cnt, keep) if(s%par)
+    !$omp do schedule(static)
+    do k = 1, s%g%nspan
+      call grid_span(s%g, k, i0, i1, j0, j1)
+      do j = j0, j1
+        do iw = 1, s%nwall
+          if (s%walls(iw)%contact /= CONTACT_SLIP) &
+            s%g%gap(iw, 1 + i0 + s%g%nx*j:1 + i1 + s%g%nx*j) = huge(1.0_wp)
+        end do
+      end do
+    end do
+    !$omp end do nowait
+    !$omp do schedule(static)
+    do ic = 1, nchunk
+      cnt = 0
+      do ip = 1 + (ic - 1)*chunk, min(ic*chunk, s%p%np)
+        keep = .false.                       ! the first test of material_gap
+        do iw = 1, s%nwall
+          if (s%walls(iw)%contact == CONTACT_SLIP) cycle
+          keep = keep .or. (s%p%x(1, ip) - s%wall_work(3, iw))*s%wall_work(5, iw) &
+                           + (s%p%x(2, ip) - s%wall_work(4, iw))*s%wall_work(6, iw) &
+                           <= reach + 4.0_wp*max(s%p%half(1, ip), s%p%half(2, ip))
+        end do
+        if (keep) then
+          s%near(1 + (ic - 1)*chunk + cnt) = ip
+          cnt = cnt + 1
+        end if
+      end do
+      s%nnear(ic) = cnt
+    end do
+    !$omp end do
+    !$omp end parallel
     do iw = 1, s%nwall
       if (s%walls(iw)%contact == CONTACT_SLIP) cycle
-      nrm = s%walls(iw)%normal
-      pt = s%walls(iw)%point
-      do k = 1, s%g%nactive
-        s%g%gap(iw, s%g%active(k)) = huge(1.0_wp)
-      end do
-      do ip = 1, s%p%np
-        d = dot_product(s%p%x(:, ip) - pt, nrm)
-        if (d > reach + 4.0_wp*maxval(s%p%half(:, ip))) cycle
-        select case (s%basis)
-        case (BASIS_CPDI2)
-          d = huge(1.0_wp)
-          do a = 1, 4
-            d = min(d, dot_product(s%p%xc(:, s%p%corner(a, ip)) - pt, nrm))
-          end do
-        case (BASIS_CPDI1)
-          r1 = matmul(s%p%F(:, :, ip), s%p%r10(:, ip))
-          r2 = matmul(s%p%F(:, :, ip), s%p%r20(:, ip))
-          d = d - abs(dot_product(r1, nrm)) - abs(dot_product(r2, nrm))
-        case default
-          d = d - s%p%half(1, ip)*abs(nrm(1)) - s%p%half(2, ip)*abs(nrm(2))
-        end select
-        if (d > reach) cycle
-        do b = 0, nb - 1
-          do a = 0, nb - 1
-            if (s%w(1 + a + nb*b, ip) == 0.0_wp) cycle
-            n = 1 + s%blk(1, ip) + a + nx*(s%blk(2, ip) + b)
-            s%g%gap(iw, n) = min(s%g%gap(iw, n), d)
+      do ic = 1, nchunk
+        do j = 1, s%nnear(ic)
+          ip = s%near((ic - 1)*chunk + j)
+          d = material_gap(s, ip, iw, reach)
+          if (d > reach) cycle
+          do b = 0, nb - 1
+            do a = 0, nb - 1
+              if (s%w(1 + a + nb*b, ip) == 0.0_wp) cycle
+              n = 1 + s%blk(1, ip) + a + nx*(s%blk(2, ip) + b)
+              s%g%gap(iw, n) = min(s%g%gap(iw, n), d)
+            end do
           end do
         end do
       end do
     end do
   end subroutine wall_gaps
 
-  !> Step 4: FLIP/PIC velocity blend and position update (METHOD.md sec. 2, step 3);
-  !! also the kinetic energy, the largest speed and the work of body forces.
-  subroutine g2p(s, dt)
+  !> Distance from wall iw of the lowest point of particle ip's domain (corners for CPDI,
+  !! the extent otherwise) [m]; huge when its centre is clearly beyond reach.
+  pure function material_gap(s, ip, iw, reach) result(d)
+    type(sim_t), intent(in) :: s           !! simulation
+    integer, intent(in) :: ip, iw          !! particle, wall
+    real(wp), intent(in) :: reach          !! largest distance of interest [m]
+    real(wp) :: d, nrm(2), pt(2), r1(2), r2(2)
+    integer :: a
+    nrm = s%walls(iw)%normal
+    pt = s%walls(iw)%point
+    d = dot_product(s%p%x(:, ip) - pt, nrm)
+    if (d > reach + 4.0_wp*maxval(s%p%half(:, ip))) then
+      d = huge(1.0_wp)
+      return
+    end if
+    select case (s%basis)
+    case (BASIS_CPDI2)
+      d = huge(1.0_wp)
+      do a = 1, 4
+        d = min(d, dot_product(s%p%xc(:, s%p%corner(a, ip)) - pt, nrm))
+      end do
+    case (BASIS_CPDI1)
+      r1 = matmul(s%p%F(:, :, ip), s%p%r10(:, ip))
+      r2 = matmul(s%p%F(:, :, ip), s%p%r20(:, ip))
+      d = d - abs(dot_product(r1, nrm)) - abs(dot_product(r2, nrm))
+    case default
+      d = d - s%p%half(1, ip)*abs(nrm(1)) - s%p%half(2, ip)*abs(nrm(2))
+    end select
+  end function material_gap
+
+  !> Step 4: FLIP/PIC velocity blend and position update (METHOD.md sec. 2, step 3); also the
+  !! kinetic energy, the largest speed and the work of body forces. With remap (MUSL, not
+  !! deterministic), the new momenta go straight back to the grid (step 5) in the same pass,
+  !! accumulated per thread like p2g_threads.
+  subroutine g2p(s, dt, remap)
     type(sim_t), intent(inout) :: s        !! simulation
     real(wp), intent(in) :: dt             !! time step [s]
-    integer :: ip, a, b, k, n, nb, nx
-    real(wp) :: vpic(2), dv(2), vnew(2), flip, ekin, vmax, wgrav, fb(2)
+    logical, intent(in) :: remap           !! also map the new momenta to the grid
+    integer :: it, nt, c0, c1, k, nchunk
+    real(wp) :: vmax
     logical :: has_bacc
-    nb = s%nb
-    nx = s%g%nx
-    flip = s%flip
     has_bacc = allocated(s%bacc)
-    ekin = 0.0_wp
+    nchunk = (s%p%np + chunk - 1)/chunk
+    if (remap) then
+      call zero_momentum(s%g, s%par)
+      nt = 1
+      !$ if (s%par) nt = omp_get_max_threads()
+      call grid_thread_buffers(s%g, nt)
+    end if
     vmax = 0.0_wp
-    wgrav = 0.0_wp
-    !$omp parallel do default(none) schedule(static) &
-    !$omp   shared(s, nb, nx, flip, dt, has_bacc) private(ip, a, b, k, n, vpic, dv, vnew, fb) &
-    !$omp   reduction(+: ekin, wgrav) reduction(max: vmax)
-    do ip = 1, s%p%np
-      vpic = 0.0_wp
-      dv = 0.0_wp
-      do b = 0, nb - 1
-        n = 1 + s%blk(1, ip) + nx*(s%blk(2, ip) + b)
-        do a = 0, nb - 1
-          k = 1 + a + nb*b
-          vpic = vpic + s%w(k, ip)*s%g%vel(:, n + a)
-          dv = dv + s%w(k, ip)*s%g%dvel(:, n + a)
-        end do
+    !$omp parallel default(none) shared(s, dt, remap, has_bacc, nchunk) &
+    !$omp   private(it, nt, c0, c1, k) reduction(max: vmax) if(s%par)
+    it = 0
+    nt = 1
+    !$ it = omp_get_thread_num()
+    !$ nt = omp_get_num_threads()
+    c0 = 1 + (nchunk*it)/nt
+    c1 = (nchunk*(it + 1))/nt
+    if (it == 0 .or. .not. remap) then
+      call g2p_kernel(c0, c1, s%p%np, s%g%nn, s%nb, s%g%nx, s%blk, s%w, s%g%vel, s%g%dvel, &
+                      s%flip, dt, s%gravity, has_bacc, s%bacc, s%p%mass, s%p%v, s%p%x, &
+                      remap, s%g%mom, s%chunk_sum, vmax)
+    else
+      call g2p_kernel(c0, c1, s%p%np, s%g%nn, s%nb, s%g%nx, s%blk, s%w, s%g%vel, s%g%dvel, &
+                      s%flip, dt, s%gravity, has_bacc, s%bacc, s%p%mass, s%p%v, s%p%x, &
+                      remap, s%g%buf_mom(:, :, it), s%chunk_sum, vmax)
+    end if
+    if (remap .and. nt > 1) then
+      !$omp barrier
+      !$omp do schedule(static)
+      do k = 1, s%g%nspan
+        call add_buffers(s%g, k, nt - 1, .false., .true., .false.)
       end do
-      vnew = flip*(s%p%v(:, ip) + dv) + (1.0_wp - flip)*vpic
-      fb = s%gravity
-      if (has_bacc) fb = fb + s%bacc(:, ip)
-      wgrav = wgrav + s%p%mass(ip)*dot_product(fb, 0.5_wp*(s%p%v(:, ip) + vnew))*dt
-      s%p%v(:, ip) = vnew
-      s%p%x(:, ip) = s%p%x(:, ip) + dt*vpic
-      ekin = ekin + 0.5_wp*s%p%mass(ip)*dot_product(vnew, vnew)
-      vmax = max(vmax, dot_product(vnew, vnew))
-    end do
-    !$omp end parallel do
-    s%e_kin = ekin
+      !$omp end do
+    end if
+    !$omp end parallel
+    s%e_kin = sum(s%chunk_sum(1, 1:nchunk))
     s%vmax = sqrt(vmax)
-    s%w_gravity = s%w_gravity + wgrav
+    s%w_gravity = s%w_gravity + sum(s%chunk_sum(2, 1:nchunk))
   end subroutine g2p
+
+  !> G2P of the particle chunks c0..c1; chunk sums of the kinetic energy and of the work of
+  !! body forces; with remap also m_p v_p phi into gmom.
+  subroutine g2p_kernel(c0, c1, np, nn, nb, nx, blk, w, vel, dvel, flip, dt, gravity, &
+                        has_bacc, bacc, mass, v, x, remap, gmom, chunk_sum, vmax)
+    integer, intent(in) :: c0, c1          !! chunks
+    integer, intent(in) :: np, nn, nb, nx  !! particles, nodes, block width, nodes along x
+    integer, intent(in) :: blk(2, np)      !! block origins
+    real(wp), intent(in) :: w(nb*nb, np)   !! weights [-]
+    real(wp), intent(in) :: vel(2, nn)     !! node velocity [m/s]
+    real(wp), intent(in) :: dvel(2, nn)    !! node velocity change [m/s]
+    real(wp), intent(in) :: flip           !! FLIP fraction [-]
+    real(wp), intent(in) :: dt             !! time step [s]
+    real(wp), intent(in) :: gravity(2)     !! gravity [m/s^2]
+    logical, intent(in) :: has_bacc        !! per-particle body acceleration given
+    real(wp), intent(in), allocatable :: bacc(:,:)  !! body acceleration (2, np) [m/s^2]
+    real(wp), intent(in) :: mass(np)       !! particle mass [kg/m]
+    real(wp), intent(inout) :: v(2, np)    !! particle velocity [m/s]
+    real(wp), intent(inout) :: x(2, np)    !! particle position [m]
+    logical, intent(in) :: remap           !! map the new momenta
+    real(wp), intent(inout) :: gmom(2, nn) !! node momentum [kg/s]
+    real(wp), intent(inout) :: chunk_sum(:,:)  !! (kinetic energy, body-force work) per chunk
+    real(wp), intent(inout) :: vmax        !! largest squared speed [m^2/s^2]
+    integer :: ic, ip, a, b, k, n
+    real(wp) :: vpic(2), dv(2), vnew(2), fb(2), ekin, wgrav, wm
+    do ic = c0, c1
+      ekin = 0.0_wp
+      wgrav = 0.0_wp
+      do ip = 1 + (ic - 1)*chunk, min(ic*chunk, np)
+        vpic = 0.0_wp
+        dv = 0.0_wp
+        do b = 0, nb - 1
+          n = 1 + blk(1, ip) + nx*(blk(2, ip) + b)
+          do a = 0, nb - 1
+            k = 1 + a + nb*b
+            vpic = vpic + w(k, ip)*vel(:, n + a)
+            dv = dv + w(k, ip)*dvel(:, n + a)
+          end do
+        end do
+        vnew = flip*(v(:, ip) + dv) + (1.0_wp - flip)*vpic
+        fb = gravity
+        if (has_bacc) fb = fb + bacc(:, ip)
+        wgrav = wgrav + mass(ip)*dot_product(fb, 0.5_wp*(v(:, ip) + vnew))*dt
+        v(:, ip) = vnew
+        x(:, ip) = x(:, ip) + dt*vpic
+        ekin = ekin + 0.5_wp*mass(ip)*dot_product(vnew, vnew)
+        vmax = max(vmax, dot_product(vnew, vnew))
+        if (remap) then
+          do b = 0, nb - 1
+            n = 1 + blk(1, ip) + nx*(blk(2, ip) + b)
+            do a = 0, nb - 1
+              wm = w(1 + a + nb*b, ip)*mass(ip)
+              gmom(1, n + a) = gmom(1, n + a) + wm*vnew(1)
+              gmom(2, n + a) = gmom(2, n + a) + wm*vnew(2)
+            end do
+          end do
+        end if
+      end do
+      chunk_sum(1, ic) = ekin
+      chunk_sum(2, ic) = wgrav
+    end do
+  end subroutine g2p_kernel
 
   !> Step 6: L = sum v_i (x) grad phi, F <- (I + dt L) F, V = det(F) V0, stress update;
   !! accumulates plastic dissipation and the stored elastic energy; stops on det F <= 0,
@@ -567,116 +1115,173 @@ contains
     type(sim_t), intent(inout) :: s        !! simulation
     real(wp), intent(in) :: dt             !! time step [s]
     integer, intent(out) :: stat           !! 0 or EXIT_NUMERIC
-    character(len=:), allocatable, intent(out) :: errmsg  !! what failed
-    integer :: ip, a, b, k, n, nb, nx, mstat, bad_j, bad_m, bad_f
-    real(wp) :: L(2, 2), Fn(2, 2), J, dwp, eplast, estrain, vel(2)
-    nb = s%nb
-    nx = s%g%nx
-    eplast = 0.0_wp
-    estrain = 0.0_wp
-    bad_j = 0; bad_m = 0; bad_f = 0
+    character(len=:), allocatable, intent(inout) :: errmsg  !! what failed (set on failure)
+    integer :: ic, bad(3), nchunk
+    bad = 0
     stat = 0
-    errmsg = ''
-    !$omp parallel do default(none) schedule(static) shared(s, nb, nx, dt) &
-    !$omp   private(ip, a, b, k, n, L, Fn, J, dwp, mstat, vel) &
-    !$omp   reduction(+: eplast, estrain) reduction(max: bad_j, bad_m, bad_f)
-    do ip = 1, s%p%np
-      L = 0.0_wp
-      do b = 0, nb - 1
-        n = 1 + s%blk(1, ip) + nx*(s%blk(2, ip) + b)
-        do a = 0, nb - 1
-          k = 1 + a + nb*b
-          vel = s%g%vel(:, n + a)
-          L(1, 1) = L(1, 1) + vel(1)*s%gw(1, k, ip)
-          L(1, 2) = L(1, 2) + vel(1)*s%gw(2, k, ip)
-          L(2, 1) = L(2, 1) + vel(2)*s%gw(1, k, ip)
-          L(2, 2) = L(2, 2) + vel(2)*s%gw(2, k, ip)
-        end do
-      end do
-      Fn(1, 1) = s%p%F(1, 1, ip) + dt*(L(1, 1)*s%p%F(1, 1, ip) + L(1, 2)*s%p%F(2, 1, ip))
-      Fn(1, 2) = s%p%F(1, 2, ip) + dt*(L(1, 1)*s%p%F(1, 2, ip) + L(1, 2)*s%p%F(2, 2, ip))
-      Fn(2, 1) = s%p%F(2, 1, ip) + dt*(L(2, 1)*s%p%F(1, 1, ip) + L(2, 2)*s%p%F(2, 1, ip))
-      Fn(2, 2) = s%p%F(2, 2, ip) + dt*(L(2, 1)*s%p%F(1, 2, ip) + L(2, 2)*s%p%F(2, 2, ip))
-      J = Fn(1, 1)*Fn(2, 2) - Fn(1, 2)*Fn(2, 1)
-      if (.not. J > 0.0_wp) then               ! also catches NaN
-        bad_j = max(bad_j, ip)
-        cycle
-      end if
-      s%p%F(:, :, ip) = Fn
-      s%p%vol(ip) = J*s%p%vol0(ip)
-      call material_stress_update(s%mats(s%p%mat(ip)), s%plane, L, dt, Fn, s%p%stress(:, ip), &
-                                  s%p%eqps(ip), dwp, mstat)
-      if (mstat /= 0) then
-        bad_m = max(bad_m, ip)
-        cycle
-      end if
-      if (.not. (ieee_is_finite(s%p%stress(1, ip)) .and. ieee_is_finite(s%p%stress(2, ip)) &
-                 .and. ieee_is_finite(s%p%stress(3, ip)) .and. ieee_is_finite(s%p%v(1, ip)) &
-                 .and. ieee_is_finite(s%p%v(2, ip)))) then
-        bad_f = max(bad_f, ip)
-        cycle
-      end if
-      s%p%wplastic(ip) = s%p%wplastic(ip) + s%p%vol(ip)*dwp
-      eplast = eplast + s%p%vol(ip)*dwp
-      estrain = estrain + s%p%vol(ip)*material_energy_density(s%mats(s%p%mat(ip)), s%plane, &
-                s%p%stress(:, ip), Fn)
+    nchunk = (s%p%np + chunk - 1)/chunk
+    !$omp parallel do default(none) schedule(static) shared(s, dt, nchunk) private(ic) &
+    !$omp   reduction(max: bad) if(s%par)
+    do ic = 1, nchunk
+      call deformation_kernel(1 + (ic - 1)*chunk, min(ic*chunk, s%p%np), s%p%np, s%g%nn, &
+             s%nb, s%g%nx, s%blk, s%gw, s%g%vel, dt, s%mats, s%plane, s%p%mat, s%p%vol0, &
+             s%p%v, s%p%F, s%p%vol, s%p%stress, s%p%eqps, s%p%wplastic, s%chunk_sum(:, ic), bad)
     end do
     !$omp end parallel do
-    s%e_plastic = s%e_plastic + eplast
-    s%e_strain = estrain
-    if (bad_j > 0) then
+    s%e_plastic = s%e_plastic + sum(s%chunk_sum(1, 1:nchunk))
+    s%e_strain = sum(s%chunk_sum(2, 1:nchunk))
+    if (bad(1) > 0) then
       stat = EXIT_NUMERIC
-      errmsg = 'det F <= 0 (inverted material) at particle '//itoa(bad_j)//' at ('// &
-        rtoa(s%p%x(1, bad_j))//', '//rtoa(s%p%x(2, bad_j))//') m, step '//itoa(s%step)// &
+      errmsg = 'det F <= 0 (inverted material) at particle '//itoa(bad(1))//' at ('// &
+        rtoa(s%p%x(1, bad(1)))//', '//rtoa(s%p%x(2, bad(1)))//') m, step '//itoa(s%step)// &
         ', t = '//rtoa(s%t)//' s. Remedy: a smaller cfl, a finer grid (h below the wall '// &
         'thickness), or another basis (cpdi2 is the most robust)'
-    else if (bad_m > 0) then
+    else if (bad(2) > 0) then
       stat = EXIT_NUMERIC
-      errmsg = 'the stress update did not converge at particle '//itoa(bad_m)//' at ('// &
-        rtoa(s%p%x(1, bad_m))//', '//rtoa(s%p%x(2, bad_m))//') m, step '//itoa(s%step)// &
+      errmsg = 'the stress update did not converge at particle '//itoa(bad(2))//' at ('// &
+        rtoa(s%p%x(1, bad(2)))//', '//rtoa(s%p%x(2, bad(2)))//') m, step '//itoa(s%step)// &
         ', t = '//rtoa(s%t)//' s. Remedy: a smaller cfl or dt'
-    else if (bad_f > 0) then
+    else if (bad(3) > 0) then
       stat = EXIT_NUMERIC
-      errmsg = 'non-finite stress or velocity at particle '//itoa(bad_f)//', step '// &
+      errmsg = 'non-finite stress or velocity at particle '//itoa(bad(3))//', step '// &
         itoa(s%step)//', t = '//rtoa(s%t)//' s. Remedy: a smaller cfl or dt'
     end if
   end subroutine update_deformation
+
+  !> Deformation and stress of particles ip0..ip1 (one chunk); the chunk's plastic dissipation
+  !! and stored elastic energy go to csum; bad(1:3) = largest particle with det F <= 0, a
+  !! failed stress update, a non-finite result.
+  subroutine deformation_kernel(ip0, ip1, np, nn, nb, nx, blk, gw, vel, dt, mats, plane, mat, &
+                                vol0, v, F, vol, stress, eqps, wplastic, csum, bad)
+    integer, intent(in) :: ip0, ip1        !! particles
+    integer, intent(in) :: np, nn, nb, nx  !! particles, nodes, block width, nodes along x
+    integer, intent(in) :: blk(2, np)      !! block origins
+    real(wp), intent(in) :: gw(2, nb*nb, np)  !! gradients [1/m]
+    real(wp), intent(in) :: vel(2, nn)     !! node velocity [m/s]
+    real(wp), intent(in) :: dt             !! time step [s]
+    type(material_t), intent(in) :: mats(:)  !! materials
+    integer, intent(in) :: plane           !! PLANE_* code
+    integer, intent(in) :: mat(np)         !! material of each particle
+    real(wp), intent(in) :: vol0(np)       !! initial area [m^2]
+    real(wp), intent(in) :: v(2, np)       !! velocity [m/s]
+    real(wp), intent(inout) :: F(2, 2, np) !! deformation gradient [-]
+    real(wp), intent(inout) :: vol(np)     !! area [m^2]
+    real(wp), intent(inout) :: stress(4, np)  !! Cauchy stress [Pa]
+    real(wp), intent(inout) :: eqps(np)    !! equivalent plastic strain [-]
+    real(wp), intent(inout) :: wplastic(np)  !! plastic work [J/m]
+    real(wp), intent(out) :: csum(2)       !! plastic dissipation, elastic energy [J/m]
+    integer, intent(inout) :: bad(3)       !! failing particles (see above)
+    integer :: ip, a, b, k, n, mstat
+    real(wp) :: L(2, 2), Fn(2, 2), J, dwp, vn(2)
+    csum = 0.0_wp
+    do ip = ip0, ip1
+      L = 0.0_wp
+      do b = 0, nb - 1
+        n = 1 + blk(1, ip) + nx*(blk(2, ip) + b)
+        do a = 0, nb - 1
+          k = 1 + a + nb*b
+          vn = vel(:, n + a)
+          L(1, 1) = L(1, 1) + vn(1)*gw(1, k, ip)
+          L(1, 2) = L(1, 2) + vn(1)*gw(2, k, ip)
+          L(2, 1) = L(2, 1) + vn(2)*gw(1, k, ip)
+          L(2, 2) = L(2, 2) + vn(2)*gw(2, k, ip)
+        end do
+      end do
+      Fn(1, 1) = F(1, 1, ip) + dt*(L(1, 1)*F(1, 1, ip) + L(1, 2)*F(2, 1, ip))
+      Fn(1, 2) = F(1, 2, ip) + dt*(L(1, 1)*F(1, 2, ip) + L(1, 2)*F(2, 2, ip))
+      Fn(2, 1) = F(2, 1, ip) + dt*(L(2, 1)*F(1, 1, ip) + L(2, 2)*F(2, 1, ip))
+      Fn(2, 2) = F(2, 2, ip) + dt*(L(2, 1)*F(1, 2, ip) + L(2, 2)*F(2, 2, ip))
+      J = Fn(1, 1)*Fn(2, 2) - Fn(1, 2)*Fn(2, 1)
+      if (.not. J > 0.0_wp) then               ! also catches NaN
+        bad(1) = max(bad(1), ip)
+        cycle
+      end if
+      F(:, :, ip) = Fn
+      vol(ip) = J*vol0(ip)
+      call material_stress_update(mats(mat(ip)), plane, L, dt, Fn, stress(:, ip), eqps(ip), &
+                                  dwp, mstat)
+      if (mstat /= 0) then
+        bad(2) = max(bad(2), ip)
+        cycle
+      end if
+      if (.not. (ieee_is_finite(stress(1, ip)) .and. ieee_is_finite(stress(2, ip)) &
+                 .and. ieee_is_finite(stress(3, ip)) .and. ieee_is_finite(v(1, ip)) &
+                 .and. ieee_is_finite(v(2, ip)))) then
+        bad(3) = max(bad(3), ip)
+        cycle
+      end if
+      wplastic(ip) = wplastic(ip) + vol(ip)*dwp
+      csum(1) = csum(1) + vol(ip)*dwp
+      csum(2) = csum(2) + vol(ip)*material_energy_density(mats(mat(ip)), plane, stress(:, ip), Fn)
+    end do
+  end subroutine deformation_kernel
 
   !> Step 6 (domains): CPDI2 corners move with the grid velocity and the particle sits at the
   !! domain's centroid; CPDI1 half-vectors follow F (computed where used).
   subroutine update_domains(s, dt)
     type(sim_t), intent(inout) :: s        !! simulation
     real(wp), intent(in) :: dt             !! time step [s]
-    integer :: ic, ip, i0, j0, n, nx
-    real(wp) :: w4(4), v(2), xq(2, 4), area, cen(2), dev
+    integer :: ic, nchunk
+    real(wp) :: dev
     if (s%basis /= BASIS_CPDI2) return
-    nx = s%g%nx
-    !$omp parallel do default(none) schedule(static) shared(s, dt, nx) &
-    !$omp   private(ic, i0, j0, n, w4, v)
-    do ic = 1, s%p%nc
-      call bilinear_at(s%p%xc(:, ic), s%g%origin, s%g%h, i0, j0, w4)
-      n = 1 + i0 + nx*j0
-      v = w4(1)*s%g%vel(:, n) + w4(2)*s%g%vel(:, n + 1) + w4(3)*s%g%vel(:, n + nx) &
-          + w4(4)*s%g%vel(:, n + nx + 1)
-      s%p%xc(:, ic) = s%p%xc(:, ic) + dt*v
+    nchunk = (s%p%nc + chunk - 1)/chunk
+    !$omp parallel do default(none) schedule(static) shared(s, dt, nchunk) private(ic) if(s%par)
+    do ic = 1, nchunk
+      call corners_kernel(1 + (ic - 1)*chunk, min(ic*chunk, s%p%nc), s%p%nc, s%g%nn, s%g%nx, &
+                          s%g%origin, s%g%h, s%g%vel, dt, s%p%xc)
     end do
     !$omp end parallel do
     dev = 0.0_wp
-    !$omp parallel do default(none) schedule(static) shared(s) private(ip, xq, area, cen) &
-    !$omp   reduction(max: dev)
-    do ip = 1, s%p%np
-      xq(:, 1) = s%p%xc(:, s%p%corner(1, ip))
-      xq(:, 2) = s%p%xc(:, s%p%corner(2, ip))
-      xq(:, 3) = s%p%xc(:, s%p%corner(3, ip))
-      xq(:, 4) = s%p%xc(:, s%p%corner(4, ip))
-      call quad_area_centroid(xq, area, cen)
-      s%p%x(:, ip) = cen
-      dev = max(dev, abs(area/s%p%vol(ip) - 1.0_wp))
+    nchunk = (s%p%np + chunk - 1)/chunk
+    !$omp parallel do default(none) schedule(static) shared(s, nchunk) private(ic) &
+    !$omp   reduction(max: dev) if(s%par)
+    do ic = 1, nchunk
+      call centroids_kernel(1 + (ic - 1)*chunk, min(ic*chunk, s%p%np), s%p%np, s%p%nc, &
+                            s%p%corner, s%p%xc, s%p%vol, s%p%x, dev)
     end do
     !$omp end parallel do
     s%area_dev = max(s%area_dev, dev)
   end subroutine update_domains
 
+  !> Corners ic0..ic1 move with the bilinear interpolant of the node velocity.
+  subroutine corners_kernel(ic0, ic1, nc, nn, nx, origin, h, vel, dt, xc)
+    integer, intent(in) :: ic0, ic1        !! corners
+    integer, intent(in) :: nc, nn, nx      !! corners, nodes, nodes along x
+    real(wp), intent(in) :: origin(2)      !! grid origin [m]
+    real(wp), intent(in) :: h              !! cell size [m]
+    real(wp), intent(in) :: vel(2, nn)     !! node velocity [m/s]
+    real(wp), intent(in) :: dt             !! time step [s]
+    real(wp), intent(inout) :: xc(2, nc)   !! corner positions [m]
+    integer :: ic, i0, j0, n
+    real(wp) :: w4(4), v(2)
+    do ic = ic0, ic1
+      call bilinear_at(xc(:, ic), origin, h, i0, j0, w4)
+      n = 1 + i0 + nx*j0
+      v = w4(1)*vel(:, n) + w4(2)*vel(:, n + 1) + w4(3)*vel(:, n + nx) + w4(4)*vel(:, n + nx + 1)
+      xc(:, ic) = xc(:, ic) + dt*v
+    end do
+  end subroutine corners_kernel
 
+  !> Particles ip0..ip1 sit at their domains' centroids; dev = largest |area / V - 1|.
+  subroutine centroids_kernel(ip0, ip1, np, nc, corner, xc, vol, x, dev)
+    integer, intent(in) :: ip0, ip1        !! particles
+    integer, intent(in) :: np, nc          !! particles, corners
+    integer, intent(in) :: corner(4, np)   !! corner ids
+    real(wp), intent(in) :: xc(2, nc)      !! corner positions [m]
+    real(wp), intent(in) :: vol(np)        !! particle area J V0 [m^2]
+    real(wp), intent(inout) :: x(2, np)    !! positions [m]
+    real(wp), intent(inout) :: dev         !! largest relative area deviation [-]
+    integer :: ip
+    real(wp) :: xq(2, 4), area, cen(2)
+    do ip = ip0, ip1
+      xq(:, 1) = xc(:, corner(1, ip))
+      xq(:, 2) = xc(:, corner(2, ip))
+      xq(:, 3) = xc(:, corner(3, ip))
+      xq(:, 4) = xc(:, corner(4, ip))
+      call quad_area_centroid(xq, area, cen)
+      x(:, ip) = cen
+      dev = max(dev, abs(area/vol(ip) - 1.0_wp))
+    end do
+  end subroutine centroids_kernel
 
 end module mpm_solver

@@ -1,0 +1,291 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
+"""Run the fixed benchmark series of `make bench` and report it.
+
+Each configuration (scene, basis, size, threads, deterministic) runs in its own process of the
+Fortran driver tools/bench.f90 (release build), which prints one CSV row with the median,
+smallest and largest of REPS timed repetitions. The configurations of one scene and size run
+interleaved, ROUNDS times over, so that slow drifts of the machine's speed (shared or virtual
+machines) hit them alike; the medians are over all ROUNDS x REPS samples. The script prints the
+table (particle-steps per second: median and spread), the runtime ratio, the CPDI2 / linear cost
+ratio, the two-thread speed-up, the cost of `deterministic`, the phase profile, the fitted cost
+exponent and the memory per particle; it writes everything to OUT/bench_<date>.csv and the
+plot to OUT/scaling.png. With --compare OLD.csv (an earlier run) it adds the ratio to it.
+
+usage: tools/bench.py --exe build/release/bench [--out docs/bench] [--quick] [--tag TAG]
+                      [--compare OLD.csv]
+"""
+import argparse
+import csv
+import datetime
+import io
+import math
+import os
+import platform
+import statistics
+import subprocess
+import sys
+import time
+
+# scene -> particles through the wall for about 1e4, 3e4, 1e5, 3e5, 1e6 particles
+# (2 x 2 particles per cell; crush is a quarter ring, impact a half ring)
+SIZES = {"crush": [20, 34, 62, 108, 196], "impact": [16, 28, 50, 88, 160]}
+TARGET_PARTICLE_STEPS = 2.0e6      # per repetition
+REPS = 3
+ROUNDS = 2
+
+
+def particles(scene, n_thick):
+    """Particle count of a bench scene (mpm_particles ring_counts)."""
+    r_in, r_out, parts = {"crush": (23.95e-3, 25.43e-3, 4), "impact": (24e-3, 26e-3, 2)}[scene]
+    rm = 0.5 * (r_in + r_out)
+    n_full = max(4, 4 * int(math.floor(2 * math.pi * rm / ((r_out - r_in) / n_thick) / 4 + 0.5)))
+    return n_thick * (n_full // parts)
+
+
+def groups(quick):
+    """Lists of (scene, basis, n_thick, threads, deterministic) run interleaved."""
+    out = []
+    for scene in ("crush", "impact"):
+        sizes = SIZES[scene][:3] if quick else SIZES[scene]
+        for k, nt in enumerate(sizes):
+            g = [(scene, b, nt, t, 0) for b in ("cpdi2", "linear") for t in (1, 2)]
+            if k == 2:                                   # about 1e5 particles: every basis
+                g += [(scene, b, nt, t, 0) for b in ("ugimp", "cpdi1") for t in (1, 2)]
+            if k == 2 or k == len(sizes) - 1:            # the deterministic scatter
+                g += [(scene, "cpdi2", nt, t, 1) for t in (1, 2)]
+            out.append(g)
+    return out
+
+
+def busy_cores(seconds=1.0):
+    """Cores busy with other work now: non-idle share of /proc/stat over a short window."""
+    def sample():
+        with open("/proc/stat") as f:
+            v = [int(x) for x in f.readline().split()[1:]]
+        return sum(v), v[3] + v[4]          # total, idle + iowait
+    try:
+        t0, i0 = sample()
+        time.sleep(seconds)
+        t1, i1 = sample()
+    except OSError:
+        return float("nan")
+    return (os.cpu_count() or 1) * (1.0 - (i1 - i0) / max(1, t1 - t0))
+
+
+def run(exe, header, cfg):
+    scene, basis, nt, threads, det = cfg
+    steps = max(5, min(400, int(round(TARGET_PARTICLE_STEPS / particles(scene, nt)))))
+    cmd = [exe, scene, basis, str(nt), str(threads), str(steps), str(REPS), str(det)]
+    env = dict(os.environ, OMP_NUM_THREADS=str(threads))
+    out = subprocess.run(cmd, capture_output=True, text=True, env=env)
+    if out.returncode != 0:
+        sys.exit(f"bench: {' '.join(cmd)} failed:\n{out.stderr}")
+    vals = [x.strip() for x in out.stdout.strip().splitlines()[-1].split(",")]
+    return dict(zip(header, vals))
+
+
+def merge(rows, phases):
+    """One row from the rows of several rounds: medians over all samples."""
+    r = dict(rows[0])
+    samples = [float(x[k]) for x in rows for k in ("mps_median", "mps_min", "mps_max")]
+    r["mps_median"] = f"{statistics.median(samples):.5e}"
+    r["mps_min"] = f"{min(samples):.5e}"
+    r["mps_max"] = f"{max(samples):.5e}"
+    for k in ["mps_cpu", "runtime_ratio"] + ["ns_" + p for p in phases]:
+        r[k] = f"{statistics.median(float(x[k]) for x in rows):.5g}"
+    r["vmhwm_bytes"] = str(max(int(x["vmhwm_bytes"]) for x in rows))
+    r["reps"] = str(sum(int(x["reps"]) for x in rows))
+    return r
+
+
+def fit_exponent(rows):
+    """Cost ~ particles^e from a least-squares line through log(time per step)."""
+    xs = [math.log(float(r["particles"])) for r in rows]
+    ys = [math.log(float(r["particles"]) / float(r["mps_median"])) for r in rows]
+    n = len(xs)
+    if n < 2:
+        return float("nan")
+    mx, my = sum(xs) / n, sum(ys) / n
+    return sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sum((x - mx) ** 2 for x in xs)
+
+
+def key(r):
+    return (r["scene"], r["basis"], r["deterministic"], r["threads"], r["particles"])
+
+
+def report(rows, phases, old):
+    def sel(**kw):
+        return [r for r in rows if all(str(r[k]) == str(v) for k, v in kw.items())]
+
+    old_by = {key(r): r for r in old}
+    print()
+    print(f"{'scene':7s} {'basis':6s} {'det':>3s} {'thr':>3s} {'particles':>10s} {'nodes':>9s} "
+          f"{'M p-steps/s':>11s} {'spread %':>8s} {'runtime ratio':>13s} {'B/particle':>10s}"
+          + (f" {'vs old':>7s}" if old else ""))
+    for r in rows:
+        med, lo, hi = (float(r[k]) for k in ("mps_median", "mps_min", "mps_max"))
+        line = (f"{r['scene']:7s} {r['basis']:6s} {r['deterministic']:>3s} {r['threads']:>3s} "
+                f"{int(r['particles']):10d} {int(r['nodes']):9d} {med / 1e6:11.3f} "
+                f"{100 * (hi - lo) / med:8.1f} {float(r['runtime_ratio']):13.3e} "
+                f"{int(r['vmhwm_bytes']) / int(r['particles']):10.0f}")
+        if key(r) in old_by:
+            line += f" {med / float(old_by[key(r)]['mps_median']):6.2f}x"
+        print(line)
+
+    print("\nphase profile [ns per particle-step], 1 thread, not deterministic")
+    print(f"{'scene':7s} {'basis':6s} {'particles':>10s} " + " ".join(f"{p:>8s}" for p in phases)
+          + f" {'total':>8s}")
+    for r in sel(threads=1, deterministic=0):
+        vals = [float(r["ns_" + p]) for p in phases]
+        print(f"{r['scene']:7s} {r['basis']:6s} {int(r['particles']):10d} "
+              + " ".join(f"{v:8.1f}" for v in vals) + f" {sum(vals):8.1f}")
+
+    print("\nsummary (ratios of medians)")
+    for scene in SIZES:
+        for basis in ("cpdi2", "linear"):
+            for thr in ("1", "2"):
+                sub = sel(scene=scene, basis=basis, threads=thr, deterministic=0)
+                if len(sub) >= 2:
+                    print(f"  {scene:6s} {basis:6s} {thr} thread(s): cost ~ particles^"
+                          f"{fit_exponent(sub):.3f} ({int(sub[0]['particles'])} to "
+                          f"{int(sub[-1]['particles'])})")
+        for c in sel(scene=scene, basis="cpdi2", threads=1, deterministic=0):
+            n = c["particles"]
+            msg = f"  {scene:6s} {int(n):8d} particles:"
+            lin = sel(scene=scene, basis="linear", threads=1, deterministic=0, particles=n)
+            two = sel(scene=scene, basis="cpdi2", threads=2, deterministic=0, particles=n)
+            d1 = sel(scene=scene, basis="cpdi2", threads=1, deterministic=1, particles=n)
+            d2 = sel(scene=scene, basis="cpdi2", threads=2, deterministic=1, particles=n)
+            rate = lambda x: float(x[0]["mps_median"])  # noqa: E731
+            if lin:
+                msg += f" cpdi2/linear time {rate(lin) / rate([c]):.2f},"
+            if two:
+                msg += f" 2 threads/1 thread speed {rate(two) / rate([c]):.2f},"
+            if d1:
+                msg += f" deterministic/default time {rate([c]) / rate(d1):.2f} (1 thread)"
+            if d2 and two:
+                msg += f" {rate(two) / rate(d2):.2f} (2 threads)"
+            print(msg.rstrip(","))
+    big = max(rows, key=lambda r: int(r["particles"]))
+    print(f"  memory at {int(big['particles'])} particles: peak resident "
+          f"{int(big['vmhwm_bytes']) / int(big['particles']):.0f} B/particle, modelled "
+          f"{int(big['memory_model_bytes']) / int(big['particles']):.0f} B/particle")
+
+
+def plot(rows, phases, old, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 4.8), layout="constrained")
+    colors = {"cpdi2": "tab:blue", "linear": "tab:orange"}
+    for scene, ls in (("crush", "-"), ("impact", "--")):
+        for basis in ("cpdi2", "linear"):
+            for thr, mk in (("1", "o"), ("2", "s")):
+                def pick(rs):
+                    return [r for r in rs if r["scene"] == scene and r["basis"] == basis
+                            and r["threads"] == thr and r["deterministic"] == "0"]
+                sub = pick(rows)
+                if sub:
+                    x = [int(r["particles"]) for r in sub]
+                    y = [float(r["mps_median"]) / 1e6 for r in sub]
+                    lo = [y[i] - float(r["mps_min"]) / 1e6 for i, r in enumerate(sub)]
+                    hi = [float(r["mps_max"]) / 1e6 - y[i] for i, r in enumerate(sub)]
+                    ax.errorbar(x, y, yerr=[lo, hi], color=colors[basis], ls=ls, marker=mk,
+                                ms=4, capsize=2, label=f"{scene} {basis} {thr} thr")
+                osub = pick(old)
+                if osub and scene == "crush":
+                    ax.plot([int(r["particles"]) for r in osub],
+                            [float(r["mps_median"]) / 1e6 for r in osub], color=colors[basis],
+                            ls=":", marker=mk, ms=3, alpha=0.5,
+                            label=f"before: {scene} {basis} {thr} thr")
+    ax.set_xscale("log")
+    ax.set_xlabel("particles [-]")
+    ax.set_ylabel("throughput [M particle-steps/s]")
+    ax.set_ylim(bottom=0)
+    ax.set_title("J2 + MUSL, release build (median, min-max)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=6.5, ncol=2, loc="upper left", bbox_to_anchor=(0.0, -0.14))
+
+    sub = [r for r in rows if r["threads"] == "1" and r["deterministic"] == "0"
+           and r["basis"] in ("cpdi2", "linear")]
+    labels = [f"{r['scene'][:2]} {r['basis'][:3]} {int(r['particles']) / 1e3:.0f}k" for r in sub]
+    bottom = [0.0] * len(sub)
+    cmap = plt.get_cmap("viridis")
+    for k, p in enumerate(phases):
+        v = [float(r["ns_" + p]) for r in sub]
+        bx.bar(labels, v, bottom=bottom, color=cmap(k / max(1, len(phases) - 1)), label=p)
+        bottom = [b + x for b, x in zip(bottom, v)]
+    bx.set_ylabel("time per particle-step [ns]")
+    bx.set_title("phase profile, 1 thread")
+    bx.tick_params(axis="x", labelrotation=70, labelsize=6.5)
+    bx.set_ylim(0, 1.25 * max(bottom))
+    bx.legend(fontsize=7, ncol=4, loc="upper left")
+    fig.savefig(path, dpi=150)
+    plt.close(fig)
+
+
+def read_csv(path):
+    with open(path) as f:
+        return list(csv.DictReader(line for line in f if not line.startswith("#")))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--exe", required=True, help="the bench program (release build)")
+    ap.add_argument("--out", default="docs/bench", help="folder for the CSV file and the plot")
+    ap.add_argument("--quick", action="store_true", help="sizes up to 1e5 particles only")
+    ap.add_argument("--tag", default="", help="label added to the file names")
+    ap.add_argument("--compare", default="", help="an earlier CSV file to compare with")
+    ap.add_argument("--no-plot", action="store_true", help="skip the PNG")
+    args = ap.parse_args()
+
+    header = subprocess.run([args.exe, "--header"], capture_output=True, text=True,
+                            check=True).stdout.strip().split(",")
+    phases = [h[3:] for h in header if h.startswith("ns_")]
+    old = read_csv(args.compare) if args.compare else []
+    busy0 = busy_cores()
+    print(f"tubempm benchmark: {platform.node()}, {os.cpu_count()} cores, {busy0:.2f} cores "
+          f"busy with other work, OMP_WAIT_POLICY={os.environ.get('OMP_WAIT_POLICY', '(unset)')}"
+          f", OMP_PROC_BIND={os.environ.get('OMP_PROC_BIND', '(unset)')}")
+    if busy0 > 0.2:
+        print("WARNING: other work is running; timings will be low and noisy, two-thread "
+              "ones much lower (a thread waits at every barrier for the shared core)")
+    t0 = time.time()
+    rows = []
+    gs = groups(args.quick)
+    for i, g in enumerate(gs, 1):
+        got = {cfg: [] for cfg in g}
+        for _ in range(ROUNDS):
+            for cfg in g:
+                got[cfg].append(run(args.exe, header, cfg))
+        for cfg in g:
+            r = merge(got[cfg], phases)
+            rows.append(r)
+            print(f"[{i:2d}/{len(gs)}] {cfg[0]:6s} {cfg[1]:6s} det={cfg[4]} threads={cfg[3]} "
+                  f"{int(r['particles']):8d} particles: {float(r['mps_median']) / 1e6:6.3f} "
+                  f"M particle-steps/s", flush=True)
+    busy1 = busy_cores()
+    report(rows, phases, old)
+    print(f"\ncores busy with other work before {busy0:.2f}, after {busy1:.2f}; "
+          f"{time.time() - t0:.0f} s in all")
+    os.makedirs(args.out, exist_ok=True)
+    stamp = datetime.datetime.now().strftime("%Y-%m-%d_%H%M")
+    tag = "_" + args.tag if args.tag else ""
+    name = os.path.join(args.out, f"bench_{stamp}{tag}.csv")
+    with open(name, "w") as f:
+        f.write(f"# tubempm make bench, {stamp}, {platform.node()}, {os.cpu_count()} cores, "
+                f"busy with other work {busy0:.2f} / {busy1:.2f} cores (before / after)\n")
+        w = csv.DictWriter(f, fieldnames=header, lineterminator="\n")
+        w.writeheader()
+        w.writerows(rows)
+    print(f"table written to {name}")
+    if not args.no_plot:
+        png = os.path.join(args.out, f"scaling{tag}.png")
+        plot(rows, phases, old, png)
+        print(f"plot written to {png}")
+
+
+if __name__ == "__main__":
+    main()
