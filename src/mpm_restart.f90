@@ -18,7 +18,7 @@ module mpm_restart
   public :: checkpoint_write, checkpoint_read, ckpt_extra_t
 
   character(len=12), parameter :: magic = 'TUBEMPM-CKPT'
-  integer, parameter :: format_version = 1
+  integer, parameter :: format_version = 2
 
   !> What the driver needs besides the simulation state to continue its outputs.
   type :: ckpt_extra_t
@@ -57,7 +57,8 @@ contains
     write(u, iostat=stat, iomsg=msg) magic, format_version, len(input_text), input_text
     if (stat == 0) write(u, iostat=stat, iomsg=msg) s%p%np, s%p%nc, s%nwall, s%g%nx, s%g%ny, &
       s%g%origin, s%grown, s%t, s%step, s%dt, s%vmax, s%e_kin, s%e_strain, s%e_plastic, &
-      s%e_external, s%e_damped, s%e0, s%w_gravity, s%energy_error, s%jmin_seen, s%area_dev
+      s%e_external, s%e_damped, s%e0, s%w_gravity, s%energy_error, s%bal_max, s%ext_max, &
+      s%jmin_seen, s%area_dev
     do k = 1, s%nwall
       if (stat == 0) write(u, iostat=stat, iomsg=msg) s%walls(k)%point, s%walls(k)%impulse, &
         s%walls(k)%force, s%walls(k)%work, s%walls(k)%impulse_acc
@@ -131,7 +132,7 @@ contains
     end if
     read(u, iostat=ios, iomsg=msg) np, nc, nwall, nx, ny, origin, s%grown, s%t, s%step, s%dt, &
       s%vmax, s%e_kin, s%e_strain, s%e_plastic, s%e_external, s%e_damped, s%e0, s%w_gravity, &
-      s%energy_error, s%jmin_seen, s%area_dev
+      s%energy_error, s%bal_max, s%ext_max, s%jmin_seen, s%area_dev
     if (ios /= 0 .or. np /= s%p%np .or. nc /= s%p%nc .or. nwall /= s%nwall) then
       stat = 2
       errmsg = fin//': the particle, corner or wall counts differ from the input''s; '// &

@@ -210,6 +210,9 @@ contains
                      'force within 10 % of DeRuntz-Hodge over delta/D = 0.1-0.3', rtol=0.10_wp)
     call check(kmax < 0.05_wp, 'kinetic energy under 5 % of plastic work')
     call check(bal < 0.02_wp*wmax, 'energy balance within 2 % of the work put in')
+    call check_close(s%energy_error, bal/max(s%e0, wmax), &
+                     'energy_error = largest imbalance / max(E0, largest external work)', &
+                     rtol=1.0e-12_wp)
     call check(factor == 4.0_wp, 'quarter model outputs scale by 4')
   end subroutine test_plastic_crush
 end program test_scenes
