@@ -47,8 +47,11 @@ module mpm_grid
     integer, allocatable :: occupied(:)  !! stamp of the last pass that binned a particle here
     integer, allocatable :: span(:,:)    !! (i0, i1, j0, j1) node ranges of the spans, ascending
     integer, allocatable :: tile_start(:) !! (ntiles + 1) first sorted particle of each tile
-    integer, allocatable :: colour_tiles(:) !! occupied tiles grouped by colour
-    integer :: colour_start(5) = 1       !! colour c holds colour_tiles(colour_start(c):..(c+1)-1)
+    integer, allocatable :: colour_tiles(:) !! occupied tiles grouped by band and colour
+    integer :: ngroup = 0                !! groups (band, colour) of colour_tiles
+    integer, allocatable :: group_start(:) !! group i holds colour_tiles(group_start(i):..(i+1)-1)
+    integer, allocatable :: group_pos(:) !! work array of the grouping (ngroup)
+    real(wp), allocatable :: colour_sum(:,:) !! (2, ntiles) partial sums per listed tile
     real(wp), allocatable :: span_sum(:,:) !! partial sums per span (nsum, ntiles)
     ! scatter buffers of threads 1..nbuf (thread 0 scatters into mass, mom, force)
     integer :: nbuf = 0                  !! buffers allocated
@@ -117,15 +120,16 @@ contains
     g%ntx = (g%nx + ts - 1)/ts
     g%nty = (g%ny + ts - 1)/ts
     ntiles = g%ntx*g%nty
-    if (allocated(g%occupied)) deallocate(g%occupied, g%span, g%tile_start, g%colour_tiles)
+    if (allocated(g%occupied)) deallocate(g%occupied, g%span, g%tile_start, g%colour_tiles, &
+                                          g%colour_sum)
     if (allocated(g%span_sum)) deallocate(g%span_sum)
     allocate(g%occupied(ntiles), g%span(4, ntiles), g%tile_start(ntiles + 1), &
-             g%colour_tiles(ntiles))
+             g%colour_tiles(ntiles), g%colour_sum(2, ntiles))
     g%occupied = 0
     g%stamp = 0
     g%nspan = 0
     g%tile_start = 1
-    g%colour_start = 1
+    g%ngroup = 0
   end subroutine tile_allocate
 
   !> Use tiles of side ts (a power of two >= 4); a change first clears the live region.
@@ -214,13 +218,13 @@ contains
   end function grid_node_x
 
   !> Memory held by the grid [bytes]: per node 9 reals of fields, nwall gaps, 5 reals per
-  !! extra thread buffer; per tile 7 integers and the partial sums.
+  !! extra thread buffer; per tile 7 integers, 2 reals and the partial sums.
   pure function grid_memory_bytes(g, nwall) result(b)
     type(grid_t), intent(in) :: g         !! the grid
     integer, intent(in) :: nwall          !! number of walls
     integer(i8) :: b
     b = int(g%nx, i8)*int(g%ny, i8)*(8_i8*(9_i8 + int(max(nwall, 1), i8) + 5_i8*int(g%nbuf, i8))) &
-        + int(g%ntx, i8)*int(g%nty, i8)*28_i8
+        + int(g%ntx, i8)*int(g%nty, i8)*44_i8
     if (allocated(g%span_sum)) b = b + 8_i8*size(g%span_sum, kind=i8)
   end function grid_memory_bytes
 end module mpm_grid

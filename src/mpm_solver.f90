@@ -46,8 +46,6 @@ module mpm_solver
   integer, parameter :: tile_side = 4        !! grid tile side: bounds the live region [nodes]
   integer, parameter :: tile_side_colour = 16  !! tile side of the deterministic colour sweep:
                                              !! long particle runs, little halo [nodes]
-  ! what a P2G pass maps (bit flags)
-  integer, parameter :: P2G_MASS = 1, P2G_MOM = 2, P2G_FORCE = 4
 
   !> Everything that evolves, plus the parameters of the step.
   type :: sim_t
@@ -70,6 +68,7 @@ module mpm_solver
     logical :: deterministic = .false.     !! results independent of the thread count
     integer :: parallel_min = 4096         !! particles from which loops run in parallel: below,
                                            !! OpenMP start-up and barriers cost more than they save
+    integer :: colour_band = 32768         !! particles per band of the deterministic sweep
     ! time
     real(wp) :: t = 0.0_wp                 !! time [s]
     real(wp) :: dt = 0.0_wp                !! last time step [s]
@@ -96,7 +95,8 @@ module mpm_solver
     real(wp) :: e_external = 0.0_wp, e_damped = 0.0_wp, e0 = 0.0_wp
     real(wp) :: w_gravity = 0.0_wp         !! work of gravity and body forces [J/m]
     real(wp) :: energy_error = 0.0_wp      !! largest |balance| / max(E0, largest |external|) [-]
-    real(wp) :: bal_max = 0.0_wp           !! largest |kin + strain + plastic + damped - ext - E0| [J/m]
+    real(wp) :: bal_max = 0.0_wp           !! largest |kin + strain + plastic + damped - ext - E0|
+                                           !! [J/m]
     real(wp) :: ext_max = 0.0_wp           !! largest |external work| so far [J/m]
     real(wp) :: jmin_seen = 1.0_wp         !! smallest CPDI2 corner Jacobian ratio seen [-]
     real(wp) :: area_dev = 0.0_wp          !! largest |shoelace area / (J V0) - 1| seen [-]
@@ -202,27 +202,30 @@ contains
     call tick(s, PHASE_BASIS, clock)
     ! 2. P2G (USF: stress first, from the velocity mapped at the start of the step)
     if (s%scheme == SCHEME_USF) then
-      call p2g(s, P2G_MASS + P2G_MOM)
+      call p2g(s, mass_momentum=.true., force=.false.)
       call grid_velocity_walls(s, dt)
       call tick(s, PHASE_P2G, clock)
       call update_deformation(s, dt, stat, errmsg)
       if (stat /= 0) return
       call tick(s, PHASE_STRESS, clock)
-      call p2g(s, P2G_FORCE)
+      call p2g(s, mass_momentum=.false., force=.true.)
     else
-      call p2g(s, P2G_MASS + P2G_MOM + P2G_FORCE)   ! the stress is the previous step's
+      call p2g(s, mass_momentum=.true., force=.true.)   ! the stress is the previous step's
     end if
     call tick(s, PHASE_P2G, clock)
     ! 3. grid update, damping and walls
     call grid_update_walls(s, dt)
     call tick(s, PHASE_GRID, clock)
-    ! 4. G2P (and 5. the MUSL momentum map in the same pass, unless deterministic)
+    ! 4. G2P (and 5. the MUSL momentum map in the same pass)
     remap = s%scheme == SCHEME_MUSL
-    call g2p(s, dt, remap .and. .not. s%deterministic)
+    if (remap .and. s%deterministic) then
+      call g2p_coloured(s, dt)
+    else
+      call g2p(s, dt, remap)
+    end if
     call tick(s, PHASE_G2P, clock)
     ! 5. MUSL: the new particle momenta back on the grid, walls re-applied
     if (remap) then
-      if (s%deterministic) call p2g(s, P2G_MOM)
       call grid_velocity_walls(s, dt)
       call tick(s, PHASE_REMAP, clock)
     end if
@@ -509,39 +512,49 @@ contains
   end subroutine list_live_tiles
 
   !> Deterministic scatter: a stable counting sort of the particles by tile (perm), and the
-  !! occupied tiles grouped by colour (tx mod 2, ty mod 2), each colour in the order of the
-  !! tiles' first particles, so that a colour pass walks the particle arrays forward.
+  !! occupied tiles in groups (band, colour): a band holds the tiles whose first particle is
+  !! among the same s%colour_band consecutive particles, the colour is (tx mod 2, ty mod 2), and
+  !! within a group the tiles follow their first particles. The sweeps take the groups in order,
+  !! so that one band's particles and grid region stay in cache over its four colours.
   subroutine sort_by_tile(s)
     type(sim_t), intent(inout) :: s        !! simulation
-    integer :: ip, t, c, ntiles, ncol(4), pos(4)
+    integer :: ip, t, i, ntiles
     associate (g => s%g)
       ntiles = g%ntx*g%nty
+      g%ngroup = 4*((s%p%np + s%colour_band - 1)/s%colour_band)
+      if (allocated(g%group_start)) then
+        if (size(g%group_pos) < g%ngroup) deallocate(g%group_start, g%group_pos)
+      end if
+      if (.not. allocated(g%group_start)) allocate(g%group_start(g%ngroup + 1), &
+                                                    g%group_pos(g%ngroup))
       g%tile_start = 0
-      do ip = 1, s%p%np
+      do ip = 1, s%p%np                      ! particles per tile (in tile_start(t + 1))
         g%tile_start(s%tile(ip) + 1) = g%tile_start(s%tile(ip) + 1) + 1
       end do
-      ncol = 0
-      do t = 1, ntiles
-        if (g%tile_start(t + 1) == 0) cycle
-        c = tile_colour(t, g%ntx)
-        ncol(c) = ncol(c) + 1
-      end do
-      g%colour_start(1) = 1
-      do c = 1, 4
-        g%colour_start(c + 1) = g%colour_start(c) + ncol(c)
-      end do
-      pos = g%colour_start(1:4)
-      do ip = 1, s%p%np                      ! tiles in the order of their first particle
+      g%group_start = 0
+      do ip = 1, s%p%np                      ! tiles per group; a listed tile's count < 0
         t = s%tile(ip)
-        if (g%tile_start(t + 1) <= 0) cycle  ! listed already (count made negative)
-        c = tile_colour(t, g%ntx)
-        g%colour_tiles(pos(c)) = t
-        pos(c) = pos(c) + 1
+        if (g%tile_start(t + 1) <= 0) cycle
+        i = tile_group(ip, t, g%ntx, s%colour_band)
+        g%group_start(i + 1) = g%group_start(i + 1) + 1
+        g%tile_start(t + 1) = -g%tile_start(t + 1)
+      end do
+      g%group_start(1) = 1
+      do i = 1, g%ngroup
+        g%group_start(i + 1) = g%group_start(i + 1) + g%group_start(i)
+      end do
+      g%group_pos = g%group_start(1:g%ngroup)
+      do ip = 1, s%p%np                      ! the tiles, in the order of their first particle
+        t = s%tile(ip)
+        if (g%tile_start(t + 1) >= 0) cycle
+        i = tile_group(ip, t, g%ntx, s%colour_band)
+        g%colour_tiles(g%group_pos(i)) = t
+        g%group_pos(i) = g%group_pos(i) + 1
         g%tile_start(t + 1) = -g%tile_start(t + 1)
       end do
       g%tile_start(1) = 1
       do t = 1, ntiles
-        g%tile_start(t + 1) = g%tile_start(t) - g%tile_start(t + 1)
+        g%tile_start(t + 1) = g%tile_start(t + 1) + g%tile_start(t)
       end do
       do ip = 1, s%p%np                      ! tile_start(t) runs to the start of tile t + 1
         s%perm(g%tile_start(s%tile(ip))) = ip
@@ -554,37 +567,35 @@ contains
     end associate
   end subroutine sort_by_tile
 
-  !> Colour 1..4 of tile t: 1 + (tx mod 2) + 2 (ty mod 2).
-  pure integer function tile_colour(t, ntx) result(c)
+  !> Group of tile t whose first particle is ip: 4 (band - 1) + colour, colour 1..4 =
+  !! 1 + (tx mod 2) + 2 (ty mod 2).
+  pure integer function tile_group(ip, t, ntx, band) result(i)
+    integer, intent(in) :: ip              !! first particle of the tile
     integer, intent(in) :: t               !! tile id
     integer, intent(in) :: ntx             !! tiles along x
-    c = 1 + mod(mod(t - 1, ntx), 2) + 2*mod((t - 1)/ntx, 2)
-  end function tile_colour
+    integer, intent(in) :: band            !! particles per band
+    i = 4*((ip - 1)/band) + 1 + mod(mod(t - 1, ntx), 2) + 2*mod((t - 1)/ntx, 2)
+  end function tile_group
 
-  !> Steps 2 and 5: P2G of what (P2G_MASS, P2G_MOM, P2G_FORCE). Mass and momentum come
-  !! with the active-node cut-off; the momentum alone (MUSL re-map) replaces the old one.
-  subroutine p2g(s, what)
+  !> Step 2: P2G of mass and momentum (with the active-node cut-off) and/or of the forces.
+  subroutine p2g(s, mass_momentum, force)
     type(sim_t), intent(inout) :: s        !! simulation
-    integer, intent(in) :: what            !! sum of P2G_* flags
-    logical :: do_mass, do_mom, do_force
-    do_mass = iand(what, P2G_MASS) /= 0
-    do_mom = iand(what, P2G_MOM) /= 0
-    do_force = iand(what, P2G_FORCE) /= 0
-    if (do_mom .and. .not. do_mass) call zero_momentum(s%g, s%par)
+    logical, intent(in) :: mass_momentum   !! map mass and momentum
+    logical, intent(in) :: force           !! map internal and body forces
     if (s%deterministic) then
-      call p2g_coloured(s, do_mass, do_mom, do_force)
+      call p2g_coloured(s, mass_momentum, force)
     else
-      call p2g_threads(s, do_mass, do_mom, do_force)
+      call p2g_threads(s, mass_momentum, force)
     end if
-    if (do_mass) call set_mass_cut(s%g, s%par)
+    if (mass_momentum) call set_mass_cut(s%g, s%par)
   end subroutine p2g
 
   !> P2G by per-thread accumulation: each thread maps a contiguous range of particles, thread 0
   !! into the grid and the others into their buffers, which are then added on the live tiles
   !! (and zeroed again).
-  subroutine p2g_threads(s, do_mass, do_mom, do_force)
+  subroutine p2g_threads(s, do_mass, do_force)
     type(sim_t), intent(inout) :: s        !! simulation
-    logical, intent(in) :: do_mass, do_mom, do_force  !! what to map
+    logical, intent(in) :: do_mass, do_force  !! map mass and momentum, forces
     integer :: it, nt, ip0, ip1, np, k
     logical :: has_bacc
     np = s%p%np
@@ -592,7 +603,7 @@ contains
     nt = 1
     !$ if (s%par) nt = omp_get_max_threads()
     call grid_thread_buffers(s%g, nt)
-    !$omp parallel default(none) shared(s, np, has_bacc, do_mass, do_mom, do_force) &
+    !$omp parallel default(none) shared(s, np, has_bacc, do_mass, do_force) &
     !$omp   private(it, nt, ip0, ip1, k) if(s%par)
     it = 0
     nt = 1
@@ -603,18 +614,18 @@ contains
     if (it == 0) then
       call p2g_kernel(ip0, ip1, .false., s%perm, np, s%g%nn, s%nb, s%g%nx, s%blk, s%w, s%gw, &
                       s%p%mass, s%p%v, s%p%vol, s%p%stress, s%gravity, has_bacc, s%bacc, &
-                      do_mass, do_mom, do_force, s%g%mass, s%g%mom, s%g%force)
+                      do_mass, do_force, s%g%mass, s%g%mom, s%g%force)
     else
       call p2g_kernel(ip0, ip1, .false., s%perm, np, s%g%nn, s%nb, s%g%nx, s%blk, s%w, s%gw, &
                       s%p%mass, s%p%v, s%p%vol, s%p%stress, s%gravity, has_bacc, s%bacc, &
-                      do_mass, do_mom, do_force, s%g%buf_mass(:, it), s%g%buf_mom(:, :, it), &
+                      do_mass, do_force, s%g%buf_mass(:, it), s%g%buf_mom(:, :, it), &
                       s%g%buf_force(:, :, it))
     end if
     if (nt > 1) then
       !$omp barrier
       !$omp do schedule(static)
       do k = 1, s%g%nspan
-        call add_buffers(s%g, k, nt - 1, do_mass, do_mom, do_force)
+        call add_buffers(s%g, k, nt - 1, do_mass, do_mass, do_force)
       end do
       !$omp end do
     end if
@@ -622,33 +633,36 @@ contains
   end subroutine p2g_threads
 
   !> Deterministic P2G: the occupied tiles of one colour write disjoint node sets (blocks fit
-  !! in two tiles), so each colour is a parallel loop over its tiles straight into the grid;
-  !! every node sums its particles in (colour, tile, index) order whatever the thread count.
-  subroutine p2g_coloured(s, do_mass, do_mom, do_force)
+  !! in two tiles), so each group (band, colour) is a parallel loop over its tiles straight into
+  !! the grid; every node sums its particles in (group, tile, index) order whatever the thread
+  !! count.
+  subroutine p2g_coloured(s, do_mass, do_force)
     type(sim_t), intent(inout) :: s        !! simulation
-    logical, intent(in) :: do_mass, do_mom, do_force  !! what to map
-    integer :: c, k, t, np
+    logical, intent(in) :: do_mass, do_force  !! map mass and momentum, forces
+    integer :: i, k, t, np
     logical :: has_bacc
     np = s%p%np
     has_bacc = allocated(s%bacc)
-    do c = 1, 4
-      !$omp parallel do default(none) schedule(dynamic, 4) &
-      !$omp   shared(s, c, np, has_bacc, do_mass, do_mom, do_force) private(k, t) if(s%par)
-      do k = s%g%colour_start(c), s%g%colour_start(c + 1) - 1
+    !$omp parallel default(none) shared(s, np, has_bacc, do_mass, do_force) private(i, k, t) &
+    !$omp   if(s%par)
+    do i = 1, s%g%ngroup
+      !$omp do schedule(dynamic, 2)
+      do k = s%g%group_start(i), s%g%group_start(i + 1) - 1
         t = s%g%colour_tiles(k)
         call p2g_kernel(s%g%tile_start(t), s%g%tile_start(t + 1) - 1, .true., s%perm, np, &
                         s%g%nn, s%nb, s%g%nx, s%blk, s%w, s%gw, s%p%mass, s%p%v, s%p%vol, &
-                        s%p%stress, s%gravity, has_bacc, s%bacc, do_mass, do_mom, do_force, &
+                        s%p%stress, s%gravity, has_bacc, s%bacc, do_mass, do_force, &
                         s%g%mass, s%g%mom, s%g%force)
       end do
-      !$omp end parallel do
+      !$omp end do
     end do
+    !$omp end parallel
   end subroutine p2g_coloured
 
   !> Scatter of particles k0..k1 (perm(k0..k1) when sorted): mass m_p phi, momentum
   !! m_p v_p phi, force -V sigma . grad phi + phi m_p (g + b_p) (METHOD.md sec. 2, step 1).
   subroutine p2g_kernel(k0, k1, sorted, perm, np, nn, nb, nx, blk, w, gw, mass, v, vol, &
-                        stress, gravity, has_bacc, bacc, do_mass, do_mom, do_force, &
+                        stress, gravity, has_bacc, bacc, do_mass, do_force, &
                         gmass, gmom, gforce)
     integer, intent(in) :: k0, k1          !! range of particles (or of perm)
     logical, intent(in) :: sorted          !! particles are perm(k0..k1)
@@ -664,7 +678,7 @@ contains
     real(wp), intent(in) :: gravity(2)     !! gravity [m/s^2]
     logical, intent(in) :: has_bacc        !! per-particle body acceleration given
     real(wp), intent(in), allocatable :: bacc(:,:)  !! body acceleration (2, np) [m/s^2]
-    logical, intent(in) :: do_mass, do_mom, do_force  !! what to map
+    logical, intent(in) :: do_mass, do_force  !! map mass and momentum, forces
     real(wp), intent(inout) :: gmass(nn)   !! node mass [kg/m]
     real(wp), intent(inout) :: gmom(2, nn) !! node momentum [kg/s]
     real(wp), intent(inout) :: gforce(2, nn)  !! node force [N/m]
@@ -680,16 +694,6 @@ contains
             kk = 1 + a + nb*b
             wm = w(kk, ip)*mass(ip)
             gmass(n + a) = gmass(n + a) + wm
-            gmom(1, n + a) = gmom(1, n + a) + wm*v(1, ip)
-            gmom(2, n + a) = gmom(2, n + a) + wm*v(2, ip)
-          end do
-        end do
-      else if (do_mom) then
-        do b = 0, nb - 1
-          n = 1 + blk(1, ip) + nx*(blk(2, ip) + b)
-          do a = 0, nb - 1
-            kk = 1 + a + nb*b
-            wm = w(kk, ip)*mass(ip)
             gmom(1, n + a) = gmom(1, n + a) + wm*v(1, ip)
             gmom(2, n + a) = gmom(2, n + a) + wm*v(2, ip)
           end do
@@ -1009,11 +1013,12 @@ contains
     type(sim_t), intent(inout) :: s        !! simulation
     real(wp), intent(in) :: dt             !! time step [s]
     logical, intent(in) :: remap           !! also map the new momenta to the grid
-    integer :: it, nt, c0, c1, k, nchunk
+    integer :: it, nt, c0, c1, c, k, nchunk, np
     real(wp) :: vmax
     logical :: has_bacc
     has_bacc = allocated(s%bacc)
-    nchunk = (s%p%np + chunk - 1)/chunk
+    np = s%p%np
+    nchunk = (np + chunk - 1)/chunk
     if (remap) then
       call zero_momentum(s%g, s%par)
       nt = 1
@@ -1021,23 +1026,26 @@ contains
       call grid_thread_buffers(s%g, nt)
     end if
     vmax = 0.0_wp
-    !$omp parallel default(none) shared(s, dt, remap, has_bacc, nchunk) &
-    !$omp   private(it, nt, c0, c1, k) reduction(max: vmax) if(s%par)
+    !$omp parallel default(none) shared(s, dt, remap, has_bacc, nchunk, np) &
+    !$omp   private(it, nt, c0, c1, c, k) reduction(max: vmax) if(s%par)
     it = 0
     nt = 1
     !$ it = omp_get_thread_num()
     !$ nt = omp_get_num_threads()
     c0 = 1 + (nchunk*it)/nt
     c1 = (nchunk*(it + 1))/nt
-    if (it == 0 .or. .not. remap) then
-      call g2p_kernel(c0, c1, s%p%np, s%g%nn, s%nb, s%g%nx, s%blk, s%w, s%g%vel, s%g%dvel, &
-                      s%flip, dt, s%gravity, has_bacc, s%bacc, s%p%mass, s%p%v, s%p%x, &
-                      remap, s%g%mom, s%chunk_sum, vmax)
-    else
-      call g2p_kernel(c0, c1, s%p%np, s%g%nn, s%nb, s%g%nx, s%blk, s%w, s%g%vel, s%g%dvel, &
-                      s%flip, dt, s%gravity, has_bacc, s%bacc, s%p%mass, s%p%v, s%p%x, &
-                      remap, s%g%buf_mom(:, :, it), s%chunk_sum, vmax)
-    end if
+    do c = c0, c1
+      if (it == 0 .or. .not. remap) then
+        call g2p_kernel(1 + (c - 1)*chunk, min(c*chunk, np), .false., s%perm, np, s%g%nn, &
+               s%nb, s%g%nx, s%blk, s%w, s%g%vel, s%g%dvel, s%flip, dt, s%gravity, has_bacc, &
+               s%bacc, s%p%mass, s%p%v, s%p%x, remap, s%g%mom, s%chunk_sum(:, c), vmax)
+      else
+        call g2p_kernel(1 + (c - 1)*chunk, min(c*chunk, np), .false., s%perm, np, s%g%nn, &
+               s%nb, s%g%nx, s%blk, s%w, s%g%vel, s%g%dvel, s%flip, dt, s%gravity, has_bacc, &
+               s%bacc, s%p%mass, s%p%v, s%p%x, remap, s%g%buf_mom(:, :, it), &
+               s%chunk_sum(:, c), vmax)
+      end if
+    end do
     if (remap .and. nt > 1) then
       !$omp barrier
       !$omp do schedule(static)
@@ -1052,12 +1060,47 @@ contains
     s%w_gravity = s%w_gravity + sum(s%chunk_sum(2, 1:nchunk))
   end subroutine g2p
 
-  !> G2P of the particle chunks c0..c1; chunk sums of the kinetic energy and of the work of
-  !! body forces; with remap also m_p v_p phi into gmom.
-  subroutine g2p_kernel(c0, c1, np, nn, nb, nx, blk, w, vel, dvel, flip, dt, gravity, &
-                        has_bacc, bacc, mass, v, x, remap, gmom, chunk_sum, vmax)
-    integer, intent(in) :: c0, c1          !! chunks
+  !> Deterministic G2P with the MUSL momentum map: the particles tile by tile, group by group
+  !! like p2g_coloured (the gathers do not care about the order; the momenta go straight into
+  !! the grid), with the energy sums per tile, added in the fixed tile order.
+  subroutine g2p_coloured(s, dt)
+    type(sim_t), intent(inout) :: s        !! simulation
+    real(wp), intent(in) :: dt             !! time step [s]
+    integer :: i, k, t, np, ntile
+    real(wp) :: vmax
+    logical :: has_bacc
+    has_bacc = allocated(s%bacc)
+    np = s%p%np
+    call zero_momentum(s%g, s%par)
+    vmax = 0.0_wp
+    !$omp parallel default(none) shared(s, dt, np, has_bacc) private(i, k, t) &
+    !$omp   reduction(max: vmax) if(s%par)
+    do i = 1, s%g%ngroup
+      !$omp do schedule(dynamic, 2)
+      do k = s%g%group_start(i), s%g%group_start(i + 1) - 1
+        t = s%g%colour_tiles(k)
+        call g2p_kernel(s%g%tile_start(t), s%g%tile_start(t + 1) - 1, .true., s%perm, np, &
+               s%g%nn, s%nb, s%g%nx, s%blk, s%w, s%g%vel, s%g%dvel, s%flip, dt, s%gravity, &
+               has_bacc, s%bacc, s%p%mass, s%p%v, s%p%x, .true., s%g%mom, &
+               s%g%colour_sum(:, k), vmax)
+      end do
+      !$omp end do
+    end do
+    !$omp end parallel
+    ntile = s%g%group_start(s%g%ngroup + 1) - 1
+    s%e_kin = sum(s%g%colour_sum(1, 1:ntile))
+    s%vmax = sqrt(vmax)
+    s%w_gravity = s%w_gravity + sum(s%g%colour_sum(2, 1:ntile))
+  end subroutine g2p_coloured
+
+  !> G2P of particles k0..k1 (perm(k0..k1) when sorted); their kinetic energy and work of
+  !! body forces in csum; with remap also m_p v_p phi into gmom.
+  subroutine g2p_kernel(k0, k1, sorted, perm, np, nn, nb, nx, blk, w, vel, dvel, flip, dt, &
+                        gravity, has_bacc, bacc, mass, v, x, remap, gmom, csum, vmax)
+    integer, intent(in) :: k0, k1          !! range of particles (or of perm)
+    logical, intent(in) :: sorted          !! particles are perm(k0..k1)
     integer, intent(in) :: np, nn, nb, nx  !! particles, nodes, block width, nodes along x
+    integer, intent(in) :: perm(np)        !! particle order (sorted only)
     integer, intent(in) :: blk(2, np)      !! block origins
     real(wp), intent(in) :: w(nb*nb, np)   !! weights [-]
     real(wp), intent(in) :: vel(2, nn)     !! node velocity [m/s]
@@ -1072,46 +1115,45 @@ contains
     real(wp), intent(inout) :: x(2, np)    !! particle position [m]
     logical, intent(in) :: remap           !! map the new momenta
     real(wp), intent(inout) :: gmom(2, nn) !! node momentum [kg/s]
-    real(wp), intent(inout) :: chunk_sum(:,:)  !! (kinetic energy, body-force work) per chunk
+    real(wp), intent(out) :: csum(2)       !! kinetic energy, body-force work [J/m]
     real(wp), intent(inout) :: vmax        !! largest squared speed [m^2/s^2]
-    integer :: ic, ip, a, b, k, n
+    integer :: kp, ip, a, b, k, n
     real(wp) :: vpic(2), dv(2), vnew(2), fb(2), ekin, wgrav, wm
-    do ic = c0, c1
-      ekin = 0.0_wp
-      wgrav = 0.0_wp
-      do ip = 1 + (ic - 1)*chunk, min(ic*chunk, np)
-        vpic = 0.0_wp
-        dv = 0.0_wp
+    ekin = 0.0_wp
+    wgrav = 0.0_wp
+    do kp = k0, k1
+      ip = kp
+      if (sorted) ip = perm(kp)
+      vpic = 0.0_wp
+      dv = 0.0_wp
+      do b = 0, nb - 1
+        n = 1 + blk(1, ip) + nx*(blk(2, ip) + b)
+        do a = 0, nb - 1
+          k = 1 + a + nb*b
+          vpic = vpic + w(k, ip)*vel(:, n + a)
+          dv = dv + w(k, ip)*dvel(:, n + a)
+        end do
+      end do
+      vnew = flip*(v(:, ip) + dv) + (1.0_wp - flip)*vpic
+      fb = gravity
+      if (has_bacc) fb = fb + bacc(:, ip)
+      wgrav = wgrav + mass(ip)*dot_product(fb, 0.5_wp*(v(:, ip) + vnew))*dt
+      v(:, ip) = vnew
+      x(:, ip) = x(:, ip) + dt*vpic
+      ekin = ekin + 0.5_wp*mass(ip)*dot_product(vnew, vnew)
+      vmax = max(vmax, dot_product(vnew, vnew))
+      if (remap) then
         do b = 0, nb - 1
           n = 1 + blk(1, ip) + nx*(blk(2, ip) + b)
           do a = 0, nb - 1
-            k = 1 + a + nb*b
-            vpic = vpic + w(k, ip)*vel(:, n + a)
-            dv = dv + w(k, ip)*dvel(:, n + a)
+            wm = w(1 + a + nb*b, ip)*mass(ip)
+            gmom(1, n + a) = gmom(1, n + a) + wm*vnew(1)
+            gmom(2, n + a) = gmom(2, n + a) + wm*vnew(2)
           end do
         end do
-        vnew = flip*(v(:, ip) + dv) + (1.0_wp - flip)*vpic
-        fb = gravity
-        if (has_bacc) fb = fb + bacc(:, ip)
-        wgrav = wgrav + mass(ip)*dot_product(fb, 0.5_wp*(v(:, ip) + vnew))*dt
-        v(:, ip) = vnew
-        x(:, ip) = x(:, ip) + dt*vpic
-        ekin = ekin + 0.5_wp*mass(ip)*dot_product(vnew, vnew)
-        vmax = max(vmax, dot_product(vnew, vnew))
-        if (remap) then
-          do b = 0, nb - 1
-            n = 1 + blk(1, ip) + nx*(blk(2, ip) + b)
-            do a = 0, nb - 1
-              wm = w(1 + a + nb*b, ip)*mass(ip)
-              gmom(1, n + a) = gmom(1, n + a) + wm*vnew(1)
-              gmom(2, n + a) = gmom(2, n + a) + wm*vnew(2)
-            end do
-          end do
-        end if
-      end do
-      chunk_sum(1, ic) = ekin
-      chunk_sum(2, ic) = wgrav
+      end if
     end do
+    csum = [ekin, wgrav]
   end subroutine g2p_kernel
 
   !> Step 6: L = sum v_i (x) grad phi, F <- (I + dt L) F, V = det(F) V0, stress update;
