@@ -29,6 +29,7 @@ import numpy as np
 __all__ = [
     "REQUIRED_DATASETS", "NamelistError", "read_history", "read_summary", "read_namelist",
     "read_frames", "read_frame", "case_output_dir", "resolve_case", "scene_kind", "wall_table",
+    "crush_displacement",
     "ring_body", "body_material", "ring_properties", "sector_factor", "history_probes",
     "plane_of", "depth_of", "deruntz_hodge",
     "deruntz_hodge_energy", "plastic_collapse_load", "ring_elastic_stiffness", "bar_speed",
@@ -403,6 +404,34 @@ def wall_table(inputs: dict[str, list[dict[str, Any]]], nwall: int | None = None
     if nwall is not None:
         out = out[:nwall]
     return out
+
+
+def crush_displacement(history: dict[str, np.ndarray], inputs: dict[str, list[dict[str, Any]]]
+                       ) -> tuple[np.ndarray, np.ndarray, int]:
+    """Crush displacement delta [m], platen force [N] and the platen's wall index.
+
+    ``wall<k>_disp`` is the travel along minus the normal: negative for a platen moving into
+    the tube. delta is the relative approach of the platens: the advance of every moving
+    platen, plus that of its mirror image where a mirror plane of a half/quarter model is
+    parallel to it (the quarter model's bottom platen is the top one's image). The force is
+    that of the first moving platen. ValueError if no wall moves.
+    """
+    table = wall_table(inputs, history_walls(history))
+    moving = [w for w in table if w["moving"] and not w["mirror"]]
+    if not moving:
+        raise ValueError("crush: no moving wall (platen) in the case")
+    k = moving[0]["index"]
+    mirrors = [w for w in table if w["mirror"]]
+    disp = np.zeros_like(history[f"wall{k}_disp"])
+    for w in moving:
+        advance = -history[f"wall{w['index']}_disp"]
+        disp = disp + advance
+        for m in mirrors:
+            if abs(float(np.dot(m["normal"], w["normal"]))) > 0.999:
+                disp = disp + advance
+    if disp.size and disp[np.argmax(np.abs(disp))] < 0.0:
+        disp = -disp
+    return disp, history[f"wall{k}_force"], k
 
 
 def scene_kind(inputs: dict[str, list[dict[str, Any]]]) -> str:

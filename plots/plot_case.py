@@ -115,26 +115,8 @@ def plot_crush(history: History, inputs: Inputs, outdir: str, experiment: str | 
                title: str) -> tuple[plt.Figure, list[str]]:
     """Platen force and energies vs platen displacement, with the closed forms."""
     walls = [w for w in _walls(inputs, history) if not w["mirror"]]
-    moving = [w for w in walls if w["moving"]]
-    if not moving:
-        raise ValueError("crush plot: no moving wall (platen) in the case")
-    top = moving[0]
-    k = top["index"]
-    # wall<k>_disp is the travel along minus the normal: negative for a platen moving into the
-    # tube. The crush displacement delta is the relative approach of the platens: the advance of
-    # every moving platen, plus that of its mirror image where a mirror plane of a half/quarter
-    # model is parallel to it (the quarter model's bottom platen is the top one's image).
-    disp = np.zeros_like(history[f"wall{k}_disp"])
-    mirrors = [w for w in _walls(inputs, history) if w["mirror"]]
-    for w in moving:
-        advance = -history[f"wall{w['index']}_disp"]
-        disp = disp + advance
-        for m in mirrors:
-            if abs(float(np.dot(m["normal"], w["normal"]))) > 0.999:
-                disp = disp + advance
-    if disp.size and disp[np.argmax(np.abs(disp))] < 0.0:
-        disp = -disp
-    force = history[f"wall{k}_force"]
+    disp, force, k = mpmplot.crush_displacement(history, inputs)
+    top = next(w for w in walls if w["index"] == k)
     ring = _ring(inputs)
     depth = mpmplot.depth_of(inputs)
 

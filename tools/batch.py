@@ -5,7 +5,7 @@ once, resumable.
 Every case gets its own folder ``<root>/<name>/`` holding ``case.nml`` (the base namelist with
 the overrides applied, ``output_dir`` pointing at the folder itself), the run's outputs,
 ``run.log`` (its standard output and error) and, once the process has ended, ``result.json``
-(exit code, wall and CPU seconds, the hash of ``case.nml``). A case whose ``result.json`` exists
+(exit code, wall and CPU seconds, the hash of the input without the folder). A case whose ``result.json`` exists
 for the same input is skipped; any other folder (an interrupted run, or a changed input) is
 cleared and run again. Runs use one OpenMP thread each (``threads``), ``jobs`` at a time.
 
@@ -138,7 +138,9 @@ def _run_one(case: Case, root: Path, threads: int, timeout: float | None,
              binary: Path, log: Callable[[str], None], stop: threading.Event) -> dict[str, Any]:
     folder = root / case.name
     text = case_text(case, folder)
-    digest = hashlib.sha256(text.encode()).hexdigest()[:16]
+    # the input without the folder, so that a study folder can be moved without re-running
+    digest = hashlib.sha256(render(case.base.read_text(), case.overrides).encode()
+                            ).hexdigest()[:16]
     old = result_of(folder)
     if old is not None and old.get("input_hash") == digest:
         old["skipped"] = True

@@ -1,0 +1,439 @@
+# SPDX-License-Identifier: MIT
+"""The refinement study (`make study`): accuracy against cost for the crush, impact and wave
+scenes of Sinaie et al. (2018).
+
+    python3 tools/study.py [--level quick|full|all] [--jobs N] [--tables-only] [--list]
+
+Each scene is swept one factor at a time around a centre point (CPDI2, MUSL, cfl 0.2, square
+particles): the grid spacing h/t, the particles through the wall n_t, the particle aspect ratio
+(length around / length through the wall, which sets n_c), the basis, the cfl number, and for
+the impact the impact speed. Runs go to build/study/<case>/ through tools/batch.py (several at
+once, one thread each, finished runs skipped, interrupted runs re-run).
+
+Then every run's metrics are computed against the scene's reference (the finest CPDI2 run of the
+level, whose own error is estimated by Richardson extrapolation over the h sweep) and written to
+docs/study/study_<level>.csv (one row per run), with compact curves in docs/study/curves/ that
+plots/plot_study.py turns into the figures of docs/validation.md. `--tables-only` recomputes
+the table from existing run folders without running anything.
+
+Levels: ``quick`` (under 10 minutes on 2 cores: coarse sweeps, its own coarse reference),
+``full`` (about 1.5 hours on 2 cores; the committed table and figures), ``all`` (full plus the
+n_t = 32 runs of the crush and impact, several hours).
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import math
+import shutil
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "tools"))
+sys.path.insert(0, str(ROOT / "plots"))
+import batch  # noqa: E402
+import mpmplot  # noqa: E402
+
+RUNS = ROOT / "out" / "study"    # not under build/: `make clean` must not delete a study
+OUT = ROOT / "docs" / "study"
+
+#: The scenes: base namelist, wall thickness t [m], and the overrides that make the study
+#: version (crush stops at delta/D about 0.53, impact after the rebound, wave after the front
+#: has passed the top).
+SCENES: dict[str, dict[str, Any]] = {
+    "crush": {"base": ROOT / "namelists" / "crush.nml", "t": 1.48e-3,
+              "set": {"run.t_end": 2.85e-3, "run.history_every": 1.0e-5,
+                      "run.snapshot_every": 2.85e-4}},
+    "impact": {"base": ROOT / "namelists" / "impact.nml", "t": 2.0e-3,
+               "set": {"run.t_end": 0.9e-3, "run.history_every": 1.0e-6,
+                       "run.snapshot_every": 1.0e-4}},
+    "wave": {"base": ROOT / "namelists" / "wave.nml", "t": 2.0e-3,
+             "set": {"run.t_end": 3.0e-5, "run.history_every": 1.0e-7,
+                     "run.snapshot_every": 1.0e-5}},
+}
+
+#: Crush error window (delta / D, D the mean diameter) and energy point.
+CRUSH_WINDOW = (0.05, 0.5)
+#: Impact peak force: moving average over this window [s].
+PEAK_WINDOW = 10.0e-6
+#: Wave arrival: first |v - v0| above this fraction of the probe's peak.
+ARRIVAL_THRESHOLD = 0.1
+
+
+@dataclass(frozen=True)
+class Point:
+    """One run's settings."""
+    scene: str
+    basis: str = "cpdi2"
+    scheme: str = "musl"
+    h_over_t: float = 0.25
+    n_t: int = 8
+    aspect: float = 1.0
+    cfl: float = 0.2
+    speed: float = 30.0          # impact only [m/s]
+
+    @property
+    def name(self) -> str:
+        def frac(x: float) -> str:
+            return f"{x:g}" if x >= 1 else f"1_{round(1 / x):d}"
+        n = (f"{self.scene}_{self.basis}_{self.scheme}_h{frac(self.h_over_t)}_nt{self.n_t}"
+             f"_a{frac(self.aspect)}_cfl{self.cfl:g}")
+        if self.scene == "impact" and self.speed != 30.0:
+            n += f"_v{self.speed:g}"
+        return n
+
+    def n_circ(self) -> int:
+        """Particles around the whole ring for the aspect ratio (a multiple of 4)."""
+        r = ring_of(self.scene)
+        length = r["t"] / self.n_t * self.aspect
+        return max(4, 4 * round(2.0 * math.pi * r["R"] / length / 4.0))
+
+    def particles(self) -> int:
+        parts = {"quarter": 4, "half": 2}.get(ring_of(self.scene)["sector"], 1)
+        return self.n_t * self.n_circ() // parts
+
+    def steps(self) -> float:
+        r = ring_of(self.scene)
+        h = self.h_over_t * SCENES[self.scene]["t"]
+        v = self.speed if self.scene == "impact" else 10.0
+        dt = self.cfl * h / (r["c"] + v)
+        return self.t_end() / dt
+
+    def t_end(self) -> float:
+        t = SCENES[self.scene]["set"]["run.t_end"]
+        if self.scene == "impact" and self.speed != 30.0:
+            t = 1.5e-3
+        return t
+
+    def cost(self) -> float:
+        """Estimated particle-steps."""
+        return self.particles() * self.steps()
+
+    def case(self) -> batch.Case:
+        sc = SCENES[self.scene]
+        o = dict(sc["set"])
+        o.update({"solver.basis": self.basis, "solver.scheme": self.scheme,
+                  "run.cfl": self.cfl, "run.t_end": self.t_end(),
+                  "grid.h": self.h_over_t * sc["t"], "body.n_thick": self.n_t,
+                  "body.n_circ": self.n_circ(), "run.threads": 1})
+        if self.scene == "impact":
+            o["body.velocity"] = (0.0, -float(self.speed))
+        return batch.Case(self.name, sc["base"], o, labels=self.labels())
+
+    def labels(self) -> dict[str, Any]:
+        return {"scene": self.scene, "basis": self.basis, "scheme": self.scheme,
+                "h_over_t": self.h_over_t, "n_t": self.n_t, "n_c": self.n_circ(),
+                "aspect": self.aspect, "cfl": self.cfl,
+                "speed": self.speed if self.scene == "impact" else ""}
+
+
+_RINGS: dict[str, dict[str, Any]] = {}
+
+
+def ring_of(scene: str) -> dict[str, Any]:
+    """Mean radius, wall, sector and dilatational speed of a scene's ring."""
+    if scene not in _RINGS:
+        inputs = mpmplot.read_namelist(SCENES[scene]["base"])
+        r = mpmplot.ring_properties(inputs)
+        r["sector"] = str(mpmplot.ring_body(inputs).get("sector", "full")).lower()
+        r["c"] = mpmplot.dilatational_speed(r["E"], r["nu"], r["rho"])
+        _RINGS[scene] = r
+    return _RINGS[scene]
+
+
+# ----------------------------------------------------------------------------------------------
+# The designs
+# ----------------------------------------------------------------------------------------------
+
+BASES = ("linear", "ugimp", "cpdi1", "cpdi2")
+
+
+def design(level: str) -> dict[str, list[Point]]:
+    """The runs of a level, per scene, and which one is the reference (first)."""
+    out: dict[str, list[Point]] = {}
+    if level == "quick":
+        for scene in ("crush", "impact", "wave"):
+            ref = Point(scene, h_over_t=0.25, n_t=8)
+            pts = [ref]
+            pts += [Point(scene, h_over_t=h, n_t=8) for h in (2.0, 1.0, 0.5)]
+            pts += [Point(scene, h_over_t=0.5, n_t=n) for n in (2, 4)]
+            pts += [Point(scene, h_over_t=0.5, n_t=4, aspect=a) for a in (4.0, 2.0, 0.5)]
+            pts += [Point(scene, basis=b, h_over_t=0.5, n_t=4) for b in BASES[:3]]
+            if scene == "impact":
+                pts += [Point(scene, h_over_t=0.5, n_t=4, speed=v) for v in (5.0, 16.5, 60.0,
+                                                                                125.0)]
+            out[scene] = pts
+        return out
+    for scene in ("crush", "impact", "wave"):
+        ref = Point(scene, h_over_t=0.125, n_t=16)
+        pts = [ref]
+        pts += [Point(scene, h_over_t=h, n_t=16) for h in (2.0, 1.0, 0.5, 0.25)]
+        nts = (2, 4, 8, 32) if (scene == "wave" or level == "all") else (2, 4, 8)
+        pts += [Point(scene, h_over_t=0.25, n_t=n) for n in nts]
+        pts += [Point(scene, h_over_t=0.25, n_t=8, aspect=a) for a in (4.0, 2.0, 1.0, 0.5)]
+        pts += [Point(scene, basis=b, h_over_t=0.25, n_t=8) for b in BASES[:3]]
+        if scene != "crush":
+            pts += [Point(scene, basis=b, h_over_t=0.5, n_t=8) for b in BASES]
+        pts += [Point(scene, h_over_t=0.25, n_t=8, cfl=c) for c in (0.4, 0.8)]
+        if scene == "impact":
+            pts += [Point(scene, h_over_t=0.25, n_t=8, speed=v)
+                    for v in (5.0, 16.5, 30.0, 60.0, 90.0, 125.0)]
+        if level == "all":
+            pts += [Point(scene, h_over_t=0.125, n_t=32)]
+        seen: set[str] = set()
+        out[scene] = [p for p in pts if not (p.name in seen or seen.add(p.name))]
+    return out
+
+
+# ----------------------------------------------------------------------------------------------
+# Metrics of one run
+# ----------------------------------------------------------------------------------------------
+
+def crush_metrics(folder: Path, inputs: dict) -> dict[str, Any]:
+    h = mpmplot.read_history(folder / "history.csv")
+    disp, force, _ = mpmplot.crush_displacement(h, inputs)
+    r = mpmplot.ring_properties(inputs)
+    D = r["D"]
+    x = np.linspace(*CRUSH_WINDOW, 91) * D
+    m: dict[str, Any] = {"curve_x": disp / D, "curve_y": force}
+    if disp.max() < CRUSH_WINDOW[1] * D:
+        return m
+    order = np.argsort(disp, kind="stable")          # disp is monotone once the ramp is over
+    f = np.interp(x, disp[order], force[order])
+    dh = mpmplot.deruntz_hodge(x, D, r["t"], r["sigma_y"], r["plane"], r["depth"])
+    m["F_window"] = f
+    m["force_mean"] = float(np.mean(f))
+    m["force_over_dh"] = float(np.mean(f) / np.mean(dh))
+    sel = disp <= CRUSH_WINDOW[1] * D
+    work = np.concatenate([[0.0], np.cumsum(0.5 * (force[1:] + force[:-1]) * np.diff(disp))])
+    m["energy_50"] = float(np.interp(CRUSH_WINDOW[1] * D, disp[sel], work[sel]))
+    m["energy_50_dh"] = float(mpmplot.deruntz_hodge_energy(CRUSH_WINDOW[1] * D, D, r["t"],
+                                                           r["sigma_y"], r["plane"], r["depth"]))
+    return m
+
+
+def impact_metrics(folder: Path, inputs: dict) -> dict[str, Any]:
+    h = mpmplot.read_history(folder / "history.csv")
+    t = h["time"]
+    f = h["wall1_force"]
+    vn = h["com_vy"]                                   # target normal (0, 1)
+    ph = mpmplot.contact_phases(t, f, away=vn > 0.0)
+    v_imp = mpmplot.impact_velocity(h, 1, (0.0, 1.0), ph)
+    v_reb = mpmplot.rebound_velocity(h, 1, (0.0, 1.0), ph)
+    n = max(1, int(round(PEAK_WINDOW / float(np.median(np.diff(t))))))
+    smooth = np.convolve(f, np.ones(n) / n, mode="valid")
+    m = {"curve_x": t, "curve_y": f, "duration": ph["duration"], "peak_10us": float(smooth.max()),
+         "cor": v_reb / v_imp if v_imp else float("nan"), "v_impact": v_imp,
+         "impulse": ph["impulse"]}
+    return m
+
+
+def wave_metrics(folder: Path, inputs: dict) -> dict[str, Any]:
+    from plot_case import probe_angles  # noqa: E402  (plots/ on sys.path)
+    h = mpmplot.read_history(folder / "history.csv")
+    nprobe = mpmplot.history_probes(h)
+    t = h["time"]
+    dist = np.column_stack([np.hypot(h[f"probe{j + 1}_vx"] - h[f"probe{j + 1}_vx"][0],
+                                     h[f"probe{j + 1}_vy"] - h[f"probe{j + 1}_vy"][0])
+                            for j in range(nprobe)])
+    arrival = np.atleast_1d(mpmplot.arrival_times(t, dist, ARRIVAL_THRESHOLD))
+    angles, _, _ = probe_angles(h, inputs)
+    r = mpmplot.ring_properties(inputs)
+    far = angles > 1.0
+    s = np.radians(angles[far]) * r["R"]
+    ok = np.isfinite(arrival[far])
+    speed = float(np.polyfit(arrival[far][ok], s[ok], 1)[0]) if np.count_nonzero(ok) >= 2 \
+        else float("nan")
+    return {"curve_x": angles, "curve_y": arrival, "arrivals": arrival, "speed": speed,
+            "speed_bar": mpmplot.bar_speed(r["E"], r["rho"]),
+            "speed_plate": mpmplot.plate_speed(r["E"], r["nu"], r["rho"])}
+
+
+METRICS = {"crush": crush_metrics, "impact": impact_metrics, "wave": wave_metrics}
+
+
+# ----------------------------------------------------------------------------------------------
+# Errors against the reference, Richardson extrapolation
+# ----------------------------------------------------------------------------------------------
+
+def rel(a: float, b: float) -> float:
+    return abs(a - b) / abs(b) if (np.isfinite(a) and np.isfinite(b) and b != 0) else math.nan
+
+
+def errors(scene: str, m: dict[str, Any], ref: dict[str, Any]) -> dict[str, float]:
+    """The scene's error metrics of run m against the reference run ref, and the headline
+    ``error`` (crush: L2 of F(delta); impact: the largest of the three relative errors; wave:
+    the largest relative arrival-time error at the probes beyond the struck point)."""
+    e: dict[str, float] = {}
+    if scene == "crush":
+        if "F_window" in m and "F_window" in ref:
+            fr = ref["F_window"]
+            e["err_F_L2"] = float(np.sqrt(np.mean((m["F_window"] - fr) ** 2) / np.mean(fr ** 2)))
+            e["err_energy_50"] = rel(m["energy_50"], ref["energy_50"])
+            e["error"] = e["err_F_L2"]
+        else:
+            e["error"] = math.nan
+    elif scene == "impact":
+        e["err_duration"] = rel(m["duration"], ref["duration"])
+        e["err_cor"] = rel(m["cor"], ref["cor"])
+        e["err_peak"] = rel(m["peak_10us"], ref["peak_10us"])
+        vals = [e["err_duration"], e["err_cor"], e["err_peak"]]
+        e["error"] = max(vals) if all(np.isfinite(vals)) else math.nan
+    else:
+        far = m["curve_x"] > 1.0
+        a, ar = m["arrivals"][far], ref["arrivals"][far]
+        e["err_arrival"] = float(np.max(np.abs(a - ar) / ar)) if a.size == ar.size else math.nan
+        e["err_speed"] = rel(m["speed"], ref["speed"])
+        e["error"] = e["err_arrival"]
+    return e
+
+
+def richardson(f1: float, f2: float, f3: float, ratio: float = 2.0) -> dict[str, float]:
+    """Observed order and extrapolated value from three levels (coarse f1, f2, fine f3) of
+    constant refinement ratio; NaN when the differences do not shrink monotonically."""
+    d1, d2 = f2 - f1, f3 - f2
+    if not (np.isfinite(d1) and np.isfinite(d2)) or d1 == 0 or d2 / d1 <= 0 or abs(d2) >= abs(d1):
+        return {"order": math.nan, "extrapolated": math.nan, "fine_error": math.nan}
+    p = math.log(d1 / d2) / math.log(ratio)
+    fx = f3 + d2 / (ratio ** p - 1.0)
+    return {"order": p, "extrapolated": fx, "fine_error": abs(f3 - fx) / abs(fx)}
+
+
+# ----------------------------------------------------------------------------------------------
+# Table
+# ----------------------------------------------------------------------------------------------
+
+COLUMNS = ["scene", "name", "reference", "basis", "scheme", "h_over_t", "n_t", "n_c", "aspect",
+           "cfl", "speed", "particles", "steps", "status", "exit_code", "wall_s", "cpu_s",
+           "runtime_ratio", "mps", "energy_error", "error",
+           "err_F_L2", "err_energy_50", "force_mean", "force_over_dh", "energy_50",
+           "energy_50_dh", "err_duration", "err_cor", "err_peak", "duration", "cor",
+           "peak_10us", "v_impact", "impulse", "err_arrival", "err_speed", "speed",
+           "speed_bar", "speed_plate"]
+
+
+def collect(level: str, points: dict[str, list[Point]]) -> tuple[list[dict[str, Any]],
+                                                                 dict[str, Any]]:
+    """Rows of the table and the Richardson estimates, from the run folders."""
+    rows: list[dict[str, Any]] = []
+    extra: dict[str, Any] = {}
+    curves = OUT / "curves"
+    curves.mkdir(parents=True, exist_ok=True)
+    for scene, pts in points.items():
+        metrics: dict[str, dict[str, Any]] = {}
+        base_rows: dict[str, dict[str, Any]] = {}
+        for p in pts:
+            folder = RUNS / p.name
+            res = batch.result_of(folder)
+            summ = batch.read_summary(folder)
+            row: dict[str, Any] = {"scene": scene, "name": p.name, **p.labels()}
+            row["particles"] = summ.get("particles", p.particles())
+            row["steps"] = summ.get("steps", "")
+            row["status"] = summ.get("status", "not run" if res is None else "no summary")
+            row["exit_code"] = "" if res is None else res.get("exit_code")
+            if res is not None and summ:
+                cpu = float(res["cpu_s"])
+                row["wall_s"] = round(float(res["wall_s"]), 2)
+                row["cpu_s"] = round(cpu, 2)
+                row["runtime_ratio"] = float(summ["time"]) / cpu if cpu > 0 else math.nan
+                row["mps"] = float(summ["particles"]) * float(summ["steps"]) / cpu / 1e6
+                row["energy_error"] = summ.get("energy_error", "")
+            if res is not None and res.get("exit_code") == 0:
+                inputs = mpmplot.read_namelist(folder / "case.nml")
+                m = METRICS[scene](folder, inputs)
+                metrics[p.name] = m
+                row.update({k: v for k, v in m.items() if np.isscalar(v)})
+                np.savetxt(curves / f"{p.name}.csv", np.column_stack([m["curve_x"],
+                                                                      m["curve_y"]]),
+                           delimiter=",", header="x,y", comments="", fmt="%.7g")
+            base_rows[p.name] = row
+            rows.append(row)
+        ref = pts[0]
+        if ref.name in metrics:
+            for name, row in base_rows.items():
+                row["reference"] = ref.name
+                if name in metrics:
+                    row.update(errors(scene, metrics[name], metrics[ref.name]))
+        # Richardson over h at the reference's n_t (h/t = 4 h_ref, 2 h_ref, h_ref)
+        hs = [ref.h_over_t * 4, ref.h_over_t * 2, ref.h_over_t]
+        names = [Point(scene, h_over_t=h, n_t=ref.n_t).name for h in hs]
+        if all(n in metrics for n in names):
+            keys = {"crush": ["force_mean", "energy_50"],
+                    "impact": ["duration", "cor", "peak_10us"], "wave": ["speed"]}[scene]
+            extra[scene] = {k: {**richardson(*[metrics[n][k] for n in names]),
+                                "values": [metrics[n][k] for n in names],
+                                "h_over_t": hs} for k in keys}
+    return rows, extra
+
+
+def write_table(level: str, rows: list[dict[str, Any]], extra: dict[str, Any]) -> Path:
+    OUT.mkdir(parents=True, exist_ok=True)
+    path = OUT / f"study_{level}.csv"
+    with open(path, "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=COLUMNS, extrasaction="ignore")
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items()})
+    (OUT / f"richardson_{level}.json").write_text(json.dumps(extra, indent=1) + "\n")
+    return path
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--level", choices=("quick", "full", "all"), default="quick")
+    ap.add_argument("--quick", action="store_const", const="quick", dest="level",
+                    help="same as --level quick")
+    ap.add_argument("--jobs", type=int, default=2, help="runs at once (default 2)")
+    ap.add_argument("--tables-only", action="store_true",
+                    help="recompute the table from the run folders, run nothing")
+    ap.add_argument("--list", action="store_true", help="list the runs and their estimated cost")
+    args = ap.parse_args(argv)
+    points = design(args.level)
+    allpts = [p for pts in points.values() for p in pts]
+    if args.list:
+        for p in sorted(allpts, key=Point.cost):
+            done = batch.result_of(RUNS / p.name) is not None
+            print(f"{p.name:50s} {p.particles():7d} particles {p.steps():9.0f} steps "
+                  f"{p.cost() / 2.2e6:8.0f} s{'  done' if done else ''}")
+        print(f"{len(allpts)} runs, about {sum(p.cost() for p in allpts) / 2.2e6 / 60:.0f} "
+              f"CPU minutes at 2.2 M particle-steps/s")
+        return 0
+    if not args.tables_only:
+        # the longest run first, then the rest cheapest first: the long run overlaps the
+        # others, and an interrupted study has finished as many runs as it could
+        order = sorted(allpts, key=Point.cost)
+        order = order[-1:] + order[:-1]
+        cases = [p.case() for p in order]
+        print(f"study {args.level}: {len(cases)} runs in {RUNS} ({args.jobs} at once)",
+              flush=True)
+        try:
+            # a private copy of the binary: rebuilding bin/ during a long study does not
+            # change the runs still to come
+            RUNS.mkdir(parents=True, exist_ok=True)
+            binary = RUNS / "tubempm"
+            shutil.copy2(batch.BINARY, binary)
+            batch.run_batch(cases, RUNS, jobs=args.jobs, threads=1, binary=binary)
+        except KeyboardInterrupt:
+            print("interrupted: finished runs are kept; run again to continue", file=sys.stderr)
+            return 130
+    rows, extra = collect(args.level, points)
+    path = write_table(args.level, rows, extra)
+    failed = [r["name"] for r in rows if r.get("exit_code") not in (0, "")]
+    print(f"wrote {path.relative_to(ROOT)} ({len(rows)} runs; {len(failed)} did not complete)")
+    for scene in points:
+        ref = points[scene][0]
+        print(f"  {scene}: reference {ref.name}; Richardson: "
+              + ", ".join(f"{k} order {v['order']:.2f} ref error {v['fine_error']:.2%}"
+                          for k, v in extra.get(scene, {}).items()))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
