@@ -13,6 +13,7 @@ program tubempm
   use mpm_errors, only: fatal, warn
   use mpm_config, only: config_t, read_config, write_config, write_config_unit, default_config
   use mpm_setup, only: setup_sim, setup_report, sector_factor
+  use mpm_advice, only: study_advice
   use mpm_solver, only: sim_t, solver_step
   use mpm_particles, only: particles_t
   use mpm_output, only: history_t, history_open, history_write, history_close, write_summary, &
@@ -26,7 +27,7 @@ program tubempm
   character(len=path_len) :: case_file, arg, restart_dir
   logical :: check_only, quiet, restart
   integer :: i, nargs, stat
-  character(len=:), allocatable :: errmsg, report, warnings, input_warnings
+  character(len=:), allocatable :: errmsg, report, warnings, input_warnings, advice
   type(config_t) :: cfg
   type(sim_t) :: s
 
@@ -101,6 +102,8 @@ program tubempm
   end if
   if (len(warnings) > 0) call print_warnings(warnings)
   if (check_only) then
+    call study_advice(cfg, s%g%h, advice)
+    if (len(advice) > 0) write(output_unit, '(a)') advice
     write(output_unit, '(a)') 'input ok: '//trim(case_file)
     stop
   end if

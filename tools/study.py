@@ -341,7 +341,7 @@ def collect(level: str, points: dict[str, list[Point]]) -> tuple[list[dict[str, 
                 cpu = float(res["cpu_s"])
                 row["wall_s"] = round(float(res["wall_s"]), 2)
                 row["cpu_s"] = round(cpu, 2)
-                row["runtime_ratio"] = float(summ["time"]) / cpu if cpu > 0 else math.nan
+                row["runtime_ratio"] = float(summ["sim_time"]) / cpu if cpu > 0 else math.nan
                 row["mps"] = float(summ["particles"]) * float(summ["steps"]) / cpu / 1e6
                 row["energy_error"] = summ.get("energy_error", "")
             if res is not None and res.get("exit_code") == 0:

@@ -1,0 +1,381 @@
+# SPDX-License-Identifier: MIT
+"""Figures of the refinement study (docs/validation.md) from its table and curves.
+
+    python3 plots/plot_study.py [--level full] [--out docs/study]
+
+Reads docs/study/study_<level>.csv, docs/study/richardson_<level>.json and the compact
+curves docs/study/curves/<run>.csv written by tools/study.py, and writes into --out:
+
+* accuracy_runtime.png - error against CPU seconds per scene, Pareto front, recommended runs
+* error_factors.png    - error against h/t, n_t and particle aspect ratio (sets n_c)
+* crush_curves.png     - F(delta) at increasing refinement with DeRuntz-Hodge
+* impact_curves.png    - target force against time at increasing refinement
+* impact_cor.png       - coefficient of restitution against impact speed, Bao & Yu's band
+* wave_arrival.png     - arrival time against angle with the wave-speed lines
+* crush_shapes.png     - the reference crush at several stages (needs the run folder)
+and advice_<level>.csv: per scene the cheapest run reaching 5 %, 2 % and 1 % error.
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import style  # noqa: E402,F401  (sets the matplotlib defaults)
+import matplotlib.pyplot as plt  # noqa: E402
+import mpmplot  # noqa: E402
+
+ROOT = Path(__file__).resolve().parent.parent
+SCENES = ("crush", "impact", "wave")
+BASIS_STYLE = {"linear": ("C0", "s"), "ugimp": ("C2", "^"), "cpdi1": ("C1", "D"),
+               "cpdi2": ("C3", "o")}
+TARGETS = (0.05, 0.02, 0.01)
+HEADLINE = {"crush": "L2 error of F(δ), δ/D 0.05–0.5",
+            "impact": "max rel. error: contact time, COR, 10 µs peak",
+            "wave": "max rel. error of arrival times"}
+
+
+def read_table(path: Path) -> list[dict[str, Any]]:
+    rows = []
+    with open(path, newline="") as fh:
+        for r in csv.DictReader(fh):
+            for k, v in r.items():
+                try:
+                    r[k] = float(v) if v not in ("", None) else math.nan
+                except ValueError:
+                    pass
+            rows.append(r)
+    return rows
+
+
+def centre(r: dict[str, Any], **changes: Any) -> bool:
+    """Is r the centre point of the sweeps (CPDI2, MUSL, cfl 0.2, aspect 1, 30 m/s) with
+    ``changes`` applied?"""
+    want = {"basis": "cpdi2", "scheme": "musl", "cfl": 0.2, "aspect": 1.0}
+    if r["scene"] == "impact":
+        want["speed"] = 30.0
+    want.update(changes)
+    return all((r[k] == v) if isinstance(v, str) else math.isclose(r[k], v) for k, v in
+               want.items())
+
+
+def sweep(rows: list[dict[str, Any]], scene: str, var: str, **fixed: Any
+          ) -> list[dict[str, Any]]:
+    out = [r for r in rows if r["scene"] == scene and centre(r, **fixed)
+           and np.isfinite(r.get(var, math.nan))]
+    return sorted(out, key=lambda r: r[var])
+
+
+def curve(name: str, folder: Path) -> np.ndarray | None:
+    p = folder / "curves" / f"{name}.csv"
+    return np.loadtxt(p, delimiter=",", skiprows=1, ndmin=2) if p.is_file() else None
+
+
+def pareto(points: list[tuple[float, float]]) -> list[tuple[float, float]]:
+    """Lower-left envelope: runs no other run beats in both cost and error."""
+    front, best = [], math.inf
+    for c, e in sorted(points):
+        if e < best:
+            front.append((c, e))
+            best = e
+    return front
+
+
+def advice(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """Per scene and target, the cheapest completed run (not the reference) within it."""
+    out = []
+    for scene in SCENES:
+        ok = [r for r in rows if r["scene"] == scene and r["name"] != r["reference"]
+              and np.isfinite(r["error"]) and np.isfinite(r["cpu_s"])
+              and not (scene == "impact" and r["speed"] != 30.0)]
+        for tgt in TARGETS:
+            within = [r for r in ok if r["error"] <= tgt]
+            best = min(within, key=lambda r: r["cpu_s"]) if within else None
+            out.append({"scene": scene, "target": tgt,
+                        **({k: best[k] for k in ("name", "basis", "scheme", "h_over_t", "n_t",
+                                                 "n_c", "aspect", "cfl", "particles", "cpu_s",
+                                                 "runtime_ratio", "error")}
+                           if best else {"name": "none within the study"})})
+    return out
+
+
+def fig_accuracy_runtime(rows, adv, out: Path) -> None:
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.8), layout="constrained")
+    for ax, scene in zip(axes, SCENES):
+        rs = [r for r in rows if r["scene"] == scene and r["name"] != r["reference"]
+              and np.isfinite(r["error"]) and r["error"] > 0
+              and not (scene == "impact" and r["speed"] != 30.0)]
+        for b, (col, mk) in BASIS_STYLE.items():
+            sel = [r for r in rs if r["basis"] == b]
+            if sel:
+                ax.loglog([r["cpu_s"] for r in sel], [100 * r["error"] for r in sel], mk,
+                          color=col, mfc="none" if b != "cpdi2" else col, ms=6, label=b)
+        front = pareto([(r["cpu_s"], r["error"]) for r in rs])
+        if front:
+            c, e = zip(*front)
+            ax.step(c, 100 * np.array(e), where="post", color="k", lw=1.0, alpha=0.6,
+                    label="Pareto front")
+        for a, mk in zip([a for a in adv if a["scene"] == scene], ("*", "P", "X")):
+            if "cpu_s" in a:
+                ax.plot(a["cpu_s"], 100 * a["error"], mk, color="k", ms=13, mfc="gold",
+                        label=f"cheapest ≤ {a['target']:.0%}: h/t {a['h_over_t']:g}, "
+                              f"n_t {a['n_t']:g}, {a['basis']}")
+        for tgt in TARGETS:
+            ax.axhline(100 * tgt, color="0.6", lw=0.7, ls=":")
+        ax.set_xlabel("CPU time [s] (one thread)")
+        ax.set_ylabel(f"error [%] ({HEADLINE[scene]})")
+        ax.set_title(f"{scene}: accuracy against cost")
+        ax.legend(fontsize=7, loc="upper right")
+    fig.savefig(out / "accuracy_runtime.png", dpi=130)
+    plt.close(fig)
+
+
+def fig_error_factors(rows, rich, out: Path) -> None:
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.6), layout="constrained")
+    specs = [("h_over_t", "grid spacing h/t", {"n_t": 16.0}),
+             ("n_t", "particles through the wall n_t", {"h_over_t": 0.25}),
+             ("n_c", "particles around the ring n_c (aspect 4, 2, 1, 1/2)",
+              {"h_over_t": 0.25, "n_t": 8.0})]
+    for ax, (var, label, fixed) in zip(axes, specs):
+        for k, scene in enumerate(SCENES):
+            rs = [r for r in sweep(rows, scene, var, **fixed)
+                  if var != "n_c" or True]
+            if var == "n_c":
+                rs = [r for r in rows if r["scene"] == scene and centre(
+                    r, h_over_t=0.25, n_t=8.0, aspect=r["aspect"])]
+                rs = sorted(rs, key=lambda r: r["n_c"])
+            rs = [r for r in rs if np.isfinite(r["error"]) and r["error"] > 0]
+            if not rs:
+                continue
+            x = np.array([r[var] for r in rs])
+            if var == "n_c":
+                x = x / x.max()
+            ax.loglog(x, [100 * r["error"] for r in rs], "o-", color=f"C{k}", label=scene)
+        if var == "h_over_t":
+            ax.invert_xaxis()
+        ax.set_xlabel(label if var != "n_c" else "n_c / largest n_c (finer to the right)")
+        ax.set_ylabel("error [%]")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend()
+        ax.set_title(f"error against {label.split(' n_')[0] if var != 'h_over_t' else 'h/t'}"
+                     + ("" if var == "n_c" else
+                        f" ({', '.join(f'{k} {v:g}' for k, v in fixed.items())})"),
+                     fontsize=10)
+    fig.savefig(out / "error_factors.png", dpi=130)
+    plt.close(fig)
+
+
+def fig_crush(rows, folder: Path, out: Path) -> None:
+    fig, axes = plt.subplots(1, 2, figsize=(13, 4.8), layout="constrained", sharey=True)
+    r0 = next((r for r in rows if r["scene"] == "crush"), None)
+    if r0 is None:
+        return
+    inputs = mpmplot.read_namelist(ROOT / "namelists" / "crush.nml")
+    ring = mpmplot.ring_properties(inputs)
+    for ax, (var, fixed, title) in zip(axes, [
+            ("h_over_t", {"n_t": 16.0}, "grid spacing (n_t = 16)"),
+            ("n_t", {"h_over_t": 0.25}, "particles through the wall (h = t/4)")]):
+        rs = sweep(rows, "crush", var, **fixed)
+        cmap = plt.get_cmap("viridis")
+        order = rs[::-1] if var == "h_over_t" else rs
+        for i, r in enumerate(order):
+            c = curve(r["name"], folder)
+            if c is None:
+                continue
+            lab = f"h/t = {r['h_over_t']:g}" if var == "h_over_t" else f"n_t = {r['n_t']:g}"
+            ax.plot(c[:, 0], c[:, 1] * 1e-3, color=cmap(i / max(len(order) - 1, 1) * 0.9),
+                    lw=1.2, label=lab + f" ({r['error']:.1%})" if np.isfinite(r["error"])
+                    else lab + " (reference)")
+        d = np.linspace(0, 0.6, 200)
+        ax.plot(d, mpmplot.deruntz_hodge(d * ring["D"], ring["D"], ring["t"], ring["sigma_y"],
+                                         ring["plane"], ring["depth"]) * 1e-3, "k--",
+                label="DeRuntz–Hodge")
+        ax.axvspan(0.05, 0.5, color="0.9", zorder=0)
+        ax.set_xlim(0, 0.55)
+        ax.set_xlabel("δ / D")
+        ax.set_title(f"crush: {title}; shaded: error window")
+        ax.legend(fontsize=8, loc="upper left")
+    axes[0].set_ylabel("platen force per metre [kN/m]")
+    fig.savefig(out / "crush_curves.png", dpi=130)
+    plt.close(fig)
+
+
+def fig_impact(rows, folder: Path, out: Path) -> None:
+    fig, axes = plt.subplots(1, 2, figsize=(13, 4.6), layout="constrained", sharey=True)
+    for ax, (var, fixed, title) in zip(axes, [
+            ("h_over_t", {"n_t": 16.0}, "grid spacing (n_t = 16)"),
+            ("n_t", {"h_over_t": 0.25}, "particles through the wall (h = t/4)")]):
+        rs = sweep(rows, "impact", var, **fixed)
+        order = rs[::-1] if var == "h_over_t" else rs
+        cmap = plt.get_cmap("viridis")
+        for i, r in enumerate(order):
+            c = curve(r["name"], folder)
+            if c is None:
+                continue
+            lab = f"h/t = {r['h_over_t']:g}" if var == "h_over_t" else f"n_t = {r['n_t']:g}"
+            ax.plot(c[:, 0] * 1e3, c[:, 1] * 1e-3, color=cmap(i / max(len(order) - 1, 1) * 0.9),
+                    lw=1.0, label=f"{lab}: COR {r['cor']:.3f}, contact {r['duration'] * 1e3:.3f} ms")
+        ax.set_xlabel("time [ms]")
+        ax.set_title(f"impact at 30 m/s: {title}")
+        ax.legend(fontsize=7)
+        ax.set_xlim(0, 0.9)
+    axes[0].set_ylabel("target force per metre [kN/m]")
+    fig.savefig(out / "impact_curves.png", dpi=130)
+    plt.close(fig)
+
+
+def fig_cor(rows, out: Path) -> None:
+    rs = sorted([r for r in rows if r["scene"] == "impact" and centre(
+        r, h_over_t=0.25, n_t=8.0, speed=r["speed"]) and np.isfinite(r["cor"])],
+        key=lambda r: r["speed"])
+    if not rs:
+        return
+    inputs = mpmplot.read_namelist(ROOT / "namelists" / "impact.nml")
+    ring = mpmplot.ring_properties(inputs)
+    vy = ring["sigma_y"] / math.sqrt(ring["E"] * ring["rho"])
+    fig, ax = plt.subplots(figsize=(7.5, 4.6), layout="constrained")
+    ax.axhspan(0.75, 0.78, color="C2", alpha=0.25,
+               label="Bao & Yu, elastic range: COR 0.75–0.78")
+    ax.axvspan(16.5, 125, color="0.92", zorder=0, label="Xu's experiments: 16.5–125 m/s")
+    ax.plot([r["speed"] for r in rs], [r["cor"] for r in rs], "o-", color="C3",
+            label="MPM (CPDI2, h = t/4, n_t = 8)")
+    ax.axvline(vy, color="k", ls=":", lw=1, label=f"$V_Y = σ_y/\\sqrt{{Eρ}}$ = {vy:.1f} m/s")
+    ax.set_xscale("log")
+    ax.set_xlabel("impact speed [m/s]")
+    ax.set_ylabel("coefficient of restitution [-]")
+    ax.set_ylim(0, 1)
+    ax.set_title("aluminium ring (R/t = 12.5) on a rigid target")
+    ax.legend(fontsize=8)
+    fig.savefig(out / "impact_cor.png", dpi=130)
+    plt.close(fig)
+
+
+def fig_wave(rows, folder: Path, out: Path) -> None:
+    fig, ax = plt.subplots(figsize=(7.5, 4.8), layout="constrained")
+    rs = sweep(rows, "wave", "h_over_t", n_t=16.0)[::-1]
+    cmap = plt.get_cmap("viridis")
+    for i, r in enumerate(rs):
+        c = curve(r["name"], folder)
+        if c is None:
+            continue
+        ax.plot(c[:, 0], c[:, 1] * 1e6, "o-", ms=4, lw=1,
+                color=cmap(i / max(len(rs) - 1, 1) * 0.9),
+                label=f"h/t = {r['h_over_t']:g}, n_t 16: fitted {r['speed']:.0f} m/s")
+    inputs = mpmplot.read_namelist(ROOT / "namelists" / "wave.nml")
+    ring = mpmplot.ring_properties(inputs)
+    th = np.linspace(0, 180, 50)
+    for name, c, ls in (("bar", mpmplot.bar_speed(ring["E"], ring["rho"]), "--"),
+                        ("plate", mpmplot.plate_speed(ring["E"], ring["nu"], ring["rho"]), ":")):
+        ax.plot(th, np.radians(th) * ring["R"] / c * 1e6, "k", ls=ls,
+                label=f"Rθ / c, {name} speed {c:.0f} m/s")
+    ax.set_xlabel("angle from the struck point [deg]")
+    ax.set_ylabel("arrival time [µs]")
+    ax.set_title("wave round the ring: arrival (10 % of the probe's peak)")
+    ax.legend(fontsize=8)
+    fig.savefig(out / "wave_arrival.png", dpi=130)
+    plt.close(fig)
+
+
+def fig_shapes(rows, out: Path) -> None:
+    ref = next((r for r in rows if r["scene"] == "crush"), None)
+    if ref is None:
+        return
+    run = ROOT / "out" / "study" / str(ref["reference"])
+    if not (run / "particles.h5").is_file():
+        print(f"  crush_shapes.png: {run} not found (run the study); kept the old figure")
+        return
+    subprocess.run([sys.executable, str(ROOT / "plots" / "plot_shapes.py"), "--case",
+                    str(run / "case.nml"), "--out", str(out / "crush_shapes.png")], check=True,
+                   stdout=subprocess.DEVNULL)
+
+
+def write_advice_include(rows: list[dict[str, Any]], adv: list[dict[str, Any]], path: Path,
+                         source: str) -> None:
+    """src/mpm_advice_table.inc: the study's runs (centre-point settings and errors) and the
+    cheapest run per scene and target, as Fortran parameters for `tubempm --check`."""
+    runs = [r for r in rows if np.isfinite(r.get("error", math.nan))
+            and not (r["scene"] == "impact" and r["speed"] != 30.0)]
+    runs = sorted(runs, key=lambda r: (SCENES.index(r["scene"]), r["name"]))
+    idx = {r["name"]: i + 1 for i, r in enumerate(runs)}
+    n = len(runs)
+
+    def arr(name: str, ftype: str, values: list[str]) -> str:
+        body = ", &\n    ".join(values) if values else ""
+        return f"{ftype}, parameter :: {name}({len(values)}) = [{ftype.split(',')[0]} :: &\n    {body}]\n"
+
+    def real(x: float) -> str:
+        return f"{x:.6e}_wp"
+
+    lines = [f"! Generated by plots/plot_study.py from {source}: do not edit.\n",
+             f"! {n} runs of the refinement study (errors against the scene's reference).\n",
+             f"integer, parameter :: n_study = {n}\n"]
+    lines.append(arr("study_scene", "character(len=6)", [f"'{r['scene']:6s}'" for r in runs]))
+    lines.append(arr("study_basis", "character(len=6)", [f"'{r['basis']:6s}'" for r in runs]))
+    lines.append(arr("study_h_over_t", "real(wp)", [real(r["h_over_t"]) for r in runs]))
+    lines.append(arr("study_n_t", "integer", [str(int(r["n_t"])) for r in runs]))
+    lines.append(arr("study_aspect", "real(wp)", [real(r["aspect"]) for r in runs]))
+    lines.append(arr("study_cfl", "real(wp)", [real(r["cfl"]) for r in runs]))
+    lines.append(arr("study_error", "real(wp)", [real(r["error"]) for r in runs]))
+    lines.append(arr("study_cpu_s", "real(wp)", [real(r["cpu_s"]) for r in runs]))
+    lines.append(arr("study_particles", "integer", [str(int(r["particles"])) for r in runs]))
+    lines.append(f"integer, parameter :: n_advice = {len(adv)}\n")
+    lines.append(arr("advice_scene", "character(len=6)", [f"'{a['scene']:6s}'" for a in adv]))
+    lines.append(arr("advice_target", "real(wp)", [real(a["target"]) for a in adv]))
+    lines.append(arr("advice_run", "integer", [str(idx.get(a.get("name", ""), 0)) for a in adv]))
+    path.write_text("".join(lines))
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--level", default="full", choices=("quick", "full", "all"))
+    ap.add_argument("--out", default=None, help="output folder (default docs/study)")
+    args = ap.parse_args(argv)
+    folder = ROOT / "docs" / "study"
+    out = Path(args.out) if args.out else folder
+    out.mkdir(parents=True, exist_ok=True)
+    table = folder / f"study_{args.level}.csv"
+    if not table.is_file():
+        print(f"ERROR [plot_study]: {table} not found: run tools/study.py --level {args.level}",
+              file=sys.stderr)
+        return 1
+    rows = read_table(table)
+    rich_path = folder / f"richardson_{args.level}.json"
+    rich = json.loads(rich_path.read_text()) if rich_path.is_file() else {}
+    adv = advice(rows)
+    with open(out / f"advice_{args.level}.csv", "w", newline="") as fh:
+        keys = ["scene", "target", "name", "basis", "scheme", "h_over_t", "n_t", "n_c", "aspect",
+                "cfl", "particles", "cpu_s", "runtime_ratio", "error"]
+        w = csv.DictWriter(fh, fieldnames=keys, extrasaction="ignore")
+        w.writeheader()
+        for a in adv:
+            w.writerow({k: (f"{v:.4g}" if isinstance(v, float) else v) for k, v in a.items()})
+    if args.level == "full" and args.out is None:
+        write_advice_include(rows, adv, ROOT / "src" / "mpm_advice_table.inc",
+                             f"docs/study/study_{args.level}.csv")
+    fig_accuracy_runtime(rows, adv, out)
+    fig_error_factors(rows, rich, out)
+    fig_crush(rows, folder, out)
+    fig_impact(rows, folder, out)
+    fig_cor(rows, out)
+    fig_wave(rows, folder, out)
+    fig_shapes(rows, out)
+    for a in adv:
+        if "cpu_s" in a:
+            print(f"  {a['scene']:6s} <= {a['target']:.0%}: {a['name']} "
+                  f"({a['cpu_s']:.0f} CPU s, error {a['error']:.2%})")
+        else:
+            print(f"  {a['scene']:6s} <= {a['target']:.0%}: none within the study")
+    print(f"wrote figures to {out}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
