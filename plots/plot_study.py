@@ -32,6 +32,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import style  # noqa: E402,F401  (sets the matplotlib defaults)
 import matplotlib.pyplot as plt  # noqa: E402
 import mpmplot  # noqa: E402
+from plot_case import EXPERIMENT_COLUMNS  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 SCENES = ("crush", "impact", "wave")
@@ -173,7 +174,17 @@ def fig_error_factors(rows, rich, out: Path) -> None:
     plt.close(fig)
 
 
-def fig_crush(rows, folder: Path, out: Path) -> None:
+def experiment(args_exp: list[str], scene: str) -> tuple[np.ndarray, np.ndarray] | None:
+    """The measured curve given as ``--experiment SCENE=FILE`` for this scene, or None
+    (columns as for plot_case.py: plots/README.md)."""
+    for item in args_exp or []:
+        key, _, path = item.partition("=")
+        if key == scene and path:
+            return mpmplot.read_experiment(path, EXPERIMENT_COLUMNS[scene])
+    return None
+
+
+def fig_crush(rows, folder: Path, out: Path, exp=None) -> None:
     fig, axes = plt.subplots(1, 2, figsize=(13, 4.8), layout="constrained", sharey=True)
     r0 = next((r for r in rows if r["scene"] == "crush"), None)
     if r0 is None:
@@ -198,6 +209,9 @@ def fig_crush(rows, folder: Path, out: Path) -> None:
         ax.plot(d, mpmplot.deruntz_hodge(d * ring["D"], ring["D"], ring["t"], ring["sigma_y"],
                                          ring["plane"], ring["depth"]) * 1e-3, "k--",
                 label="DeRuntz–Hodge")
+        if exp is not None:
+            ax.plot(exp[0] / ring["D"], exp[1] * 1e-3, "o", ms=3, mfc="none", color="k",
+                    label="experiment")
         ax.axvspan(0.05, 0.5, color="0.9", zorder=0)
         ax.set_xlim(0, 0.55)
         ax.set_xlabel("δ / D")
@@ -208,7 +222,7 @@ def fig_crush(rows, folder: Path, out: Path) -> None:
     plt.close(fig)
 
 
-def fig_impact(rows, folder: Path, out: Path) -> None:
+def fig_impact(rows, folder: Path, out: Path, exp=None) -> None:
     fig, axes = plt.subplots(1, 2, figsize=(13, 4.6), layout="constrained", sharey=True)
     for ax, (var, fixed, title) in zip(axes, [
             ("h_over_t", {"n_t": 16.0}, "grid spacing (n_t = 16)"),
@@ -223,6 +237,9 @@ def fig_impact(rows, folder: Path, out: Path) -> None:
             lab = f"h/t = {r['h_over_t']:g}" if var == "h_over_t" else f"n_t = {r['n_t']:g}"
             ax.plot(c[:, 0] * 1e3, c[:, 1] * 1e-3, color=cmap(i / max(len(order) - 1, 1) * 0.9),
                     lw=1.0, label=f"{lab}: COR {r['cor']:.3f}, contact {r['duration'] * 1e3:.3f} ms")
+        if exp is not None:
+            ax.plot(exp[0] * 1e3, exp[1] * 1e-3, "o", ms=3, mfc="none", color="k",
+                    label="experiment")
         ax.set_xlabel("time [ms]")
         ax.set_title(f"impact at 30 m/s: {title}")
         ax.legend(fontsize=7)
@@ -258,7 +275,7 @@ def fig_cor(rows, out: Path) -> None:
     plt.close(fig)
 
 
-def fig_wave(rows, folder: Path, out: Path) -> None:
+def fig_wave(rows, folder: Path, out: Path, exp=None) -> None:
     fig, ax = plt.subplots(figsize=(7.5, 4.8), layout="constrained")
     rs = sweep(rows, "wave", "h_over_t", n_t=16.0)[::-1]
     cmap = plt.get_cmap("viridis")
@@ -276,6 +293,8 @@ def fig_wave(rows, folder: Path, out: Path) -> None:
                         ("plate", mpmplot.plate_speed(ring["E"], ring["nu"], ring["rho"]), ":")):
         ax.plot(th, np.radians(th) * ring["R"] / c * 1e6, "k", ls=ls,
                 label=f"Rθ / c, {name} speed {c:.0f} m/s")
+    if exp is not None:
+        ax.plot(exp[0], exp[1] * 1e6, "s", ms=5, mfc="none", color="k", label="experiment")
     ax.set_xlabel("angle from the struck point [deg]")
     ax.set_ylabel("arrival time [µs]")
     ax.set_title("wave round the ring: arrival (10 % of the probe's peak)")
@@ -337,6 +356,9 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--level", default="full", choices=("quick", "full", "all"))
     ap.add_argument("--out", default=None, help="output folder (default docs/study)")
+    ap.add_argument("--experiment", action="append", metavar="SCENE=CSV",
+                    help="overlay a measured curve on the crush, impact or wave figure "
+                         "(repeatable; columns as for plot_case.py, plots/README.md)")
     args = ap.parse_args(argv)
     folder = ROOT / "docs" / "study"
     out = Path(args.out) if args.out else folder
@@ -362,10 +384,10 @@ def main(argv: list[str] | None = None) -> int:
                              f"docs/study/study_{args.level}.csv")
     fig_accuracy_runtime(rows, adv, out)
     fig_error_factors(rows, rich, out)
-    fig_crush(rows, folder, out)
-    fig_impact(rows, folder, out)
+    fig_crush(rows, folder, out, experiment(args.experiment, "crush"))
+    fig_impact(rows, folder, out, experiment(args.experiment, "impact"))
     fig_cor(rows, out)
-    fig_wave(rows, folder, out)
+    fig_wave(rows, folder, out, experiment(args.experiment, "wave"))
     fig_shapes(rows, out)
     for a in adv:
         if "cpu_s" in a:

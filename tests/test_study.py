@@ -1,0 +1,161 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
+"""The study machinery: tools/batch.py (namelist overrides, resumable batch runs) and the
+metrics of tools/study.py and plots/plot_study.py (Richardson extrapolation, Pareto front,
+the cheapest run per error target).
+
+Checks against closed forms (a sequence f(h) = f0 + C h^p), against hand-made inputs, and runs
+two tiny wave cases (0.4 us of a 2-particle-thick ring) with the binary named by TUBEMPM to
+check that finished runs are skipped, interrupted and changed runs re-run. The last line is
+`test_study: N passed, M failed` (exit 1 if M > 0).
+
+    TUBEMPM=build/debug/tubempm python3 tests/test_study.py
+"""
+from __future__ import annotations
+
+import json
+import math
+import os
+import shutil
+import sys
+import tempfile
+import traceback
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "tools"))
+sys.path.insert(0, str(ROOT / "plots"))
+NAME = "test_study"
+passed = 0
+failed = 0
+
+
+def check(cond: bool, msg: str) -> bool:
+    global passed, failed
+    if cond:
+        passed += 1
+    else:
+        failed += 1
+        print(f"FAIL [{NAME}]: {msg}")
+    return bool(cond)
+
+
+def close(a: float, b: float, rtol: float = 1e-12) -> bool:
+    return math.isfinite(a) and math.isfinite(b) and abs(a - b) <= rtol * max(abs(b), 1e-300)
+
+
+def test_render() -> None:
+    import batch
+    import mpmplot
+    base = (ROOT / "namelists" / "wave.nml").read_text()
+    text = batch.render(base, {"grid.h": 0.25e-3, "body.n_thick": 16, "probe[7].point":
+                               (0.0, 0.05), "solver.deterministic": True,
+                               "run.title": "a'b"})
+    nml = mpmplot.parse_namelist(text, "rendered")
+    check(close(nml["grid"][0]["h"], 0.25e-3), "render: replaced h")
+    check(nml["body"][0]["n_thick"] == 16, "render: replaced n_thick")
+    check(nml["solver"][0]["deterministic"] is True, "render: added deterministic")
+    check(nml["run"][0]["title"] == "a'b", "render: quote doubled in a string")
+    pts = [p["point"] for p in nml["probe"]]
+    check(len(pts) == 7 and close(pts[6][1], 0.05) and close(pts[5][1], 0.047650635),
+          "render: only the 7th &probe changed")
+    orig = mpmplot.parse_namelist(base, "base")
+    same = all(nml[g] == orig[g] for g in ("material", "wall"))
+    check(same, "render: groups without overrides unchanged")
+    for bad in ({"probe[8].point": (0.0, 0.0)}, {"grid h": 1.0}):
+        try:
+            batch.render(base, bad)
+            check(False, f"render: {bad} should be refused")
+        except ValueError:
+            check(True, "")
+    check(batch.fortran_value([1.5, 2]) == "1.5, 2", "fortran_value of a list")
+    check(batch.fortran_value(False) == ".false.", "fortran_value of a bool")
+
+
+def test_richardson() -> None:
+    import study
+    for p in (1.0, 1.5, 2.0):
+        f0, c = 3.0, 0.7
+        vals = [f0 + c * h ** p for h in (0.4, 0.2, 0.1)]
+        r = study.richardson(*vals)
+        check(close(r["order"], p, 1e-9), f"richardson order {r['order']} vs {p}")
+        check(close(r["extrapolated"], f0, 1e-9), f"richardson limit {r['extrapolated']}")
+        check(close(r["fine_error"], abs(vals[2] - f0) / f0, 1e-9), "richardson fine error")
+    r = study.richardson(1.0, 2.0, 0.5)           # oscillating: no order
+    check(math.isnan(r["order"]), "richardson: oscillating sequence gives NaN")
+
+
+def test_pareto_advice() -> None:
+    import plot_study
+    pts = [(1.0, 0.5), (2.0, 0.6), (3.0, 0.1), (4.0, 0.1), (5.0, 0.01)]
+    check(plot_study.pareto(pts) == [(1.0, 0.5), (3.0, 0.1), (5.0, 0.01)], "pareto front")
+    rows = []
+    for i, (cost, err) in enumerate(pts):
+        rows.append({"scene": "crush", "name": f"r{i}", "reference": "ref", "error": err,
+                     "cpu_s": cost, "speed": math.nan, "basis": "cpdi2", "scheme": "musl",
+                     "h_over_t": 1.0, "n_t": 4.0, "n_c": 8.0, "aspect": 1.0, "cfl": 0.2,
+                     "particles": 10.0, "runtime_ratio": 1.0})
+    adv = {a["target"]: a.get("name") for a in plot_study.advice(rows) if a["scene"] == "crush"}
+    check(adv == {0.05: "r4", 0.02: "r4", 0.01: "r4"}, f"advice picks the cheapest: {adv}")
+    rows[2]["error"] = 0.03
+    adv = {a["target"]: a.get("name") for a in plot_study.advice(rows) if a["scene"] == "crush"}
+    check(adv[0.05] == "r2", f"advice 5 %: {adv}")
+
+
+def test_batch_runs() -> None:
+    import batch
+    exe = Path(os.environ.get("TUBEMPM", ROOT / "build" / "debug" / "tubempm"))
+    if not check(exe.is_file(), f"binary {exe} missing"):
+        return
+    tmp = Path(tempfile.mkdtemp(prefix="test_study_"))
+    try:
+        base = ROOT / "namelists" / "wave.nml"
+        small = {"run.t_end": 4.0e-7, "grid.h": 2.0e-3, "body.n_thick": 2,
+                 "run.snapshot_every": 4.0e-7, "run.history_every": 1.0e-7, "run.threads": 1}
+        cases = [batch.Case(f"c{i}", base, {**small, "run.cfl": c}) for i, c in
+                 enumerate((0.2, 0.4))]
+        res = batch.run_batch(cases, tmp, jobs=2, binary=exe, log=lambda m: None)
+        check(all(r["exit_code"] == 0 for r in res), f"batch: both runs complete {res}")
+        check(all((tmp / c.name / "result.json").is_file() for c in cases), "result.json")
+        s = batch.read_summary(tmp / "c0")
+        check(s.get("status") == "completed", "batch: summary.nml in the case folder")
+        res2 = batch.run_batch(cases, tmp, jobs=2, binary=exe, log=lambda m: None)
+        check(all(r.get("skipped") for r in res2), "batch: finished runs skipped")
+        # an interrupted run (no result.json) and a changed input are run again
+        (tmp / "c0" / "result.json").unlink()
+        (tmp / "c0" / "stale").write_text("x")
+        cases[1] = batch.Case("c1", base, {**small, "run.cfl": 0.3})
+        res3 = batch.run_batch(cases, tmp, jobs=1, binary=exe, log=lambda m: None)
+        check(not res3[0].get("skipped") and not (tmp / "c0" / "stale").exists(),
+              "batch: interrupted run re-run in a cleared folder")
+        check(not res3[1].get("skipped") and res3[1]["exit_code"] == 0,
+              "batch: changed input re-run")
+        rec = json.loads((tmp / "c1" / "result.json").read_text())
+        check(rec["cpu_s"] > 0 and rec["wall_s"] > 0, "batch: times recorded")
+        # a folder moved elsewhere is still recognised as finished
+        moved = tmp / "moved"
+        moved.mkdir()
+        shutil.move(str(tmp / "c1"), str(moved / "c1"))
+        res4 = batch.run_batch(cases[1:], moved, jobs=1, binary=exe, log=lambda m: None)
+        check(bool(res4[0].get("skipped")), "batch: moved folder still finished")
+        # a failing run is recorded with its exit code, not raised
+        bad = batch.Case("bad", base, {**small, "run.cfl": -1.0})
+        res5 = batch.run_batch([bad], tmp, jobs=1, binary=exe, log=lambda m: None)
+        check(res5[0]["exit_code"] == 2, f"batch: bad input exit 2 ({res5[0]['exit_code']})")
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
+def main() -> int:
+    for t in (test_render, test_richardson, test_pareto_advice, test_batch_runs):
+        try:
+            t()
+        except Exception:                      # a crash is a failure, with its traceback
+            traceback.print_exc()
+            check(False, f"{t.__name__} raised")
+    print(f"{NAME}: {passed} passed, {failed} failed")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
