@@ -176,14 +176,18 @@ def design(level: str) -> dict[str, list[Point]]:
         pts += [Point(scene, h_over_t=h, n_t=16) for h in (2.0, 1.0, 0.5, 0.25)]
         nts = (2, 4, 8, 32) if (scene == "wave" or level == "all") else (2, 4, 8)
         pts += [Point(scene, h_over_t=0.25, n_t=n) for n in nts]
-        pts += [Point(scene, h_over_t=0.25, n_t=8, aspect=a) for a in (4.0, 2.0, 1.0, 0.5)]
-        pts += [Point(scene, basis=b, h_over_t=0.25, n_t=8) for b in BASES[:3]]
-        if scene != "crush":
-            pts += [Point(scene, basis=b, h_over_t=0.5, n_t=8) for b in BASES]
+        # (the crush, the most expensive scene, keeps to the cheaper ends of two sweeps:
+        # aspect 1/2 and the bases at h = t/4 are in LEVEL=all only)
+        aspects = (4.0, 2.0, 1.0) if (scene == "crush" and level != "all") else \
+            (4.0, 2.0, 1.0, 0.5)
+        pts += [Point(scene, h_over_t=0.25, n_t=8, aspect=a) for a in aspects]
+        if scene != "crush" or level == "all":
+            pts += [Point(scene, basis=b, h_over_t=0.25, n_t=8) for b in BASES[:3]]
+        pts += [Point(scene, basis=b, h_over_t=0.5, n_t=8) for b in BASES]
         pts += [Point(scene, h_over_t=0.25, n_t=8, cfl=c) for c in (0.4, 0.8)]
         if scene == "impact":
             pts += [Point(scene, h_over_t=0.25, n_t=8, speed=v)
-                    for v in (5.0, 16.5, 30.0, 60.0, 90.0, 125.0)]
+                    for v in (5.0, 16.5, 30.0, 60.0, 125.0)]
         if level == "all":
             pts += [Point(scene, h_over_t=0.125, n_t=32)]
         seen: set[str] = set()
