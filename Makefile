@@ -113,6 +113,12 @@ study: all
 figures: deps
 	$(PYTHON) plots/plot_study.py --level full
 
+## stability: the stability study of docs/stability.md (release build, one run at a time, one
+##            thread): LEVEL=quick (default, < 10 min) or LEVEL=full; tables and figures in
+##            docs/stability/, runs in build/stability/ (reused when unchanged)
+stability: all
+	$(PYTHON) tools/stability.py --level $(or $(LEVEL),quick)
+
 ## check-namelists: bin/tubempm --check on every file in namelists/
 check-namelists: all
 	@for f in namelists/*.nml; do bin/tubempm --check --quiet $$f > /dev/null || exit 1; echo "ok  $$f"; done

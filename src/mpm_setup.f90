@@ -4,8 +4,9 @@
 module mpm_setup
   use mpm_kinds, only: wp, i8
   use mpm_constants, only: pi, EXIT_INPUT, SHAPE_RING, SHAPE_RECT, SECTOR_FULL, SECTOR_HALF, &
-                           SECTOR_QUARTER, CONTACT_SLIP, BASIS_LINEAR, basis_names, &
-                           scheme_names, plane_names, sector_names, PLANE_STRESS
+                           SECTOR_QUARTER, CONTACT_SLIP, BASIS_LINEAR, BASIS_CPDI1, &
+                           BASIS_CPDI2, SCHEME_USL, basis_names, scheme_names, plane_names, &
+                           sector_names, PLANE_STRESS
   use mpm_config, only: config_t
   use mpm_particles, only: particles_allocate, ring_counts, ring_fill, rect_counts, rect_fill, &
                            particles_memory_bytes
@@ -14,7 +15,7 @@ module mpm_setup
   use mpm_material, only: material_new, material_wave_speed
   use mpm_solver, only: sim_t, solver_stable_dt, solver_init_energy, solver_wall_point
   use mpm_errors, only: append_msg
-  use mpm_strings, only: itoa
+  use mpm_strings, only: itoa, rtoa
   implicit none
   private
   public :: setup_sim, setup_report, sector_factor
@@ -186,10 +187,21 @@ contains
     type(sim_t), intent(in) :: s           !! the simulation at t = 0
     character(len=:), allocatable, intent(out) :: report    !! the set-up, one item per line
     character(len=:), allocatable, intent(out) :: warnings  !! warnings, one per line ('' none)
-    integer :: ib, nk, npb, ncb, k
-    real(wp) :: dt_stable, dt, t, rm, ei, omega2, vwall, ratio, mass
+    integer :: ib, nk, npb, ncb, k, m
+    real(wp) :: dt_stable, dt, t, rm, ei, omega2, vwall, ratio, mass, travel, delta
+    ! What the stability study measured (docs/stability.md, docs/stability/*.csv; quick level):
+    ! the largest cfl at which the impact scene completes with no failure detected, per (scheme
+    ! usl/usf/musl, basis linear/ugimp/cpdi1/cpdi2); 0: unstable at every cfl tried
+    real(wp), parameter :: cfl_stable(3, 4) = reshape([ &
+      0.0_wp, 0.625_wp, 1.25_wp, &          ! linear
+      0.5_wp, 1.6875_wp, 1.6875_wp, &       ! ugimp
+      0.5_wp, 1.6875_wp, 1.6875_wp, &       ! cpdi1
+      0.6875_wp, 1.6875_wp, 1.6875_wp], [3, 4])  ! cpdi2
+    real(wp), parameter :: flip_trusted = 0.999_wp   !! flip below this dissipates visibly [-]
+    real(wp), parameter :: pic_loss = 98.0_wp      !! energy lost at flip = 0 [%]
+    real(wp), parameter :: delta_fold = 0.88_wp    !! delta/D from which CPDI domains fold [-]
     integer(i8) :: steps, mem
-    character(len=256) :: line
+    character(len=512) :: line
     report = ''
     warnings = ''
     write(line, '(a)') 'case '''//trim(cfg%run%title)//''' from '//trim(cfg%file)
@@ -259,7 +271,21 @@ contains
         if (cfg%grid%h >= t) then
           write(line, '(a,i0,a,es10.3,a,es10.3,a)') 'body ', ib, ': h = ', cfg%grid%h, &
             ' m is not below the wall thickness t = ', t, ' m: both faces of the wall share '// &
-            'nodes, so the wall bends wrongly and opposite walls stick when they meet. Use h <= t/2'
+            'nodes, so the wall bends wrongly (crush force +25 % at h = t, +90 % at h = 2t) '// &
+            'and opposite walls stick when they come within about 2h (docs/stability.md). '// &
+            'Use h <= t/2'
+          call append_msg(warnings, line)
+        else if (cfg%grid%h > 0.5_wp*t*(1.0_wp + 1.0e-9_wp)) then
+          write(line, '(a,i0,a,f5.2,a)') 'body ', ib, ': h/t = ', cfg%grid%h/t, &
+            ': between t/2 and t the crush force comes out 7 to 25 % too high '// &
+            '(docs/stability.md). Use h <= t/2'
+          call append_msg(warnings, line)
+        end if
+        if (b%n_thick <= 2) then
+          write(line, '(a,i0,a,i0,a)') 'body ', ib, ': n_thick = ', b%n_thick, &
+            ': with 1 or 2 particles through the wall the wall cannot bend freely (it locks): '// &
+            'the crush force came out 56 % (2) to 19 times (1) too high (docs/stability.md). '// &
+            'Use n_thick >= 4'
           call append_msg(warnings, line)
         end if
         if (b%n_thick < 16) then
@@ -295,6 +321,57 @@ contains
         s%dt_fixed*(s%c_max + s%vmax)/s%g%h, ' of the grid limit; above 0.3 runs may go unstable'
       call append_msg(warnings, line)
     end if
+
+    ! where the stability study (docs/stability.md, tools/stability.py) found the method failing
+    ratio = dt*(s%c_max + s%vmax)/s%g%h                    ! the cfl in use
+    if (cfl_stable(s%scheme, s%basis) <= 0.0_wp) then
+      call append_msg(warnings, 'basis '''//trim(basis_names(s%basis))//''' with scheme '''// &
+        trim(scheme_names(s%scheme))//''' blew up on the impact scene at every cfl tried '// &
+        '(down to 0.06): nodes that carry little mass get huge velocities (docs/stability.md). '// &
+        'Use scheme = ''musl''')
+    else if (ratio > cfl_stable(s%scheme, s%basis)*(1.0_wp + 1.0e-9_wp)) then
+      call append_msg(warnings, 'cfl '//rtoa(ratio)//' is above '// &
+        rtoa(cfl_stable(s%scheme, s%basis))//', the largest stable cfl the stability study '// &
+        'found for basis '''//trim(basis_names(s%basis))//''' with scheme '''// &
+        trim(scheme_names(s%scheme))//''' (impact scene, docs/stability.md): expect energy '// &
+        'growth and exit 4. Use cfl 0.2')
+    end if
+    if (s%scheme == SCHEME_USL) call append_msg(warnings, 'scheme ''usl'' loses 5 to 8 % of '// &
+      'the energy in an impact at any cfl (docs/stability.md). Use scheme = ''musl''')
+    if (s%basis == BASIS_LINEAR) call append_msg(warnings, 'basis ''linear'': particles '// &
+      'crossing cell boundaries make the wall force noisy (RMS 0.5 of the crush plateau, 4 to '// &
+      '9 times cpdi2; docs/stability.md). Use basis = ''cpdi2'' for forces')
+    if (s%flip < flip_trusted) call append_msg(warnings, 'flip = '//rtoa(s%flip)//': the PIC '// &
+      'part dissipates kinetic energy (an elastic impact lost '//rtoa(pic_loss)//' % at '// &
+      'flip = 0, docs/stability.md). Use flip >= '//rtoa(flip_trusted)//' unless the noise '// &
+      'of pure FLIP is the problem')
+    ! relative approach of the platens at t_end: the travel of every moving wall (not the
+    ! mirror planes), doubled where a mirror plane of a half/quarter model is parallel to it
+    delta = 0.0_wp
+    do k = 1, s%nwall
+      if (s%walls(k)%mirror) cycle
+      travel = wall_travel(s%walls(k), s%t_end)
+      if (.not. travel > 0.0_wp) cycle
+      do m = 1, s%nwall
+        if (s%walls(m)%mirror .and. abs(dot_product(s%walls(m)%normal, s%walls(k)%normal)) &
+            > 0.999_wp) travel = 2.0_wp*travel
+      end do
+      delta = delta + travel
+    end do
+    do ib = 1, size(cfg%bodies)
+      associate (b => cfg%bodies(ib))
+        if (b%shape_id /= SHAPE_RING) cycle
+        if (s%basis /= BASIS_CPDI2 .and. s%basis /= BASIS_CPDI1) cycle
+        ratio = delta/(2.0_wp*b%r_outer)
+        if (ratio > delta_fold) then
+          write(line, '(a,i0,a,f5.2,a)') 'body ', ib, ': the platens approach to delta/D = ', &
+            ratio, ': near full crush the side hinges close and CPDI domains fold (the '// &
+            'stability study: from delta/D = 0.9; the run stops with exit 4 when one folds). '// &
+            'Stop at delta/D <= 0.85 or use more particles through the wall'
+          call append_msg(warnings, line)
+        end if
+      end associate
+    end do
   end subroutine setup_report
 
 end module mpm_setup

@@ -65,6 +65,13 @@ module mpm_solver
     real(wp) :: gravity(2) = 0.0_wp        !! body acceleration [m/s^2]
     real(wp) :: c_max = 0.0_wp             !! largest dilatational wave speed [m/s]
     real(wp) :: energy_tol = 0.2_wp        !! energy growth that counts as blow-up [-]
+    real(wp) :: growth_tol = 0.05_wp       !! energy growth, relative to max(E0, external
+                                           !! work, e_floor), that counts as unstable [-]:
+                                           !! stable runs lose energy and gain at most 1 %
+                                           !! after the start (docs/stability.md)
+    real(wp) :: e_floor = 0.0_wp           !! kinetic energy of the bodies at the largest wall
+                                           !! speed: the energy scale of the start of a
+                                           !! crush, when the work done is still tiny [J/m]
     logical :: deterministic = .false.     !! results independent of the thread count
     integer :: parallel_min = 4096         !! particles from which loops run in parallel: below,
                                            !! OpenMP start-up and barriers cost more than they save
@@ -137,12 +144,21 @@ contains
     end do
   end subroutine solver_energies
 
-  !> Set the energies and E0 from the initial state.
+  !> Set the energies, E0 and the energy floor of the growth check from the initial state
+  !! (walls and particles must be in place).
   subroutine solver_init_energy(s)
     type(sim_t), intent(inout) :: s        !! simulation
-    integer :: ip
+    integer :: ip, k
+    real(wp) :: vwall, f
     call solver_energies(s, s%e_kin, s%e_strain)
     s%e0 = s%e_kin + s%e_strain
+    vwall = 0.0_wp
+    do k = 1, s%nwall
+      f = 1.0_wp
+      if (s%walls(k)%n_motion > 0) f = maxval(abs(s%walls(k)%motion_f(1:s%walls(k)%n_motion)))
+      vwall = max(vwall, f*sqrt(dot_product(s%walls(k)%velocity, s%walls(k)%velocity)))
+    end do
+    s%e_floor = 0.5_wp*sum(s%p%mass(1:s%p%np))*vwall**2
     s%vmax = 0.0_wp
     do ip = 1, s%p%np
       s%vmax = max(s%vmax, sqrt(dot_product(s%p%v(:, ip), s%p%v(:, ip))))
@@ -260,16 +276,27 @@ contains
     scale = max(s%e0, s%ext_max, tiny(1.0_wp))
     s%energy_error = s%bal_max/scale
     call tick(s, PHASE_OTHER, clock)
-    if (excess > s%energy_tol*scale .and. s%step > 10_i8) then
+    if (s%step > 10_i8 .and. (excess > s%energy_tol*scale .or. &
+                              excess > s%growth_tol*max(scale, s%e_floor))) then
       stat = EXIT_NUMERIC
       errmsg = 'energy blow-up at step '//itoa(s%step)//', t = '//rtoa(s%t)// &
         ' s: kinetic + elastic + plastic + damped energy exceeds the initial energy plus the '// &
-        'work put in by '//rtoa(100.0_wp*excess/scale)//' %. The time step dt = '//rtoa(dt)// &
-        ' s (cfl = '//rtoa(dt*(s%c_max + s%vmax)/s%g%h)//') is probably above the '// &
-        'stable limit: lower cfl (0.1 to 0.3) or dt'
+        'work put in by '//rtoa(100.0_wp*excess/scale)//' % (stable runs never gain more '// &
+        'than 1 %). The time step dt = '//rtoa(dt)//' s (cfl = '// &
+        rtoa(dt*(s%c_max + s%vmax)/s%g%h)//') is probably above the stable limit of this '// &
+        'basis and scheme (docs/stability.md): lower cfl (0.1 to 0.3) or dt'
       return
     end if
   end subroutine solver_step
+
+  !> Where and when a step failed, for the messages: 'step N, t = T s, time step dt = X s
+  !! (cfl C)'.
+  function step_context(s) result(text)
+    type(sim_t), intent(in) :: s           !! simulation (s%dt is the step being taken)
+    character(len=:), allocatable :: text
+    text = 'step '//itoa(s%step + 1_i8)//', t = '//rtoa(s%t)//' s, time step dt = '// &
+           rtoa(s%dt)//' s (cfl '//rtoa(s%dt*(s%c_max + s%vmax)/s%g%h)//')'
+  end function step_context
 
   !> Add the time since `clock` to phase `phase`; clock becomes now.
   subroutine tick(s, phase, clock)
@@ -322,10 +349,11 @@ contains
       if (s%basis == BASIS_CPDI2) s%jmin_seen = min(s%jmin_seen, jmin_all)
       if (bad > 0) then
         stat = EXIT_NUMERIC
-        errmsg = 'CPDI2 domain of particle '//itoa(bad)//' at ('//rtoa(s%p%x(1, bad))//', '// &
-          rtoa(s%p%x(2, bad))//') m folded or inverted at step '//itoa(s%step)//', t = '// &
-          rtoa(s%t)//' s (corner Jacobian <= 0). Remedy: more particles through the wall '// &
-          '(n_thick), a smaller cfl, or basis = ''cpdi1'' / ''ugimp'' for very deep crushes'
+        errmsg = 'folded CPDI2 domain: the domain of particle '//itoa(bad)//' at ('// &
+          rtoa(s%p%x(1, bad))//', '//rtoa(s%p%x(2, bad))//') m folded or inverted '// &
+          '(corner Jacobian <= 0) at '//step_context(s)//'. Remedy: more particles '// &
+          'through the wall (n_thick), a smaller cfl, or basis = ''cpdi1'' / ''ugimp'' for '// &
+          'very deep crushes'
         return
       end if
       if (need_max > s%nb) then          ! domains grew: widen the blocks and redo
@@ -346,9 +374,9 @@ contains
         bad = max(bad, 1)
         stat = EXIT_NUMERIC
         errmsg = 'particle '//itoa(bad)//' at ('//rtoa(s%p%x(1, bad))//', '// &
-          rtoa(s%p%x(2, bad))//') m left the grid at step '//itoa(s%step)//', t = '// &
-          rtoa(s%t)//' s. Remedy: enlarge &grid lower/upper, or omit them so that the '// &
-          'grid is fitted and grows with the material'
+          rtoa(s%p%x(2, bad))//') m left the grid at '//step_context(s)//'. Remedy: '// &
+          'enlarge &grid lower/upper, or omit them so that the grid is fitted and grows '// &
+          'with the material; if the particle flew off, the time step was unstable: lower cfl'
         return
       end if
       ! enlarge the grid by what is missing plus a margin (the grid holds no state)
@@ -359,8 +387,8 @@ contains
       s%grown = s%grown + 1
     end do
     stat = EXIT_NUMERIC
-    errmsg = 'could not fit the grid to the particles at step '//itoa(s%step)// &
-             ': positions are probably not finite; lower cfl'
+    errmsg = 'non-finite positions: could not fit the grid to the particles at '// &
+             step_context(s)//'. Remedy: lower cfl (the time step is above the stable limit)'
   end subroutine compute_basis
 
   !> Step 1 for particles ip0..ip1: block, weights and gradients; the largest block width
@@ -1181,18 +1209,19 @@ contains
     if (bad(1) > 0) then
       stat = EXIT_NUMERIC
       errmsg = 'det F <= 0 (inverted material) at particle '//itoa(bad(1))//' at ('// &
-        rtoa(s%p%x(1, bad(1)))//', '//rtoa(s%p%x(2, bad(1)))//') m, step '//itoa(s%step)// &
-        ', t = '//rtoa(s%t)//' s. Remedy: a smaller cfl, a finer grid (h below the wall '// &
-        'thickness), or another basis (cpdi2 is the most robust)'
+        rtoa(s%p%x(1, bad(1)))//', '//rtoa(s%p%x(2, bad(1)))//') m, '//step_context(s)// &
+        '. Remedy: a smaller cfl, a finer grid (h below the wall thickness), or another '// &
+        'basis (cpdi2 is the most robust)'
     else if (bad(2) > 0) then
       stat = EXIT_NUMERIC
       errmsg = 'the stress update did not converge at particle '//itoa(bad(2))//' at ('// &
-        rtoa(s%p%x(1, bad(2)))//', '//rtoa(s%p%x(2, bad(2)))//') m, step '//itoa(s%step)// &
-        ', t = '//rtoa(s%t)//' s. Remedy: a smaller cfl or dt'
+        rtoa(s%p%x(1, bad(2)))//', '//rtoa(s%p%x(2, bad(2)))//') m, '//step_context(s)// &
+        '. Remedy: a smaller cfl or dt'
     else if (bad(3) > 0) then
       stat = EXIT_NUMERIC
-      errmsg = 'non-finite stress or velocity at particle '//itoa(bad(3))//', step '// &
-        itoa(s%step)//', t = '//rtoa(s%t)//' s. Remedy: a smaller cfl or dt'
+      errmsg = 'non-finite stress or velocity at particle '//itoa(bad(3))//', '// &
+        step_context(s)//'. Remedy: a smaller cfl or dt (the time step is probably above '// &
+        'the stable limit)'
     end if
   end subroutine update_deformation
 

@@ -307,6 +307,12 @@ contains
     call history_close(hist)
     call write_summary(dir//'/summary.nml', s, sm, st, msg)
     if (st /= 0) call fatal('output', msg, EXIT_IO)
+    ! (relative to the growth check's scale, so that the tiny work of a crush's first steps
+    ! does not count)
+    if (s%bal_max > 0.05_wp*max(s%e0, s%ext_max, s%e_floor)) call warn('run', 'energy error '// &
+      rtoa(100.0_wp*s%energy_error)//' % is above 5 %: the energy balance does not close, so '// &
+      'forces and energies are not to be trusted (docs/stability.md: USL, PIC blending and '// &
+      'coarse walls lose energy). Use scheme = ''musl'', flip = 1 and a finer grid')
     if (.not. quiet) then
       write(output_unit, '(a,i0,a,i0,a,f10.2,a)') 'done: ', s%step, ' steps, ', s%p%np, &
         ' particles, ', sm%wall_seconds, ' s'

@@ -1,0 +1,929 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
+"""The stability study (issue 7, ``make stability``): where each method breaks.
+
+Six parts, each a batch of tubempm runs (tools/batch.py, one thread, one run at a time) on
+cheap variants of the shipped scenes (namelists/impact.nml, crush.nml), set by overrides:
+
+  cfl       largest stable cfl per basis x scheme on the impact scene: a scan of cfl values,
+            then bisection between the last stable and the first unstable one; "stable" =
+            the run completes, no failure detected, energy error < 5 %
+  noise     cell-crossing noise of the crush force (RMS of the force minus its 20 us moving
+            average, relative to the plateau) against particles per cell, every basis
+  thinwall  crush force error against DeRuntz-Hodge as h/t goes from 1/4 to 2, every basis;
+            and a near-full crush and release of a half ring with both platens (the inner
+            walls meet): for h >= t they interact through shared nodes before they touch
+  nthick    particles through the wall n_t = 1..32 (CPDI2, n_circ fixed)
+  distort   CPDI1 and CPDI2 domains at deep crush (delta/D up to 0.8): distortion over time
+            and where domains fold or invert
+  flip      FLIP against PIC in an elastic impact: force noise against the energy lost
+
+Results: docs/stability/*.csv (one table per part, plus the time series the figures need) and
+the figures docs/stability/*.png (maps per scene and one figure per part), regenerated from the
+tables by ``--plots-only``. Run folders: build/stability/<case>/ (reused when the input is
+unchanged, so an interrupted study continues where it stopped).
+
+    python3 tools/stability.py --quick        # < 10 min on one core
+    python3 tools/stability.py                # full level
+    python3 tools/stability.py --plots-only   # figures from docs/stability/*.csv
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import math
+import re
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+sys.path.insert(0, str(HERE))
+sys.path.insert(0, str(ROOT / "plots"))
+import batch  # noqa: E402
+from batch import Case, run_batch, read_summary  # noqa: E402
+import mpmplot  # noqa: E402
+
+RUNS = ROOT / "build" / "stability"
+OUT = ROOT / "docs" / "stability"
+CRUSH = ROOT / "namelists" / "crush.nml"
+IMPACT = ROOT / "namelists" / "impact.nml"
+
+BASES = ("linear", "ugimp", "cpdi1", "cpdi2")
+SCHEMES = ("usl", "usf", "musl")
+T_CRUSH = 1.48e-3          #: wall thickness of crush.nml [m]
+T_IMPACT = 2.0e-3          #: wall thickness of impact.nml [m]
+D_CRUSH = 50.86e-3         #: outer diameter of crush.nml [m]
+ENERGY_OK = 0.05           #: stable: energy error below this [-]
+SMOOTH = 20.0e-6           #: moving-average window of the smoothed force [s]
+HIST = 1.0e-6              #: history interval of the noise measurements [s]
+PLATEAU = (4.0e-3, 13.0e-3)  #: crush approach window of the plateau [m]
+TEST_WINDOW = (3.0e-3, 6.0e-3)  #: approach window of the noise test in make test [m]
+TEST_T_END = 0.9e-3        #: end of the noise test's runs (approach 6.5 mm) [s]
+NOISY = 0.25               #: crush: force noise above this is "noisy" [-]
+NOISY_IMPACT = 0.15        #: impact: force noise above this is "noisy" [-]
+WRONG = 0.10               #: crush: plateau error against DeRuntz-Hodge above this is "wrong"
+
+LEVELS: dict[str, dict[str, Any]] = {
+    "quick": {
+        "cfl_h": 1.0e-3, "cfl_nt": 4, "cfl_bisect": 2,
+        "noise_nt": (2, 4), "thin_h": (0.5, 1.0, 2.0), "thin_nt": 4,
+        "stick_h": (0.5, 1.0, 2.0), "nthick": (1, 2, 4, 8), "distort_nt": (2,),
+        "fast_nt": (2, 4),
+        "flip": (0.0, 0.9, 0.99, 0.999, 1.0),
+    },
+    "full": {
+        "cfl_h": 0.5e-3, "cfl_nt": 8, "cfl_bisect": 3,
+        "noise_nt": (2, 4, 8), "thin_h": (0.25, 0.5, 1.0, 1.5, 2.0), "thin_nt": 4,
+        "stick_h": (0.5, 1.0, 2.0), "nthick": (1, 2, 4, 8, 16, 32), "distort_nt": (2, 4),
+        "fast_nt": (2, 4, 8),
+        "flip": (0.0, 0.5, 0.9, 0.99, 0.995, 0.999, 0.9999, 1.0),
+    },
+}
+CFL_SCAN = (0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 1.75, 2.0)
+
+
+def say(msg: str) -> None:
+    print(msg, flush=True)
+
+
+# ----------------------------------------------------------------------------------------------
+# helpers
+# ----------------------------------------------------------------------------------------------
+
+def fmt(x: float) -> str:
+    """A number for a case name (no dots or signs that confuse a shell)."""
+    return f"{x:g}".replace(".", "p").replace("-", "m")
+
+
+def batch_run(cases: list[Case]) -> list[dict[str, Any]]:
+    return run_batch(cases, RUNS, jobs=1, threads=1, log=say)
+
+
+def run_reason(folder: Path, summary: dict[str, Any], exit_code: int | None) -> str:
+    """Short reason of a failed run: the cause named in the ERROR line."""
+    if exit_code == 0:
+        return ""
+    msg = str(summary.get("message", ""))
+    if not msg:
+        log = folder / "run.log"
+        msg = log.read_text(errors="replace") if log.is_file() else ""
+    low = msg.lower()
+    for key, short in (("energy blow-up", "energy growth"), ("det f", "det F <= 0"),
+                       ("folded", "folded domain"), ("left the grid", "left grid"),
+                       ("non-finite", "non-finite"), ("did not converge", "return map"),
+                       ("not positive", "dt <= 0")):
+        if key in low:
+            return short
+    return f"exit {exit_code}"
+
+
+def smooth(y: np.ndarray, n: int) -> np.ndarray:
+    """Centred moving average over n samples (shorter windows at the ends)."""
+    n = max(1, int(n))
+    k = np.ones(n)
+    num = np.convolve(y, k, mode="same")
+    den = np.convolve(np.ones_like(y), k, mode="same")
+    return num / den
+
+
+def common(result: dict[str, Any], folder: Path) -> dict[str, Any]:
+    s = read_summary(folder)
+    code = result.get("exit_code")
+    return {"exit_code": code, "status": s.get("status", ""),
+            "reason": run_reason(folder, s, code), "steps": s.get("steps", 0),
+            "sim_time": s.get("sim_time", float("nan")),
+            "energy_error": s.get("energy_error", float("nan")),
+            "cpu_s": round(float(result.get("cpu_s", float("nan"))), 2),
+            "min_corner_jacobian": s.get("min_corner_jacobian", float("nan"))}
+
+
+def crush_metrics(folder: Path) -> dict[str, Any]:
+    """Plateau force, its error against DeRuntz-Hodge and the force noise of a crush run."""
+    out = {"plateau_N": float("nan"), "err_dh": float("nan"), "noise": float("nan"),
+           "delta_max": float("nan")}
+    try:
+        h = mpmplot.read_history(folder / "history.csv")
+        inputs = mpmplot.read_namelist(folder / "input.nml")
+    except (OSError, ValueError):
+        return out
+    disp, force, _ = mpmplot.crush_displacement(h, inputs)
+    out["delta_max"] = float(np.nanmax(disp)) if disp.size else float("nan")
+    dt_row = float(np.median(np.diff(h["time"]))) if len(h["time"]) > 2 else HIST
+    fs = smooth(force, round(SMOOTH / dt_row) + 1)
+    sel = (disp >= PLATEAU[0]) & (disp <= PLATEAU[1])
+    if np.count_nonzero(sel) < 10 or not np.all(np.isfinite(force[sel])):
+        return out
+    ring = mpmplot.ring_properties(inputs)
+    dh = mpmplot.deruntz_hodge(disp[sel], ring["D"], ring["t"], ring["sigma_y"],
+                               ring["plane"], ring["depth"])
+    plateau = float(np.mean(fs[sel]))
+    out.update(plateau_N=plateau, err_dh=plateau / float(np.mean(dh)) - 1.0,
+               noise=float(np.sqrt(np.mean((force[sel] - fs[sel]) ** 2)) / plateau))
+    out["noise_test_window"] = force_noise(disp, force, TEST_WINDOW, dt_row)
+    return out
+
+
+def force_noise(disp: np.ndarray, force: np.ndarray, window: tuple[float, float],
+                dt_row: float) -> float:
+    """RMS of the force minus its SMOOTH moving average, over the approach window, relative to
+    the mean of the smoothed force there (tests/test_stability.py uses the same function)."""
+    fs = smooth(force, round(SMOOTH / dt_row) + 1)
+    sel = (disp >= window[0]) & (disp <= window[1])
+    if np.count_nonzero(sel) < 10:
+        return float("nan")
+    return float(np.sqrt(np.mean((force[sel] - fs[sel]) ** 2)) / np.mean(fs[sel]))
+
+
+def crush_outcome(row: dict[str, Any]) -> str:
+    if row["exit_code"] != 0:
+        return "failed"
+    if not (abs(row["err_dh"]) <= WRONG) or not (row["energy_error"] < ENERGY_OK):
+        return "wrong"
+    if row["noise"] > NOISY:
+        return "noisy"
+    return "accurate"
+
+
+def write_csv(name: str, rows: list[dict[str, Any]]) -> Path:
+    OUT.mkdir(parents=True, exist_ok=True)
+    path = OUT / name
+    keys: list[str] = []
+    for r in rows:
+        keys += [k for k in r if k not in keys]
+    with path.open("w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=keys)
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items()})
+    say(f"wrote {path.relative_to(ROOT)}")
+    return path
+
+
+def read_csv(name: str) -> list[dict[str, Any]]:
+    path = OUT / name
+    if not path.is_file():
+        return []
+    rows = []
+    with path.open() as f:
+        for r in csv.DictReader(f):
+            row: dict[str, Any] = {}
+            for k, v in r.items():
+                try:
+                    row[k] = int(v)
+                except (TypeError, ValueError):
+                    try:
+                        row[k] = float(v)
+                    except (TypeError, ValueError):
+                        row[k] = v
+            rows.append(row)
+    return rows
+
+
+# ----------------------------------------------------------------------------------------------
+# 1. largest stable cfl (impact)
+# ----------------------------------------------------------------------------------------------
+
+def impact_overrides(lv: dict[str, Any]) -> dict[str, Any]:
+    return {"grid.h": lv["cfl_h"], "body.n_thick": lv["cfl_nt"], "run.t_end": 4.0e-4,
+            "run.history_every": HIST, "run.snapshot_every": 0.0}
+
+
+def impact_metrics(folder: Path) -> dict[str, Any]:
+    out = {"impulse": float("nan"), "noise": float("nan")}
+    try:
+        h = mpmplot.read_history(folder / "history.csv")
+    except (OSError, ValueError):
+        return out
+    t, f = h["time"], h["wall1_force"]
+    if len(t) < 30 or not np.all(np.isfinite(f)):
+        return out
+    out["impulse"] = float(np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(t)))
+    dt_row = float(np.median(np.diff(t)))
+    fs = smooth(f, round(SMOOTH / dt_row) + 1)
+    on = f > 0.05 * np.max(f)
+    if np.count_nonzero(on) > 20:
+        i0 = int(np.argmax(on)) + round(SMOOTH / dt_row)      # past the first impact spike
+        sel = np.zeros_like(on)
+        sel[i0:] = True
+        sel &= fs > 0.05 * np.max(f)
+        if np.count_nonzero(sel) > 10:
+            out["noise"] = float(np.sqrt(np.mean((f[sel] - fs[sel]) ** 2)) / np.mean(fs[sel]))
+    return out
+
+
+def part_cfl(lv: dict[str, Any]) -> None:
+    """Scan, then bisect, the cfl of every basis x scheme on the impact scene."""
+    base = impact_overrides(lv)
+    tag = f"h{fmt(lv['cfl_h'] * 1e3)}_nt{lv['cfl_nt']}"
+    rows: dict[tuple[str, str, float], dict[str, Any]] = {}
+
+    def case(b: str, s: str, cfl: float) -> Case:
+        ov = dict(base, **{"solver.basis": b, "solver.scheme": s, "run.cfl": cfl})
+        return Case(f"cfl_{tag}_{b}_{s}_{fmt(cfl)}", IMPACT, ov,
+                    {"basis": b, "scheme": s, "cfl": cfl})
+
+    def run(cases: list[Case]) -> None:
+        for c, r in zip(cases, batch_run(cases)):
+            folder = RUNS / c.name
+            row = {"basis": c.labels["basis"], "scheme": c.labels["scheme"],
+                   "cfl": c.labels["cfl"], "h_over_t": lv["cfl_h"] / T_IMPACT,
+                   "n_thick": lv["cfl_nt"], "scan": int(c.labels["cfl"] in CFL_SCAN)}
+            row.update(common(r, folder))
+            row.update(impact_metrics(folder))
+            row["stable"] = int(row["exit_code"] == 0 and row["energy_error"] < ENERGY_OK)
+            rows[(row["basis"], row["scheme"], row["cfl"])] = row
+
+    combos = [(b, s) for b in BASES for s in SCHEMES]
+    run([case(b, s, c) for c in CFL_SCAN for b, s in combos])
+    brackets = {}
+    for b, s in combos:
+        ok = [c for c in CFL_SCAN if rows[(b, s, c)]["stable"]]
+        bad = [c for c in CFL_SCAN if not rows[(b, s, c)]["stable"]]
+        lo = max([c for c in ok if not bad or c < min(bad)], default=0.0)
+        hi = min(bad, default=None)
+        brackets[(b, s)] = [lo, hi]
+    for _ in range(lv["cfl_bisect"]):
+        todo = []
+        for (b, s), (lo, hi) in brackets.items():
+            # no stable cfl in the scan: the method is not stable on this scene (USL with
+            # linear weights) or too inaccurate at any cfl; only the full level looks lower
+            if hi is not None and (lo > 0.0 or lv["cfl_bisect"] > 2):
+                todo.append(case(b, s, round(0.5 * (lo + hi), 6)))
+        run(todo)
+        for c in todo:
+            key = (c.labels["basis"], c.labels["scheme"])
+            if rows[(key[0], key[1], c.labels["cfl"])]["stable"]:
+                brackets[key][0] = c.labels["cfl"]
+            else:
+                brackets[key][1] = c.labels["cfl"]
+    # reference impulse: CPDI2 MUSL at the smallest cfl
+    ref = rows[("cpdi2", "musl", CFL_SCAN[0])]["impulse"]
+    out = []
+    for key in sorted(rows, key=lambda k: (BASES.index(k[0]), SCHEMES.index(k[1]), k[2])):
+        r = rows[key]
+        r["impulse_err"] = r["impulse"] / ref - 1.0 if r["exit_code"] == 0 else float("nan")
+        if r["exit_code"] != 0:
+            r["outcome"] = "failed"
+        elif not (r["energy_error"] < ENERGY_OK) or not (abs(r["impulse_err"]) < 0.05):
+            r["outcome"] = "wrong"
+        elif r["noise"] > NOISY_IMPACT:
+            r["outcome"] = "noisy"
+        else:
+            r["outcome"] = "accurate"
+        out.append(r)
+    write_csv("cfl_runs.csv", out)
+    limits = []
+    for (b, s), (lo, hi) in brackets.items():
+        mine = sorted((c, r) for (bb, ss, c), r in rows.items() if (bb, ss) == (b, s))
+        first_fail = min((c for c, r in mine if r["exit_code"] != 0), default=float("nan"))
+        no_fail = max((c for c, r in mine if r["exit_code"] == 0 and not c > first_fail),
+                      default=0.0)
+        limits.append({"basis": b, "scheme": s, "stable_cfl": lo,
+                       "unstable_cfl": hi if hi is not None else float("nan"),
+                       "completes_cfl": no_fail, "caught_cfl": first_fail,
+                       "first_failure": next((rows[(b, s, c)]["reason"] or "energy error "
+                                              f"{rows[(b, s, c)]['energy_error']:.3f}"
+                                              for c in sorted(c for (bb, ss, c) in rows
+                                                              if (bb, ss) == (b, s))
+                                              if not rows[(b, s, c)]["stable"]), "")})
+    write_csv("cfl_limits.csv", limits)
+
+
+# ----------------------------------------------------------------------------------------------
+# 2.-4. crush: noise against particles per cell, thin-wall limit, particles through the wall
+# ----------------------------------------------------------------------------------------------
+
+def crush_case(basis: str, h_over_t: float, nt: int, t_end: float = 1.75e-3,
+               n_circ: int = 0, extra: dict[str, Any] | None = None, prefix: str = "crush",
+               base: Path = CRUSH) -> Case:
+    ov = {"grid.h": h_over_t * T_CRUSH, "body.n_thick": nt, "body.n_circ": n_circ,
+          "solver.basis": basis, "run.t_end": t_end, "run.history_every": HIST,
+          "run.snapshot_every": 0.0}
+    if extra:
+        ov.update(extra)
+    name = f"{prefix}_{basis}_h{fmt(h_over_t)}_nt{nt}" + (f"_nc{n_circ}" if n_circ else "")
+    return Case(name, base, ov, {"basis": basis, "h_over_t": h_over_t, "n_thick": nt,
+                                 "n_circ": n_circ})
+
+
+def crush_rows(cases: list[Case], part: str) -> list[dict[str, Any]]:
+    rows = []
+    for c, r in zip(cases, batch_run(cases)):
+        folder = RUNS / c.name
+        row = {"part": part, "case": c.name, **c.labels}
+        ppc_t = c.labels["n_thick"] * c.labels["h_over_t"]   # particles per cell through the wall
+        row["ppc_wall"] = ppc_t
+        row.update(common(r, folder))
+        row.update(crush_metrics(folder))
+        row["outcome"] = crush_outcome(row)
+        rows.append(row)
+    return rows
+
+
+def part_crush(lv: dict[str, Any]) -> None:
+    """Noise against particles per cell and the h/t sweep, every basis (MUSL)."""
+    cases = []
+    for nt in lv["noise_nt"]:
+        for b in BASES:
+            cases.append(crush_case(b, 0.5, nt))
+    for ht in lv["thin_h"]:
+        for b in BASES:
+            c = crush_case(b, ht, lv["thin_nt"])
+            if c.name not in [x.name for x in cases]:
+                cases.append(c)
+    cases.sort(key=lambda c: c.labels["n_thick"] ** 2 / c.labels["h_over_t"])
+    write_csv("crush_runs.csv", crush_rows(cases, "crush"))
+
+
+def part_nthick(lv: dict[str, Any]) -> None:
+    """n_t from 1 to 32 at h = t/2, CPDI2; n_circ fixed (that of n_t = 4 at aspect 1)."""
+    cases = [crush_case("cpdi2", 0.5, nt, n_circ=420, prefix="nthick") for nt in lv["nthick"]]
+    write_csv("nthick_runs.csv", crush_rows(cases, "nthick"))
+
+
+# near-full crush of a half ring between two platens, then release: the inner walls meet
+STICK_DELTA = 46.0e-3      #: approach at the end of loading [m] (inner walls 1.9 mm apart if flat)
+STICK_V = 5.0              #: speed of each platen [m/s]
+STICK_RAMP = 5.0e-4        #: ramp of the motion table [s]
+STICK_RELEASE = 4.0e-4     #: time the platens withdraw at the end [s]
+
+
+def stick_base() -> Path:
+    """crush.nml as a half model with a bottom platen moving up (written under build/)."""
+    text = CRUSH.read_text()
+    text += ("\n&wall\n  point = 0.0, 0.0\n  normal = 0.0, 1.0\n  contact = 'frictionless'\n"
+             "  velocity = 0.0, 5.0\n/\n")
+    path = RUNS / "bases" / "crush_half_two_platens.nml"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if not path.is_file() or path.read_text() != text:
+        path.write_text(text)
+    return path
+
+
+def part_stick(lv: dict[str, Any]) -> None:
+    base = stick_base()
+    t_load = STICK_RAMP / 2 + STICK_DELTA / 2 / STICK_V
+    table_t = [0.0, STICK_RAMP, t_load, t_load + 5.0e-5]
+    table_f = [0.0, 1.0, 1.0, -1.0]
+    t_end = t_load + STICK_RELEASE
+    cases = []
+    for ht in lv["stick_h"]:
+        extra = {"body.sector": "half", "run.snapshot_every": 2.0e-4,
+                 "wall[1].ramp": 0.0, "wall[1].motion_t": table_t, "wall[1].motion_f": table_f,
+                 "wall[2].motion_t": table_t, "wall[2].motion_f": table_f}
+        cases.append(crush_case("cpdi2", ht, 2, t_end=t_end, extra=extra, prefix="stick",
+                                base=base))
+    rows = []
+    series = []
+    for c, r in zip(cases, batch_run(cases)):
+        folder = RUNS / c.name
+        row = {"part": "stick", "case": c.name, **c.labels}
+        row.update(common(r, folder))
+        row.update(stick_metrics(folder, t_load, series, c.labels["h_over_t"]))
+        rows.append(row)
+    write_csv("stick_runs.csv", rows)
+    write_csv("stick_series.csv", series)
+
+
+def inner_gap(frame: dict[str, Any], center: np.ndarray, half_width: float) -> float:
+    """Gap between the inner surfaces of the top and bottom walls near the mid-plane x = cx,
+    from the particle domains' corners [m]."""
+    xc = frame["corners"]
+    near = np.abs(xc[:, 0] - center[0]) < half_width
+    top = xc[near & (xc[:, 1] > center[1])]
+    bot = xc[near & (xc[:, 1] <= center[1])]
+    if len(top) == 0 or len(bot) == 0:
+        return float("nan")
+    return float(top[:, 1].min() - bot[:, 1].max())
+
+
+def stick_metrics(folder: Path, t_load: float, series: list[dict[str, Any]],
+                  ht: float) -> dict[str, Any]:
+    out = {"gap_at_39mm": float("nan"), "gap_flat_39mm": float("nan"),
+           "gap_loaded": float("nan"), "gap_released": float("nan"),
+           "springback": float("nan"), "force_loaded": float("nan")}
+    try:
+        h = mpmplot.read_history(folder / "history.csv")
+        inputs = mpmplot.read_namelist(folder / "input.nml")
+        names = mpmplot.read_frames(folder / "particles.h5")
+    except (OSError, ValueError, KeyError):
+        return out
+    t = h["time"]
+    delta = -(h["wall1_disp"] + h["wall2_disp"])
+    f = smooth(h["wall1_force"], round(SMOOTH / HIST) + 1)
+    ring = mpmplot.ring_properties(inputs)
+    center = ring["center"]
+    gaps = []
+    for name in names:
+        fr = mpmplot.read_frame(folder / "particles.h5", name)
+        g = inner_gap(fr, center, 3.0e-3)
+        k = min(int(np.searchsorted(t, fr["time"] - 1e-12)), len(t) - 1)
+        gaps.append((float(fr["time"]), float(delta[k]), g, float(f[k])))
+    for tt, d, g, ff in gaps:
+        series.append({"h_over_t": ht, "time": tt, "delta": d, "inner_gap": g, "force": ff})
+    # force against approach (1 row per 10 us) for the figure
+    step = max(1, round(1.0e-5 / HIST))
+    with (OUT / f"stick_force_h{fmt(ht)}.csv").open("w") as fh:
+        fh.write("time,delta,force\n")
+        for i in range(0, len(t), step):
+            fh.write(f"{t[i]:.6g},{delta[i]:.6g},{f[i]:.6g}\n")
+    # the inner walls near the mid-plane, 39.5 mm into the crush: a flat wall pair would still
+    # be D_outer - delta - 2 t apart; walls that share nodes stop approaching about 2 h apart
+    near = [g for tt, d, g, ff in gaps if abs(d - 39.5e-3) < 1.0e-3 and tt <= t_load]
+    if near:
+        out["gap_at_39mm"] = near[0]
+    out["gap_flat_39mm"] = D_CRUSH - 39.5e-3 - 2.0 * T_CRUSH
+    loaded = [(g, ff) for tt, d, g, ff in gaps if tt <= t_load + 1e-9]
+    if loaded:
+        out["gap_loaded"], out["force_loaded"] = loaded[-1]
+    if gaps and gaps[-1][0] > t_load + 1e-9:
+        out["gap_released"] = gaps[-1][2]
+        out["springback"] = out["gap_released"] - out["gap_loaded"]
+    return out
+
+
+# ----------------------------------------------------------------------------------------------
+# 5. large distortion at deep crush
+# ----------------------------------------------------------------------------------------------
+
+def quad_measures(frame: dict[str, Any]) -> dict[str, np.ndarray]:
+    """Per particle: smallest corner Jacobian ratio (cross product of the two edges at a corner
+    over the area: 1 for a parallelogram, <= 0 folded), condition number of the half-vector
+    map [r1 r2] (1 for a square), and the domain's extent in cells."""
+    xc = frame["corners"]
+    q = frame["quads"].astype(int)
+    x = xc[q]                                   # (np, 4, 2)
+    e_next = np.roll(x, -1, axis=1) - x
+    e_prev = np.roll(x, 1, axis=1) - x
+    cross = e_next[..., 0] * e_prev[..., 1] - e_next[..., 1] * e_prev[..., 0]
+    xs, ys = x[..., 0], x[..., 1]
+    area = 0.5 * np.sum(xs * np.roll(ys, -1, axis=1) - np.roll(xs, -1, axis=1) * ys, axis=1)
+    jmin = np.min(cross, axis=1) / np.where(area != 0, area, np.nan)
+    r1 = 0.25 * (x[:, 1] + x[:, 2] - x[:, 0] - x[:, 3])
+    r2 = 0.25 * (x[:, 2] + x[:, 3] - x[:, 0] - x[:, 1])
+    m = np.stack([r1, r2], axis=2)
+    sv = np.linalg.svd(m, compute_uv=False)
+    cond = sv[:, 0] / np.maximum(sv[:, 1], 1e-300)
+    extent = np.max(np.ptp(x, axis=1), axis=1)
+    return {"jmin": jmin, "cond": cond, "extent": extent}
+
+
+def corner_pairs(frame: dict[str, Any], tol: float) -> np.ndarray:
+    """CPDI1: pairs (i, j) of corners of different particles that coincide (within tol) in the
+    first frame: the corners neighbouring parallelograms share while they tile the ring."""
+    xc = frame["corners"]
+    q = frame["quads"].astype(int)
+    owner = np.empty(len(xc), dtype=int)
+    for k in range(4):
+        owner[q[:, k]] = np.arange(len(q))
+    pairs = []
+    for i0 in range(0, len(xc), 512):
+        blk = xc[i0:i0 + 512]
+        d2 = np.sum((blk[:, None, :] - xc[None, :, :]) ** 2, axis=2)
+        d2[owner[i0:i0 + 512, None] == owner[None, :]] = np.inf
+        i, j = np.nonzero(d2 < tol * tol)
+        pairs.append(np.column_stack([i + i0, j]))
+    pr = np.concatenate(pairs) if pairs else np.zeros((0, 2), dtype=int)
+    return pr[pr[:, 0] < pr[:, 1]]
+
+
+def corner_mismatch(frame: dict[str, Any], pairs: np.ndarray) -> float:
+    """CPDI1: largest distance between corners that coincided at the start (0 while the
+    parallelograms tile the ring; gaps and overlaps make it grow) [m]."""
+    if len(pairs) == 0:
+        return 0.0
+    xc = frame["corners"]
+    return float(np.max(np.linalg.norm(xc[pairs[:, 0]] - xc[pairs[:, 1]], axis=1)))
+
+
+FAST = 50.0                #: platen speed of the fast deep crush [m/s]
+
+
+def part_distort(lv: dict[str, Any]) -> None:
+    """Quasi-static crush (5 m/s per platen) to delta/D = 0.8, and a fast one (50 m/s per
+    platen, no ramp) to delta/D = 0.95 (near full crush: the side hinges close)."""
+    t_end = 2.5e-4 + 0.8 * D_CRUSH / 2 / 5.0         # delta/D = 0.8
+    cases = []
+    for nt in lv["distort_nt"]:
+        for b in ("cpdi1", "cpdi2"):
+            cases.append(crush_case(b, 0.5, nt, t_end=t_end, prefix="distort",
+                                    extra={"run.snapshot_every": 1.0e-4,
+                                           "run.history_every": 1.0e-5}))
+    t_fast = 0.95 * D_CRUSH / 2 / FAST
+    for nt in lv["fast_nt"]:
+        for b in ("cpdi1", "cpdi2"):
+            c = crush_case(b, 0.5, nt, t_end=t_fast, prefix="fastcrush",
+                           extra={"run.snapshot_every": t_fast / 40, "run.history_every": 1.0e-6,
+                                  "wall.velocity": [0.0, -FAST], "wall.ramp": 0.0})
+            c.labels["speed"] = FAST
+            cases.append(c)
+    rows, series = [], []
+    for c, r in zip(cases, batch_run(cases)):
+        folder = RUNS / c.name
+        row = {"part": "distort", "case": c.name, "speed": 5.0, **c.labels}
+        row.update(common(r, folder))
+        row.update(distort_metrics(folder, c, series))
+        if row["reason"] == "folded domain":
+            row["delta_fold"] = row["delta_reached"]
+            m = re.search(r"at \(([-+0-9.E]+), ([-+0-9.E]+)\) m folded",
+                          (folder / "run.log").read_text(errors="replace"))
+            if m:   # where: angle from the ring centre (0 = equator, 90 = under the platen)
+                row["angle_fold"] = math.degrees(math.atan2(float(m.group(2)) - 25.43e-3,
+                                                            float(m.group(1))))
+        rows.append(row)
+    write_csv("distort_runs.csv", rows)
+    write_csv("distort_series.csv", series)
+
+
+def distort_metrics(folder: Path, c: Case, series: list[dict[str, Any]]) -> dict[str, Any]:
+    out: dict[str, Any] = {"jmin_final": float("nan"), "cond_max_final": float("nan"),
+                           "delta_fold": float("nan"), "delta_cond4": float("nan"),
+                           "angle_worst": float("nan"), "mismatch_final": float("nan"),
+                           "delta_reached": float("nan")}
+    try:
+        h = mpmplot.read_history(folder / "history.csv")
+        inputs = mpmplot.read_namelist(folder / "input.nml")
+        names = mpmplot.read_frames(folder / "particles.h5")
+    except (OSError, ValueError, KeyError):
+        return out
+    disp, _, _ = mpmplot.crush_displacement(h, inputs)
+    ring = mpmplot.ring_properties(inputs)
+    cx, cy = ring["center"]
+    h_cell = c.labels["h_over_t"] * T_CRUSH
+    first = mpmplot.read_frame(folder / "particles.h5", names[0])
+    angle0 = np.degrees(np.arctan2(first["x"][:, 1] - cy, first["x"][:, 0] - cx))
+    basis = c.labels["basis"]
+    pairs = corner_pairs(first, 1.0e-3 * h_cell) if basis == "cpdi1" else np.zeros((0, 2), int)
+    speed = c.labels.get("speed", 5.0)
+    for name in names:
+        fr = mpmplot.read_frame(folder / "particles.h5", name)
+        k = min(int(np.searchsorted(h["time"], fr["time"] - 1e-12)), len(disp) - 1)
+        d = float(disp[k]) / D_CRUSH
+        m = quad_measures(fr)
+        iw = int(np.nanargmin(m["jmin"])) if basis == "cpdi2" else int(np.nanargmax(m["cond"]))
+        row = {"basis": basis, "n_thick": c.labels["n_thick"], "speed": speed,
+               "time": float(fr["time"]),
+               "delta_over_D": d, "jmin": float(np.nanmin(m["jmin"])),
+               "cond_max": float(np.nanmax(m["cond"])),
+               "cond_p99": float(np.nanpercentile(m["cond"], 99)),
+               "extent_max_cells": float(np.nanmax(m["extent"])) / h_cell,
+               "angle_worst": float(angle0[iw]),
+               "mismatch_cells": corner_mismatch(fr, pairs) / h_cell}
+        series.append(row)
+    out["delta_reached"] = float(disp[-1]) / D_CRUSH
+    mine = [s for s in series if s["basis"] == basis and s["n_thick"] == c.labels["n_thick"]
+            and s["speed"] == speed]
+    if mine:
+        last = mine[-1]
+        out.update(jmin_final=last["jmin"], cond_max_final=last["cond_max"],
+                   angle_worst=last["angle_worst"], mismatch_final=last["mismatch_cells"])
+        folded = [s["delta_over_D"] for s in mine if s["jmin"] <= 0.0]
+        out["delta_fold"] = folded[0] if folded else float("nan")
+        c4 = [s["delta_over_D"] for s in mine if s["cond_max"] >= 4.0]
+        out["delta_cond4"] = c4[0] if c4 else float("nan")
+    return out
+
+
+# ----------------------------------------------------------------------------------------------
+# 6. FLIP against PIC in an elastic impact
+# ----------------------------------------------------------------------------------------------
+
+def part_flip(lv: dict[str, Any]) -> None:
+    cases = []
+    for fl in lv["flip"]:
+        ov = {"grid.h": 1.0e-3, "body.n_thick": 4, "run.t_end": 1.2e-3,
+              "run.history_every": HIST, "run.snapshot_every": 0.0, "material.model": "elastic",
+              "solver.flip": fl}
+        cases.append(Case(f"flip_{fmt(fl)}", IMPACT, ov, {"flip": fl}))
+    rows = []
+    for c, r in zip(cases, batch_run(cases)):
+        folder = RUNS / c.name
+        row = {"part": "flip", "case": c.name, **c.labels}
+        row.update(common(r, folder))
+        try:
+            h = mpmplot.read_history(folder / "history.csv")
+        except (OSError, ValueError):
+            rows.append(row)
+            continue
+        e = h["kinetic"] + h["strain"]
+        row["energy_lost"] = 1.0 - float(e[-1] / e[0])
+        row["rebound_ratio"] = float(h["com_vy"][-1] / 30.0)
+        row.update({k: v for k, v in impact_metrics(folder).items() if k == "noise"})
+        # particle-velocity noise: kinetic energy minus that of the centre-of-mass motion is
+        # vibration plus noise; its high-frequency part (minus its 20 us average) is noise
+        dt_row = float(np.median(np.diff(h["time"])))
+        kin = h["kinetic"]
+        row["kin_noise"] = float(np.sqrt(np.mean((kin - smooth(kin, round(SMOOTH / dt_row)
+                                                                 + 1)) ** 2)) / e[0])
+        rows.append(row)
+    write_csv("flip_runs.csv", rows)
+
+
+# ----------------------------------------------------------------------------------------------
+# figures
+# ----------------------------------------------------------------------------------------------
+
+OUTCOME_COLOURS = {"accurate": "#1a9850", "noisy": "#fee08b", "wrong": "#f46d43",
+                   "failed": "#a50026"}
+
+
+def _plt():
+    import style  # noqa: F401  (Agg backend and the shared rcParams)
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def _legend_outcomes(ax) -> None:
+    from matplotlib.patches import Patch
+    ax.legend(handles=[Patch(color=c, label=k) for k, c in OUTCOME_COLOURS.items()],
+              loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
+
+
+def plot_map_impact() -> None:
+    rows = read_csv("cfl_runs.csv")
+    if not rows:
+        return
+    plt = _plt()
+    methods = [(b, s) for b in BASES for s in SCHEMES]
+    cfls = sorted({r["cfl"] for r in rows})
+    fig, ax = plt.subplots(layout="constrained", figsize=(11, 5.2))
+    for i, (b, s) in enumerate(methods):
+        for j, c in enumerate(cfls):
+            r = next((r for r in rows if r["basis"] == b and r["scheme"] == s
+                      and abs(r["cfl"] - c) < 1e-9), None)
+            if r is None:
+                continue
+            ax.add_patch(plt.Rectangle((j - 0.5, i - 0.5), 1, 1,
+                                       color=OUTCOME_COLOURS[r["outcome"]]))
+            label = {"failed": r["reason"].replace(" ", "\n"),
+                     "wrong": f"E {100 * r['energy_error']:.0f}%"
+                     if not r["energy_error"] < ENERGY_OK
+                     else f"I {100 * r['impulse_err']:+.0f}%",
+                     "noisy": f"n {r['noise']:.2f}", "accurate": ""}[r["outcome"]]
+            ax.text(j, i, label, ha="center", va="center", fontsize=6,
+                    color="white" if r["outcome"] == "failed" else "black")
+    lim = {(r["basis"], r["scheme"]): r["stable_cfl"] for r in read_csv("cfl_limits.csv")}
+    for i, m in enumerate(methods):
+        if m in lim:
+            x = np.interp(lim[m], cfls, np.arange(len(cfls)))
+            ax.plot([x, x], [i - 0.5, i + 0.5], color="k", lw=2)
+    ax.set_xticks(range(len(cfls)), [f"{c:g}" for c in cfls], rotation=90, fontsize=7)
+    ax.set_yticks(range(len(methods)), [f"{b} {s}" for b, s in methods])
+    ax.set_xlim(-0.5, len(cfls) - 0.5)
+    ax.set_ylim(len(methods) - 0.5, -0.5)
+    ax.grid(False)
+    r0 = rows[0]
+    ax.set_xlabel("cfl [-]  (black bar: largest stable cfl found by bisection)")
+    ax.set_title(f"impact scene (half ring, 30 m/s, h = t/{1 / r0['h_over_t']:g}, "
+                 f"n_t = {r0['n_thick']}, to 0.4 ms): outcome per method and cfl\n"
+                 "E: energy error, I: impulse error vs CPDI2 MUSL cfl 0.25, n: force noise")
+    _legend_outcomes(ax)
+    fig.savefig(OUT / "map_impact.png", dpi=150)
+    plt.close(fig)
+
+
+def plot_map_crush() -> None:
+    rows = read_csv("crush_runs.csv")
+    if not rows:
+        return
+    plt = _plt()
+    cols = sorted({(r["h_over_t"], r["n_thick"]) for r in rows})
+    fig, ax = plt.subplots(layout="constrained", figsize=(9, 3.6))
+    for i, b in enumerate(BASES):
+        for j, col in enumerate(cols):
+            r = next((r for r in rows if r["basis"] == b and (r["h_over_t"], r["n_thick"])
+                      == col), None)
+            if r is None:
+                continue
+            ax.add_patch(plt.Rectangle((j - 0.5, i - 0.5), 1, 1,
+                                       color=OUTCOME_COLOURS[r["outcome"]]))
+            txt = (r["reason"] if r["outcome"] == "failed"
+                   else f"{100 * r['err_dh']:+.0f}%\nn {r['noise']:.2f}")
+            ax.text(j, i, txt, ha="center", va="center", fontsize=7,
+                    color="white" if r["outcome"] == "failed" else "black")
+    ax.set_xticks(range(len(cols)), [f"h/t {h:g}\nn_t {n}\nppc {h * n:g}" for h, n in cols],
+                  fontsize=7)
+    ax.set_yticks(range(len(BASES)), BASES)
+    ax.set_xlim(-0.5, len(cols) - 0.5)
+    ax.set_ylim(len(BASES) - 0.5, -0.5)
+    ax.grid(False)
+    ax.set_title("crush scene (quarter ring, MUSL, cfl 0.2, to delta/D = 0.29): plateau error "
+                 "vs DeRuntz-Hodge, force noise n\n"
+                 f"accurate: |error| <= {100 * WRONG:.0f} % and n <= {NOISY}; "
+                 "ppc: particles per cell through the wall")
+    _legend_outcomes(ax)
+    fig.savefig(OUT / "map_crush.png", dpi=150)
+    plt.close(fig)
+
+
+def plot_noise() -> None:
+    rows = read_csv("crush_runs.csv")
+    rows = [r for r in rows if r["h_over_t"] == 0.5]
+    if not rows:
+        return
+    plt = _plt()
+    fig, ax = plt.subplots(layout="constrained", figsize=(6, 4))
+    for b in BASES:
+        rr = sorted((r for r in rows if r["basis"] == b), key=lambda r: r["ppc_wall"])
+        ax.plot([r["ppc_wall"] ** 2 for r in rr], [r["noise"] for r in rr], "o-", label=b)
+    ax.set_xscale("log", base=2)
+    ax.set_xlabel("particles per cell (about (n_t h / t)^2, h = t/2) [-]")
+    ax.set_ylabel("force noise: RMS(F - F_20us) / plateau [-]")
+    ax.set_title("cell-crossing noise of the crush force (1 us samples)")
+    ax.legend()
+    fig.savefig(OUT / "noise.png", dpi=150)
+    plt.close(fig)
+
+
+def plot_thinwall() -> None:
+    rows = read_csv("crush_runs.csv")
+    nt_rows = read_csv("nthick_runs.csv")
+    stick = read_csv("stick_runs.csv")
+    if not rows:
+        return
+    plt = _plt()
+    fig, axs = plt.subplots(1, 3, layout="constrained", figsize=(13, 4))
+    ax = axs[0]
+    nt = max({r["n_thick"] for r in rows}, key=lambda n: sum(1 for r in rows
+                                                            if r["n_thick"] == n))
+    for b in BASES:
+        rr = sorted((r for r in rows if r["basis"] == b and r["n_thick"] == nt),
+                    key=lambda r: r["h_over_t"])
+        ax.plot([r["h_over_t"] for r in rr], [100 * r["err_dh"] for r in rr], "o-", label=b)
+    ax.axvline(1.0, color="k", lw=0.8, ls=":")
+    ax.axhspan(-100 * WRONG, 100 * WRONG, color="0.9", zorder=0)
+    ax.set_xlabel("h / t [-]")
+    ax.set_ylabel("plateau force error vs DeRuntz-Hodge [%]")
+    ax.set_title(f"thin-wall limit (n_t = {nt}, delta 4-13 mm)")
+    ax.legend()
+    ax = axs[1]
+    if nt_rows:
+        rr = sorted(nt_rows, key=lambda r: r["n_thick"])
+        ax.plot([r["n_thick"] for r in rr], [100 * r["err_dh"] for r in rr], "o-", color="C3",
+                label="CPDI2, h = t/2")
+        ax.axhspan(-100 * WRONG, 100 * WRONG, color="0.9", zorder=0)
+        ax.set_xscale("log", base=2)
+        ax.legend()
+    ax.set_xlabel("particles through the wall n_t [-]")
+    ax.set_ylabel("plateau force error vs DeRuntz-Hodge [%]")
+    ax.set_title("particles through the wall (n_circ fixed)")
+    ax = axs[2]
+    for r in stick:
+        path = OUT / f"stick_force_h{fmt(r['h_over_t'])}.csv"
+        if not path.is_file():
+            continue
+        d = np.genfromtxt(path, delimiter=",", names=True)
+        ax.plot(d["delta"] * 1e3, d["force"] * 1e-3, label=f"h/t = {r['h_over_t']:g}")
+    ax.axvline((D_CRUSH - 2 * T_CRUSH) * 1e3, color="k", lw=0.8, ls=":")
+    ax.text((D_CRUSH - 2 * T_CRUSH) * 1e3, 0.98, " walls touch\n (flat)", fontsize=7,
+            va="top", transform=ax.get_xaxis_transform())
+    ax.set_xlabel("platen approach delta [mm]")
+    ax.set_ylabel("platen force [kN/m]")
+    ax.set_yscale("log")
+    ax.set_title("near-full crush and release (half ring, n_t = 2)")
+    ax.legend()
+    fig.savefig(OUT / "thinwall.png", dpi=150)
+    plt.close(fig)
+
+
+def plot_distort() -> None:
+    series = read_csv("distort_series.csv")
+    if not series:
+        return
+    plt = _plt()
+    fig, axs = plt.subplots(1, 3, layout="constrained", figsize=(13, 4))
+    keys = sorted({(s["speed"], s["n_thick"], s["basis"]) for s in series})
+    runs = {r["case"]: r for r in read_csv("distort_runs.csv")}
+    for i, (v, nt, b) in enumerate(keys):
+        ss = [s for s in series if s["basis"] == b and s["n_thick"] == nt and s["speed"] == v]
+        d = [s["delta_over_D"] for s in ss]
+        ls = "-" if b == "cpdi2" else "--"
+        colour = f"C{sorted({(k[0], k[1]) for k in keys}).index((v, nt))}"
+        label = f"{b} n_t {nt}, {v:g} m/s"
+        axs[0].plot(d, [s["cond_max"] for s in ss], ls, color=colour, label=label)
+        if b == "cpdi2":
+            axs[1].plot(d, [s["jmin"] for s in ss], ls, color=colour, label=label)
+            run = next((r for r in runs.values() if r["basis"] == b and r["n_thick"] == nt
+                        and r["speed"] == v), None)
+            if run and run["reason"] == "folded domain":
+                axs[1].plot([run["delta_fold"]], [0.0], "x", color=colour, ms=9, mew=2)
+                axs[1].annotate(f"folded, exit 4\n({run['angle_fold']:.0f} deg)",
+                                (run["delta_fold"], 0.0), textcoords="offset points",
+                                xytext=(-60, 12 + 14 * i), fontsize=7, color=colour)
+        else:
+            axs[2].plot(d, [s["mismatch_cells"] for s in ss], ls, color=colour, label=label)
+    axs[0].set_yscale("log")
+    axs[0].set_ylabel("largest domain distortion sigma_max/sigma_min [-]")
+    axs[1].axhline(0.0, color="k", lw=0.8)
+    axs[1].set_ylabel("smallest corner Jacobian ratio (<= 0: folded) [-]")
+    axs[2].set_ylabel("CPDI1 largest corner gap/overlap [cells]")
+    for ax in axs:
+        ax.set_xlabel("delta / D [-]")
+        ax.legend()
+    axs[0].set_title("domain distortion, deep crush (h = t/2)")
+    axs[1].set_title("CPDI2: folding (x: caught, angle 0 = equator)")
+    axs[2].set_title("CPDI1: neighbours no longer tile")
+    fig.savefig(OUT / "distortion.png", dpi=150)
+    plt.close(fig)
+
+
+def plot_flip() -> None:
+    rows = read_csv("flip_runs.csv")
+    if not rows:
+        return
+    plt = _plt()
+    fig, ax = plt.subplots(layout="constrained", figsize=(6, 4))
+    x = [100 * r["energy_lost"] for r in rows]
+    y = [r["noise"] for r in rows]
+    ax.plot(x, y, "o-")
+    for r, xx, yy in zip(rows, x, y):
+        ax.annotate(f"flip {r['flip']:g}", (xx, yy), textcoords="offset points",
+                    xytext=(4, 4), fontsize=8)
+    ax.set_xlabel("energy lost in the elastic impact by 1.2 ms [%]")
+    ax.set_ylabel("contact force noise [-]")
+    ax.set_title("FLIP against PIC (elastic half ring, 30 m/s, h = t/2, n_t = 4)")
+    fig.savefig(OUT / "flip_pic.png", dpi=150)
+    plt.close(fig)
+
+
+def plot_all() -> None:
+    OUT.mkdir(parents=True, exist_ok=True)
+    for f in (plot_map_impact, plot_map_crush, plot_noise, plot_thinwall, plot_distort,
+              plot_flip):
+        f()
+        say(f"figure: {f.__name__}")
+
+
+PARTS = {"cfl": part_cfl, "crush": part_crush, "nthick": part_nthick, "stick": part_stick,
+         "distort": part_distort, "flip": part_flip}
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--quick", action="store_true", help="the quick level (< 10 min)")
+    ap.add_argument("--level", choices=tuple(LEVELS), help="quick or full (default full)")
+    ap.add_argument("--plots-only", action="store_true", help="figures from the tables only")
+    ap.add_argument("--parts", default=",".join(PARTS),
+                    help=f"comma-separated subset of {','.join(PARTS)}")
+    args = ap.parse_args()
+    level = "quick" if args.quick else (args.level or "full")
+    if not args.plots_only:
+        lv = LEVELS[level]
+        t0 = time.monotonic()
+        for name in args.parts.split(","):
+            if name not in PARTS:
+                ap.error(f"unknown part {name!r}; choose from {', '.join(PARTS)}")
+            say(f"== part {name} ({level})")
+            PARTS[name](lv)
+        say(f"study ({level}) took {time.monotonic() - t0:.0f} s")
+    plot_all()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
