@@ -199,7 +199,7 @@ contains
       0.6875_wp, 1.6875_wp, 1.6875_wp], [3, 4])  ! cpdi2
     real(wp), parameter :: flip_trusted = 0.999_wp   !! flip below this dissipates visibly [-]
     real(wp), parameter :: pic_loss = 98.0_wp      !! energy lost at flip = 0 [%]
-    real(wp), parameter :: delta_fold = 0.88_wp    !! delta/D from which CPDI domains fold [-]
+    real(wp), parameter :: delta_fold = 0.9_wp     !! delta/D from which CPDI domains fold [-]
     integer(i8) :: steps, mem
     character(len=512) :: line
     report = ''
@@ -365,9 +365,10 @@ contains
         ratio = delta/(2.0_wp*b%r_outer)
         if (ratio > delta_fold) then
           write(line, '(a,i0,a,f5.2,a)') 'body ', ib, ': the platens approach to delta/D = ', &
-            ratio, ': near full crush the side hinges close and CPDI domains fold (the '// &
-            'stability study: from delta/D = 0.9; the run stops with exit 4 when one folds). '// &
-            'Stop at delta/D <= 0.85 or use more particles through the wall'
+            ratio, ': near full crush the inner walls meet and the side hinges close: '// &
+            'CPDI2 domains there fold (n_thick = 2: at delta/D = 0.94, the run stops with '// &
+            'exit 4) and CPDI1 domains open gaps of 0.4 h (docs/stability.md). Stop at '// &
+            'delta/D <= 0.9, or use n_thick >= 4'
           call append_msg(warnings, line)
         end if
       end associate

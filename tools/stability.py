@@ -62,8 +62,9 @@ ENERGY_OK = 0.05           #: stable: energy error below this [-]
 SMOOTH = 20.0e-6           #: moving-average window of the smoothed force [s]
 HIST = 1.0e-6              #: history interval of the noise measurements [s]
 PLATEAU = (4.0e-3, 13.0e-3)  #: crush approach window of the plateau [m]
-TEST_WINDOW = (3.0e-3, 6.0e-3)  #: approach window of the noise test in make test [m]
-TEST_T_END = 0.9e-3        #: end of the noise test's runs (approach 6.5 mm) [s]
+TEST_WINDOW = (3.0e-3, 5.0e-3)  #: approach window of the noise test in make test [m]
+TEST_T_END = 0.77e-3       #: end of the noise test's runs (approach 5.2 mm) [s]
+TEST_CFL = 0.4             #: cfl of the noise test's runs (stable: cfl_limits.csv) [-]
 NOISY = 0.25               #: crush: force noise above this is "noisy" [-]
 NOISY_IMPACT = 0.15        #: impact: force noise above this is "noisy" [-]
 WRONG = 0.10               #: crush: plateau error against DeRuntz-Hodge above this is "wrong"
@@ -77,11 +78,11 @@ LEVELS: dict[str, dict[str, Any]] = {
         "flip": (0.0, 0.9, 0.99, 0.999, 1.0),
     },
     "full": {
-        "cfl_h": 0.5e-3, "cfl_nt": 8, "cfl_bisect": 3,
+        "cfl_h": 0.5e-3, "cfl_nt": 4, "cfl_bisect": 3,
         "noise_nt": (2, 4, 8), "thin_h": (0.25, 0.5, 1.0, 1.5, 2.0), "thin_nt": 4,
         "stick_h": (0.5, 1.0, 2.0), "nthick": (1, 2, 4, 8, 16, 32), "distort_nt": (2, 4),
         "fast_nt": (2, 4, 8),
-        "flip": (0.0, 0.5, 0.9, 0.99, 0.995, 0.999, 0.9999, 1.0),
+        "flip": (0.0, 0.5, 0.9, 0.99, 0.999, 1.0),
     },
 }
 CFL_SCAN = (0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 1.75, 2.0)
@@ -292,7 +293,7 @@ def part_cfl(lv: dict[str, Any]) -> None:
         for (b, s), (lo, hi) in brackets.items():
             # no stable cfl in the scan: the method is not stable on this scene (USL with
             # linear weights) or too inaccurate at any cfl; only the full level looks lower
-            if hi is not None and (lo > 0.0 or lv["cfl_bisect"] > 2):
+            if hi is not None and (lo > 0.0 or (lv["cfl_bisect"] > 2 and hi > 0.2)):
                 todo.append(case(b, s, round(0.5 * (lo + hi), 6)))
         run(todo)
         for c in todo:
@@ -378,6 +379,14 @@ def part_crush(lv: dict[str, Any]) -> None:
                 cases.append(c)
     cases.sort(key=lambda c: c.labels["n_thick"] ** 2 / c.labels["h_over_t"])
     write_csv("crush_runs.csv", crush_rows(cases, "crush"))
+    write_csv("noise_test.csv", crush_rows(noise_test_cases(), "noise_test"))
+
+
+def noise_test_cases() -> list[Case]:
+    """The noise check of make test (tests/test_stability_crush.py): linear and CPDI2 at
+    h = t/2, n_t = 4, cfl 0.4, to an approach of 5.2 mm; noise over 3-5 mm."""
+    return [crush_case(b, 0.5, 4, t_end=TEST_T_END, extra={"run.cfl": TEST_CFL},
+                       prefix="noisetest") for b in ("linear", "cpdi2")]
 
 
 def part_nthick(lv: dict[str, Any]) -> None:
@@ -668,6 +677,8 @@ def part_flip(lv: dict[str, Any]) -> None:
 # figures
 # ----------------------------------------------------------------------------------------------
 
+SHORT = {"energy growth": "energy\ngrowth", "det F <= 0": "det F\n<= 0",
+         "folded domain": "folded", "left grid": "left\ngrid", "non-finite": "non-\nfinite"}
 OUTCOME_COLOURS = {"accurate": "#1a9850", "noisy": "#fee08b", "wrong": "#f46d43",
                    "failed": "#a50026"}
 
@@ -700,7 +711,7 @@ def plot_map_impact() -> None:
                 continue
             ax.add_patch(plt.Rectangle((j - 0.5, i - 0.5), 1, 1,
                                        color=OUTCOME_COLOURS[r["outcome"]]))
-            label = {"failed": r["reason"].replace(" ", "\n"),
+            label = {"failed": SHORT.get(r["reason"], r["reason"]),
                      "wrong": f"E {100 * r['energy_error']:.0f}%"
                      if not r["energy_error"] < ENERGY_OK
                      else f"I {100 * r['impulse_err']:+.0f}%",
@@ -709,16 +720,19 @@ def plot_map_impact() -> None:
                     color="white" if r["outcome"] == "failed" else "black")
     lim = {(r["basis"], r["scheme"]): r["stable_cfl"] for r in read_csv("cfl_limits.csv")}
     for i, m in enumerate(methods):
-        if m in lim:
-            x = np.interp(lim[m], cfls, np.arange(len(cfls)))
-            ax.plot([x, x], [i - 0.5, i + 0.5], color="k", lw=2)
+        if m in lim and lim[m] > 0:
+            x = float(np.interp(lim[m], cfls, np.arange(len(cfls)))) + 0.5
+            ax.plot([x, x], [i - 0.5, i + 0.5], color="k", lw=2.5)
+        elif m in lim:
+            ax.text(-0.45, i + 0.38, "none stable", fontsize=6, va="bottom")
     ax.set_xticks(range(len(cfls)), [f"{c:g}" for c in cfls], rotation=90, fontsize=7)
     ax.set_yticks(range(len(methods)), [f"{b} {s}" for b, s in methods])
     ax.set_xlim(-0.5, len(cfls) - 0.5)
     ax.set_ylim(len(methods) - 0.5, -0.5)
     ax.grid(False)
     r0 = rows[0]
-    ax.set_xlabel("cfl [-]  (black bar: largest stable cfl found by bisection)")
+    ax.set_xlabel("cfl [-]  (black bar: after the largest stable cfl; stable = completes, "
+                  "energy error < 5 %; white: not run)")
     ax.set_title(f"impact scene (half ring, 30 m/s, h = t/{1 / r0['h_over_t']:g}, "
                  f"n_t = {r0['n_thick']}, to 0.4 ms): outcome per method and cfl\n"
                  "E: energy error, I: impulse error vs CPDI2 MUSL cfl 0.25, n: force noise")
@@ -742,7 +756,7 @@ def plot_map_crush() -> None:
                 continue
             ax.add_patch(plt.Rectangle((j - 0.5, i - 0.5), 1, 1,
                                        color=OUTCOME_COLOURS[r["outcome"]]))
-            txt = (r["reason"] if r["outcome"] == "failed"
+            txt = (SHORT.get(r["reason"], r["reason"]) if r["outcome"] == "failed"
                    else f"{100 * r['err_dh']:+.0f}%\nn {r['noise']:.2f}")
             ax.text(j, i, txt, ha="center", va="center", fontsize=7,
                     color="white" if r["outcome"] == "failed" else "black")
@@ -784,11 +798,12 @@ def plot_thinwall() -> None:
     rows = read_csv("crush_runs.csv")
     nt_rows = read_csv("nthick_runs.csv")
     stick = read_csv("stick_runs.csv")
+    series = read_csv("stick_series.csv")
     if not rows:
         return
     plt = _plt()
-    fig, axs = plt.subplots(1, 3, layout="constrained", figsize=(13, 4))
-    ax = axs[0]
+    fig, axs = plt.subplots(2, 2, layout="constrained", figsize=(12, 8))
+    ax = axs[0, 0]
     nt = max({r["n_thick"] for r in rows}, key=lambda n: sum(1 for r in rows
                                                             if r["n_thick"] == n))
     for b in BASES:
@@ -799,34 +814,58 @@ def plot_thinwall() -> None:
     ax.axhspan(-100 * WRONG, 100 * WRONG, color="0.9", zorder=0)
     ax.set_xlabel("h / t [-]")
     ax.set_ylabel("plateau force error vs DeRuntz-Hodge [%]")
-    ax.set_title(f"thin-wall limit (n_t = {nt}, delta 4-13 mm)")
+    ax.set_title(f"thin-wall limit (MUSL, n_t = {nt}, delta 4-13 mm; grey: +-{100 * WRONG:g} %)")
     ax.legend()
-    ax = axs[1]
+    ax = axs[0, 1]
     if nt_rows:
         rr = sorted(nt_rows, key=lambda r: r["n_thick"])
-        ax.plot([r["n_thick"] for r in rr], [100 * r["err_dh"] for r in rr], "o-", color="C3",
-                label="CPDI2, h = t/2")
-        ax.axhspan(-100 * WRONG, 100 * WRONG, color="0.9", zorder=0)
-        ax.set_xscale("log", base=2)
-        ax.legend()
+        ax.plot([r["n_thick"] for r in rr], [1 + r["err_dh"] for r in rr], "o-", color="C3",
+                label="CPDI2, h = t/2, n_circ fixed")
+        for r in rr:
+            ax.annotate(f"{100 * r['err_dh']:+.0f} %", (r["n_thick"], 1 + r["err_dh"]),
+                        textcoords="offset points", xytext=(5, 5), fontsize=8)
+    aspect = sorted((r for r in rows if r["basis"] == "cpdi2" and r["h_over_t"] == 0.5),
+                    key=lambda r: r["n_thick"])
+    if aspect:
+        ax.plot([r["n_thick"] for r in aspect], [1 + r["err_dh"] for r in aspect], "s--",
+                color="C0", label="CPDI2, h = t/2, square particles")
+    ax.axhspan(1 - WRONG, 1 + WRONG, color="0.9", zorder=0)
+    ax.set_xscale("log", base=2)
+    ax.set_yscale("log")
+    ax.legend()
     ax.set_xlabel("particles through the wall n_t [-]")
-    ax.set_ylabel("plateau force error vs DeRuntz-Hodge [%]")
-    ax.set_title("particles through the wall (n_circ fixed)")
-    ax = axs[2]
-    for r in stick:
+    ax.set_ylabel("plateau force / DeRuntz-Hodge [-]")
+    ax.set_title("particles through the wall")
+    ax = axs[1, 0]
+    for k, r in enumerate(stick):
         path = OUT / f"stick_force_h{fmt(r['h_over_t'])}.csv"
         if not path.is_file():
             continue
         d = np.genfromtxt(path, delimiter=",", names=True)
-        ax.plot(d["delta"] * 1e3, d["force"] * 1e-3, label=f"h/t = {r['h_over_t']:g}")
+        end = " (exit 4: energy growth)" if r["exit_code"] == 4 else ""
+        ax.plot(d["delta"] * 1e3, np.maximum(d["force"], 1.0) * 1e-3, color=f"C{k}",
+                label=f"h/t = {r['h_over_t']:g}{end}")
     ax.axvline((D_CRUSH - 2 * T_CRUSH) * 1e3, color="k", lw=0.8, ls=":")
-    ax.text((D_CRUSH - 2 * T_CRUSH) * 1e3, 0.98, " walls touch\n (flat)", fontsize=7,
-            va="top", transform=ax.get_xaxis_transform())
     ax.set_xlabel("platen approach delta [mm]")
-    ax.set_ylabel("platen force [kN/m]")
+    ax.set_ylabel("platen force (20 us average) [kN/m]")
     ax.set_yscale("log")
-    ax.set_title("near-full crush and release (half ring, n_t = 2)")
-    ax.legend()
+    ax.set_title("near-full crush of a half ring, then release (CPDI2, n_t = 2)")
+    ax.legend(fontsize=7)
+    ax = axs[1, 1]
+    for k, r in enumerate(stick):
+        ss = [x for x in series if x["h_over_t"] == r["h_over_t"]]
+        ax.plot([x["delta"] * 1e3 for x in ss], [x["inner_gap"] * 1e3 for x in ss], "o-",
+                ms=3, color=f"C{k}", label=f"h/t = {r['h_over_t']:g}")
+        ax.axhline(2 * r["h_over_t"] * T_CRUSH * 1e3, color=f"C{k}", lw=0.8, ls="--")
+    dd = np.linspace(0, 46e-3, 50)
+    ax.plot(dd * 1e3, (D_CRUSH - dd - 2 * T_CRUSH) * 1e3, "k:", lw=1,
+            label="flat walls: D - delta - 2t")
+    ax.set_xlabel("platen approach delta [mm] (it decreases again on release)")
+    ax.set_ylabel("gap between the inner walls at the mid-plane [mm]")
+    ax.set_title("inner walls: dashed = 2h, where walls start to share nodes")
+    ax.set_ylim(0, 12)
+    ax.set_xlim(25, 47)
+    ax.legend(fontsize=7)
     fig.savefig(OUT / "thinwall.png", dpi=150)
     plt.close(fig)
 
