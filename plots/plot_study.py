@@ -203,8 +203,8 @@ def fig_crush(rows, folder: Path, out: Path, exp=None) -> None:
                 continue
             lab = f"h/t = {r['h_over_t']:g}" if var == "h_over_t" else f"n_t = {r['n_t']:g}"
             ax.plot(c[:, 0], c[:, 1] * 1e-3, color=cmap(i / max(len(order) - 1, 1) * 0.9),
-                    lw=1.2, label=lab + f" ({r['error']:.1%})" if np.isfinite(r["error"])
-                    else lab + " (reference)")
+                    lw=1.2, label=lab + (" (reference)" if r["name"] == r["reference"] else
+                                         f" (L2 error {r['error']:.1%})"))
         d = np.linspace(0, 0.6, 200)
         ax.plot(d, mpmplot.deruntz_hodge(d * ring["D"], ring["D"], ring["t"], ring["sigma_y"],
                                          ring["plane"], ring["depth"]) * 1e-3, "k--",

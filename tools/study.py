@@ -60,6 +60,8 @@ SCENES: dict[str, dict[str, Any]] = {
 
 #: Crush error window (delta / D, D the mean diameter) and energy point.
 CRUSH_WINDOW = (0.05, 0.5)
+#: Crush: width of the moving average of F(delta) for the smoothed error [delta / D].
+SMOOTH_WIDTH = 0.02
 #: Impact peak force: moving average over this window [s].
 PEAK_WINDOW = 10.0e-6
 #: Wave arrival: first |v - v0| above this fraction of the probe's peak.
@@ -212,6 +214,13 @@ def crush_metrics(folder: Path, inputs: dict) -> dict[str, Any]:
     f = np.interp(x, disp[order], force[order])
     dh = mpmplot.deruntz_hodge(x, D, r["t"], r["sigma_y"], r["plane"], r["depth"])
     m["F_window"] = f
+    # the same, smoothed over delta/D = SMOOTH_WIDTH: the mean response without the
+    # high-frequency (cell-crossing, contact) content
+    fine = np.arange(0.0, disp.max(), 0.001 * D)
+    ff = np.interp(fine, disp[order], force[order])
+    k = max(1, int(round(SMOOTH_WIDTH / 0.001)))
+    sm = np.convolve(ff, np.ones(k) / k, mode="same")
+    m["F_smooth"] = np.interp(x, fine, sm)
     m["force_mean"] = float(np.mean(f))
     m["force_over_dh"] = float(np.mean(f) / np.mean(dh))
     sel = disp <= CRUSH_WINDOW[1] * D
@@ -280,6 +289,12 @@ def errors(scene: str, m: dict[str, Any], ref: dict[str, Any]) -> dict[str, floa
             fr = ref["F_window"]
             e["err_F_L2"] = float(np.sqrt(np.mean((m["F_window"] - fr) ** 2) / np.mean(fr ** 2)))
             e["err_energy_50"] = rel(m["energy_50"], ref["energy_50"])
+            rs = ref["F_smooth"]
+            e["err_F_smooth"] = float(np.sqrt(np.mean((m["F_smooth"] - rs) ** 2)
+                                              / np.mean(rs ** 2)))
+            # high-frequency content: RMS of F minus its smoothed curve, over the mean force
+            e["noise"] = float(np.sqrt(np.mean((m["F_window"] - m["F_smooth"]) ** 2))
+                               / np.mean(m["F_smooth"]))
             e["error"] = e["err_F_L2"]
         else:
             e["error"] = math.nan
@@ -316,7 +331,7 @@ def richardson(f1: float, f2: float, f3: float, ratio: float = 2.0) -> dict[str,
 COLUMNS = ["scene", "name", "reference", "basis", "scheme", "h_over_t", "n_t", "n_c", "aspect",
            "cfl", "speed", "particles", "steps", "status", "exit_code", "wall_s", "cpu_s",
            "runtime_ratio", "mps", "energy_error", "error",
-           "err_F_L2", "err_energy_50", "force_mean", "force_over_dh", "energy_50",
+           "err_F_L2", "err_F_smooth", "noise", "err_energy_50", "force_mean", "force_over_dh", "energy_50",
            "energy_50_dh", "err_duration", "err_cor", "err_peak", "duration", "cor",
            "peak_10us", "v_impact", "impulse", "err_arrival", "err_speed", "speed",
            "speed_bar", "speed_plate"]
