@@ -189,16 +189,17 @@ contains
     character(len=:), allocatable, intent(out) :: warnings  !! warnings, one per line ('' none)
     integer :: ib, nk, npb, ncb, k, m
     real(wp) :: dt_stable, dt, t, rm, ei, omega2, vwall, ratio, mass, travel, delta
-    ! What the stability study measured (docs/stability.md, docs/stability/cfl_limits.csv):
+    ! What the stability study measured (docs/stability.md, full level, completes_cfl):
     ! the largest cfl at which the impact scene completes with no failure detected, per (scheme
     ! usl/usf/musl, basis linear/ugimp/cpdi1/cpdi2); 0: unstable at every cfl tried.
-    ! cfl_ppc2: 2 particles per cell through the wall (h = t/2, n_t = 4; quick level);
-    ! cfl_ppc1: 1 particle per cell (h = t/4, n_t = 4; full level): FLIP then gains energy slowly
+    ! cfl_ppc2: 2 particles per cell through the wall (h = t/2, n_t = 4; cfl_limits_ppc2.csv);
+    ! cfl_ppc1: 1 particle per cell (h = t/4, n_t = 4; cfl_limits_ppc1.csv): FLIP then gains
+    ! energy slowly
     real(wp), parameter :: cfl_ppc2(3, 4) = reshape([ &
-      0.0_wp, 0.625_wp, 1.25_wp, &          ! linear
+      0.0_wp, 0.65625_wp, 1.25_wp, &        ! linear
       0.5_wp, 1.6875_wp, 1.6875_wp, &       ! ugimp
-      0.5_wp, 1.6875_wp, 1.6875_wp, &       ! cpdi1
-      0.6875_wp, 1.6875_wp, 1.6875_wp], [3, 4])  ! cpdi2
+      0.5_wp, 1.71875_wp, 1.71875_wp, &     ! cpdi1
+      0.6875_wp, 1.6875_wp, 1.71875_wp], [3, 4])  ! cpdi2
     real(wp), parameter :: cfl_ppc1(3, 4) = reshape([ &
       0.0_wp, 0.15625_wp, 0.6875_wp, &      ! linear
       0.5_wp, 1.9375_wp, 1.5625_wp, &       ! ugimp
@@ -286,7 +287,7 @@ contains
         else if (cfg%grid%h > 0.5_wp*t*(1.0_wp + 1.0e-9_wp)) then
           write(line, '(a,i0,a,f5.2,a)') 'body ', ib, ': h/t = ', cfg%grid%h/t, &
             ': between t/2 and t the crush force comes out 7 to 25 % too high '// &
-            '(docs/stability.md). Use h <= t/2'
+            '(docs/stability.md). Use h <= t/2 with n_thick >= 2 t/h'
           call append_msg(warnings, line)
         end if
         if (b%n_thick <= 2) then
@@ -339,12 +340,19 @@ contains
     end do
     cfl_stable = cfl_ppc2
     if (ppc < 1.5_wp) cfl_stable = cfl_ppc1
+    if (ppc < 1.5_wp) then
+      write(line, '(a,f5.2,a)') 'only ', ppc, ' particle(s) per cell through the wall '// &
+        '(n_thick h / t): the wall comes out too stiff (crush force +28 to +32 % with CPDI '// &
+        'and uGIMP, +174 % linear, at h = t/4, n_thick = 4; +146 to +425 % at h = t/2, '// &
+        'n_thick = 2) and the force noisy (docs/stability.md). Use n_thick >= 2 t/h'
+      call append_msg(warnings, line)
+    end if
     if (ppc < 1.5_wp .and. s%scheme /= SCHEME_USL .and. s%basis /= BASIS_UGIMP .and. &
         s%flip > 0.99_wp) then
-      write(line, '(a,f5.2,a)') 'only ', ppc, ' particles per cell through the wall '// &
-        '(n_thick h / t): with FLIP and this basis and scheme the impact scene gained energy '// &
-        'slowly (5 % within 0.1-0.4 ms, exit 4) at cfl above 0.34 (cpdi2/musl), and at every '// &
-        'cfl with cpdi2/usf (docs/stability.md). Use n_thick >= 2 t/h'
+      write(line, '(a,f5.2,a)') 'with ', ppc, ' particle(s) per cell through the wall, '// &
+        'FLIP with this basis and scheme gained energy slowly on the impact scene (5 % '// &
+        'within 0.1-0.4 ms, exit 4) at cfl above 0.34 (cpdi2/musl), and at every cfl with '// &
+        'cpdi2/usf (docs/stability.md). Use n_thick >= 2 t/h'
       call append_msg(warnings, line)
     end if
     ratio = dt*(s%c_max + s%vmax)/s%g%h                    ! the cfl in use
@@ -391,9 +399,10 @@ contains
         if (ratio > delta_fold) then
           write(line, '(a,i0,a,f5.2,a)') 'body ', ib, ': the platens approach to delta/D = ', &
             ratio, ': near full crush the inner walls meet and the side hinges close: '// &
-            'CPDI2 domains there fold (n_thick = 2: at delta/D = 0.94, the run stops with '// &
-            'exit 4) and CPDI1 domains open gaps of 0.4 h (docs/stability.md). Stop at '// &
-            'delta/D <= 0.9, or use n_thick >= 4'
+            'CPDI2 domains there fold (at delta/D = 0.94 with n_thick = 2 and 8; the run '// &
+            'stops with exit 4), CPDI1 domains open gaps of 0.15-0.4 h, and the grid contact '// &
+            'of the walls loses 15-30 % of the energy (docs/stability.md). Stop at '// &
+            'delta/D <= 0.9'
           call append_msg(warnings, line)
         end if
       end associate

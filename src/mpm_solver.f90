@@ -351,9 +351,10 @@ contains
         stat = EXIT_NUMERIC
         errmsg = 'folded CPDI2 domain: the domain of particle '//itoa(bad)//' at ('// &
           rtoa(s%p%x(1, bad))//', '//rtoa(s%p%x(2, bad))//') m folded or inverted '// &
-          '(corner Jacobian <= 0) at '//step_context(s)//'. Remedy: more particles '// &
-          'through the wall (n_thick), a smaller cfl, or basis = ''cpdi1'' / ''ugimp'' for '// &
-          'very deep crushes'
+          '(corner Jacobian <= 0) at '//step_context(s)//'. Remedy: near full crush (the '// &
+          'inner walls meet from delta/D = 0.94) stop the crush at delta/D <= 0.9, or use '// &
+          'basis = ''cpdi1'' or ''ugimp'' (their domains cannot fold); otherwise a smaller cfl '// &
+          'and more particles through the wall (docs/stability.md)'
         return
       end if
       if (need_max > s%nb) then          ! domains grew: widen the blocks and redo

@@ -64,21 +64,21 @@ HIST = 1.0e-6              #: history interval of the noise measurements [s]
 PLATEAU = (4.0e-3, 13.0e-3)  #: crush approach window of the plateau [m]
 TEST_WINDOW = (3.0e-3, 5.0e-3)  #: approach window of the noise test in make test [m]
 TEST_T_END = 0.77e-3       #: end of the noise test's runs (approach 5.2 mm) [s]
-TEST_CFL = 0.4             #: cfl of the noise test's runs (stable: cfl_limits.csv) [-]
+TEST_CFL = 0.4             #: cfl of the noise test's runs (stable: cfl_limits_ppc2.csv) [-]
 NOISY = 0.25               #: crush: force noise above this is "noisy" [-]
 NOISY_IMPACT = 0.15        #: impact: force noise above this is "noisy" [-]
 WRONG = 0.10               #: crush: plateau error against DeRuntz-Hodge above this is "wrong"
 
 LEVELS: dict[str, dict[str, Any]] = {
     "quick": {
-        "cfl_h": 1.0e-3, "cfl_nt": 4, "cfl_bisect": 2,
+        "cfl_configs": ((1.0e-3, 4),), "cfl_bisect": 2,
         "noise_nt": (2, 4), "thin_h": (0.5, 1.0, 2.0), "thin_nt": 4,
         "stick_h": (0.5, 1.0, 2.0), "nthick": (1, 2, 4, 8), "distort_nt": (2,),
         "fast_nt": (2, 4),
         "flip": (0.0, 0.9, 0.99, 0.999, 1.0),
     },
     "full": {
-        "cfl_h": 0.5e-3, "cfl_nt": 4, "cfl_bisect": 3,
+        "cfl_configs": ((1.0e-3, 4), (0.5e-3, 4)), "cfl_bisect": 3,
         "noise_nt": (2, 4, 8), "thin_h": (0.25, 0.5, 1.0, 1.5, 2.0), "thin_nt": 4,
         "stick_h": (0.5, 1.0, 2.0), "nthick": (1, 2, 4, 8, 16, 32), "distort_nt": (2, 4),
         "fast_nt": (2, 4, 8),
@@ -229,9 +229,14 @@ def read_csv(name: str) -> list[dict[str, Any]]:
 # 1. largest stable cfl (impact)
 # ----------------------------------------------------------------------------------------------
 
-def impact_overrides(lv: dict[str, Any]) -> dict[str, Any]:
-    return {"grid.h": lv["cfl_h"], "body.n_thick": lv["cfl_nt"], "run.t_end": 4.0e-4,
+def impact_overrides(h: float, nt: int) -> dict[str, Any]:
+    return {"grid.h": h, "body.n_thick": nt, "run.t_end": 4.0e-4,
             "run.history_every": HIST, "run.snapshot_every": 0.0}
+
+
+def ppc_tag(h: float, nt: int) -> str:
+    """'ppc2' for 2 particles per cell through the impact ring's wall (n_t h / t)."""
+    return f"ppc{fmt(nt * h / T_IMPACT)}"
 
 
 def impact_metrics(folder: Path) -> dict[str, Any]:
@@ -258,9 +263,16 @@ def impact_metrics(folder: Path) -> dict[str, Any]:
 
 
 def part_cfl(lv: dict[str, Any]) -> None:
-    """Scan, then bisect, the cfl of every basis x scheme on the impact scene."""
-    base = impact_overrides(lv)
-    tag = f"h{fmt(lv['cfl_h'] * 1e3)}_nt{lv['cfl_nt']}"
+    """Scan, then bisect, the cfl of every basis x scheme on the impact scene, at each
+    resolution of the level."""
+    for h, nt in lv["cfl_configs"]:
+        cfl_config(lv, h, nt)
+
+
+def cfl_config(lv: dict[str, Any], h: float, nt: int) -> None:
+    base = impact_overrides(h, nt)
+    tag = f"h{fmt(h * 1e3)}_nt{nt}"
+    ppc = ppc_tag(h, nt)
     rows: dict[tuple[str, str, float], dict[str, Any]] = {}
 
     def case(b: str, s: str, cfl: float) -> Case:
@@ -272,8 +284,8 @@ def part_cfl(lv: dict[str, Any]) -> None:
         for c, r in zip(cases, batch_run(cases)):
             folder = RUNS / c.name
             row = {"basis": c.labels["basis"], "scheme": c.labels["scheme"],
-                   "cfl": c.labels["cfl"], "h_over_t": lv["cfl_h"] / T_IMPACT,
-                   "n_thick": lv["cfl_nt"], "scan": int(c.labels["cfl"] in CFL_SCAN)}
+                   "cfl": c.labels["cfl"], "h_over_t": h / T_IMPACT,
+                   "n_thick": nt, "scan": int(c.labels["cfl"] in CFL_SCAN)}
             row.update(common(r, folder))
             row.update(impact_metrics(folder))
             row["stable"] = int(row["exit_code"] == 0 and row["energy_error"] < ENERGY_OK)
@@ -319,7 +331,7 @@ def part_cfl(lv: dict[str, Any]) -> None:
         else:
             r["outcome"] = "accurate"
         out.append(r)
-    write_csv("cfl_runs.csv", out)
+    write_csv(f"cfl_runs_{ppc}.csv", out)
     limits = []
     for (b, s), (lo, hi) in brackets.items():
         mine = sorted((c, r) for (bb, ss, c), r in rows.items() if (bb, ss) == (b, s))
@@ -334,7 +346,7 @@ def part_cfl(lv: dict[str, Any]) -> None:
                                               for c in sorted(c for (bb, ss, c) in rows
                                                               if (bb, ss) == (b, s))
                                               if not rows[(b, s, c)]["stable"]), "")})
-    write_csv("cfl_limits.csv", limits)
+    write_csv(f"cfl_limits_{ppc}.csv", limits)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -698,49 +710,61 @@ def _legend_outcomes(ax) -> None:
 
 
 def plot_map_impact() -> None:
-    rows = read_csv("cfl_runs.csv")
+    for path in sorted(OUT.glob("cfl_runs_ppc*.csv")):
+        plot_map_impact_one(path.stem.split("_")[-1])
+
+
+def plot_map_impact_one(ppc: str) -> None:
+    rows = read_csv(f"cfl_runs_{ppc}.csv")
     if not rows:
         return
     plt = _plt()
     methods = [(b, s) for b in BASES for s in SCHEMES]
-    cfls = sorted({r["cfl"] for r in rows})
-    fig, ax = plt.subplots(layout="constrained", figsize=(11, 5.2))
+    lim = {(r["basis"], r["scheme"]): r["stable_cfl"]
+           for r in read_csv(f"cfl_limits_{ppc}.csv")}
+    fig, ax = plt.subplots(layout="constrained", figsize=(11, 5.4))
     for i, (b, s) in enumerate(methods):
-        for j, c in enumerate(cfls):
-            r = next((r for r in rows if r["basis"] == b and r["scheme"] == s
-                      and abs(r["cfl"] - c) < 1e-9), None)
-            if r is None:
+        mine = sorted((r for r in rows if r["basis"] == b and r["scheme"] == s),
+                      key=lambda r: r["cfl"])
+        c = [r["cfl"] for r in mine]
+        # each run colours the cfl range nearer to it than to its neighbours
+        edges = [0.5 * (x + y) for x, y in zip(c[:-1], c[1:])]
+        lo = [c[0] - 0.125] + edges
+        hi = edges + [c[-1] + 0.125]
+        for r, x0, x1 in zip(mine, lo, hi):
+            ax.add_patch(plt.Rectangle((x0, i - 0.45), x1 - x0, 0.9,
+                                       color=OUTCOME_COLOURS[r["outcome"]], lw=0))
+            ax.plot([r["cfl"]], [i + 0.38], "|", color="k", ms=4, mew=0.6)
+            if not r["scan"]:
                 continue
-            ax.add_patch(plt.Rectangle((j - 0.5, i - 0.5), 1, 1,
-                                       color=OUTCOME_COLOURS[r["outcome"]]))
             label = {"failed": SHORT.get(r["reason"], r["reason"]),
                      "wrong": f"E {100 * r['energy_error']:.0f}%"
                      if not r["energy_error"] < ENERGY_OK
                      else f"I {100 * r['impulse_err']:+.0f}%",
                      "noisy": f"n {r['noise']:.2f}", "accurate": ""}[r["outcome"]]
-            ax.text(j, i, label, ha="center", va="center", fontsize=6,
+            ax.text(r["cfl"], i, label, ha="center", va="center", fontsize=5.5,
                     color="white" if r["outcome"] == "failed" else "black")
-    lim = {(r["basis"], r["scheme"]): r["stable_cfl"] for r in read_csv("cfl_limits.csv")}
-    for i, m in enumerate(methods):
-        if m in lim and lim[m] > 0:
-            x = float(np.interp(lim[m], cfls, np.arange(len(cfls)))) + 0.5
-            ax.plot([x, x], [i - 0.5, i + 0.5], color="k", lw=2.5)
-        elif m in lim:
-            ax.text(-0.45, i + 0.38, "none stable", fontsize=6, va="bottom")
-    ax.set_xticks(range(len(cfls)), [f"{c:g}" for c in cfls], rotation=90, fontsize=7)
+        m = lim.get((b, s), 0.0)
+        if m > 0:
+            nxt = min((x for x in c if x > m), default=m)
+            ax.plot([0.5 * (m + nxt)] * 2, [i - 0.45, i + 0.45], color="k", lw=2.5)
+        ax.text(2.17, i, f"{m:g}" if m > 0 else "none", va="center", fontsize=8)
+    ax.text(2.17, -0.55, "stable up to", fontsize=7, va="bottom")
     ax.set_yticks(range(len(methods)), [f"{b} {s}" for b, s in methods])
-    ax.set_xlim(-0.5, len(cfls) - 0.5)
+    ax.set_xlim(0.0, 2.15)
     ax.set_ylim(len(methods) - 0.5, -0.5)
     ax.grid(False)
     r0 = rows[0]
-    ax.set_xlabel("cfl [-]  (black bar: after the largest stable cfl; stable = completes, "
-                  "energy error < 5 %; white: not run)")
+    ax.set_xlabel("cfl [-]  (small ticks: the runs; black bar: stability limit found by bisection; "
+                  "stable = completes, energy error < 5 %)")
     ax.set_title(f"impact scene (half ring, 30 m/s, h = t/{1 / r0['h_over_t']:g}, "
-                 f"n_t = {r0['n_thick']}, to 0.4 ms): outcome per method and cfl\n"
-                 "E: energy error, I: impulse error vs the median of the stable runs at cfl 0.25, "
-                 "n: force noise")
-    _legend_outcomes(ax)
-    fig.savefig(OUT / "map_impact.png", dpi=150)
+                 f"n_t = {r0['n_thick']}: {r0['h_over_t'] * r0['n_thick']:g} particle(s) per "
+                 "cell through the wall; to 0.4 ms)\nE: energy error, I: impulse error against "
+                 "the median of the stable runs at cfl 0.25, n: force noise", fontsize=9)
+    from matplotlib.patches import Patch
+    ax.legend(handles=[Patch(color=c, label=k) for k, c in OUTCOME_COLOURS.items()],
+              loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=4, fontsize=8)
+    fig.savefig(OUT / f"map_impact_{ppc}.png", dpi=150)
     plt.close(fig)
 
 
