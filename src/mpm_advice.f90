@@ -78,10 +78,11 @@ contains
       if (i == 0) then
         write(line, '(a,f4.1,a)') '  error <= ', 100*advice_target(k), ' %: none in the study'
       else
-        write(line, '(a,f4.1,a,g0.3,a,i0,a,f5.2,a,a,a,i0,a,g0.3,a,f5.2,a)') '  error <= ', &
-          100*advice_target(k), ' %: h/t ', study_h_over_t(i), ', n_thick ', study_n_t(i), &
-          ', aspect ', study_aspect(i), ', ', trim(study_basis(i)), ': ', study_particles(i), &
-          ' particles, ', study_cpu_s(i), ' CPU s (error ', 100*study_error(i), ' %)'
+        write(line, '(a,f4.1,a,g0.3,a,i0,a,f4.2,a,a,a,f4.2,a,i0,a,g0.3,a,f5.2,a)') &
+          '  error <= ', 100*advice_target(k), ' %: h/t ', study_h_over_t(i), ', n_thick ', &
+          study_n_t(i), ', aspect ', study_aspect(i), ', ', trim(study_basis(i)), ', cfl ', &
+          study_cfl(i), ': ', study_particles(i), ' particles, ', study_cpu_s(i), &
+          ' CPU s (error ', 100*study_error(i), ' %)'
       end if
       call append_msg(text, trim(line))
     end do
@@ -98,11 +99,11 @@ contains
         best = i
       end if
     end do
-    write(line, '(a,g0.3,a,i0,a,f5.2,a,a,a,f4.2)') '  this input: h/t ', hot, ', n_thick ', &
+    write(line, '(a,g0.3,a,i0,a,f4.2,a,a,a,f4.2)') '  this input: h/t ', hot, ', n_thick ', &
       nt, ', aspect ', aspect, ', ', trim(basis), ', cfl ', cfg%run%cfl
     call append_msg(text, trim(line))
     if (best > 0) then
-      write(line, '(a,g0.3,a,i0,a,f5.2,a,a,a,f4.2,a,f6.2,a)') '  nearest study run: h/t ', &
+      write(line, '(a,g0.3,a,i0,a,f4.2,a,a,a,f4.2,a,f6.2,a)') '  nearest study run: h/t ', &
         study_h_over_t(best), ', n_thick ', study_n_t(best), ', aspect ', study_aspect(best), &
         ', ', trim(study_basis(best)), ', cfl ', study_cfl(best), ': error ', &
         100*study_error(best), ' %'

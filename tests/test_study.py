@@ -146,8 +146,54 @@ def test_batch_runs() -> None:
         shutil.rmtree(tmp, ignore_errors=True)
 
 
+def test_check_advice() -> None:
+    """`tubempm --check` prints the study's advice from the compiled table: the nearest run to
+    namelists/crush.nml (h = t/4, n_thick 8, CPDI2, cfl 0.2) is that very run of the study, with
+    the error of docs/study/study_full.csv, and the cheapest runs are those of
+    docs/study/advice_full.csv."""
+    import csv
+    import re
+    import subprocess
+    exe = Path(os.environ.get("TUBEMPM", ROOT / "build" / "debug" / "tubempm"))
+    table = ROOT / "docs" / "study" / "study_full.csv"
+    adv_file = ROOT / "docs" / "study" / "advice_full.csv"
+    if not check(exe.is_file() and table.is_file() and adv_file.is_file(),
+                 "binary, study table and advice table present"):
+        return
+    out = subprocess.run([str(exe), "--check", "--quiet", str(ROOT / "namelists" / "crush.nml")],
+                         capture_output=True, text=True).stdout
+    m = re.search(r"nearest study run: h/t ([\d.]+), n_thick (\d+), aspect ([\d.]+), (\w+), "
+                  r"cfl ([\d.]+): error +([\d.]+) %", out)
+    if not check(m is not None, f"--check prints the nearest study run:\n{out}"):
+        return
+    hot, nt, asp, basis, cfl, err = (float(m[1]), int(m[2]), float(m[3]), m[4], float(m[5]),
+                                     float(m[6]))
+    check(math.isclose(hot, 0.25) and nt == 8 and math.isclose(asp, 1.0) and basis == "cpdi2"
+          and math.isclose(cfl, 0.2), f"nearest run is the input's own settings: {m[0]}")
+    rows = [r for r in csv.DictReader(open(table)) if r["scene"] == "crush"
+            and r["basis"] == "cpdi2" and math.isclose(float(r["h_over_t"]), 0.25)
+            and int(r["n_t"]) == 8 and math.isclose(float(r["aspect"]), 1.0)
+            and math.isclose(float(r["cfl"]), 0.2)]
+    if check(len(rows) == 1 and rows[0]["error"] != "", "the run is in the table"):
+        check(abs(err - 100 * float(rows[0]["error"])) < 0.006,
+              f"error {err} % vs table {100 * float(rows[0]['error'])} %")
+    for a in csv.DictReader(open(adv_file)):
+        if a["scene"] != "crush":
+            continue
+        target = f"error <= {100 * float(a['target']):4.1f} %"
+        line = next((ln for ln in out.splitlines() if target in ln), "")
+        if a["name"].startswith("none"):
+            check("none in the study" in line, f"advice line for {target}: {line!r}")
+        else:
+            check(f"n_thick {int(float(a['n_t']))}," in line
+                  and f"cfl {float(a['cfl']):.2f}" in line and a["basis"] in line
+                  and f"{float(a['cpu_s']):.3g}" in line,
+                  f"advice line for {target} names the run's settings: {line!r}")
+
+
 def main() -> int:
-    for t in (test_render, test_richardson, test_pareto_advice, test_batch_runs):
+    for t in (test_render, test_richardson, test_pareto_advice, test_batch_runs,
+              test_check_advice):
         try:
             t()
         except Exception:                      # a crash is a failure, with its traceback
