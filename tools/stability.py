@@ -114,7 +114,8 @@ def run_reason(folder: Path, summary: dict[str, Any], exit_code: int | None) -> 
         log = folder / "run.log"
         msg = log.read_text(errors="replace") if log.is_file() else ""
     low = msg.lower()
-    for key, short in (("energy blow-up", "energy growth"), ("det f", "det F <= 0"),
+    for key, short in (("energy growth", "energy growth"), ("energy blow-up", "energy growth"),
+                       ("det f", "det F <= 0"),
                        ("folded", "folded domain"), ("left the grid", "left grid"),
                        ("non-finite", "non-finite"), ("did not converge", "return map"),
                        ("not positive", "dt <= 0")):
