@@ -818,8 +818,9 @@ def plot_map_crush() -> None:
     ax.grid(False)
     ax.set_title("crush scene (quarter ring, MUSL, cfl 0.2; left: to delta/D = 0.29, plateau "
                  "error vs DeRuntz-Hodge and force noise n;\nright: deep crushes, energy "
-                 "error E, smallest CPDI2 corner Jacobian J, CPDI1 corner gap: the domains only). accurate: "
-                 f"|error| <= {100 * WRONG:.0f} %, n <= {NOISY}, E < 5 %", fontsize=9)
+                 "error E, smallest CPDI2 corner Jacobian J, CPDI1 corner gap: the domains "
+                 f"only). accurate: |error| <= {100 * WRONG:.0f} %, n <= {NOISY}, E < 5 %",
+                 fontsize=9)
     _legend_outcomes(ax)
     fig.savefig(OUT / "map_crush.png", dpi=150)
     plt.close(fig)
