@@ -140,6 +140,14 @@ def fig_accuracy_runtime(rows, adv, out: Path) -> None:
                         label=f"cheapest ≤ {a['target']:.0%}: {settings(a)}")
         for tgt in TARGETS:
             ax.axhline(100 * tgt, color="0.6", lw=0.7, ls=":")
+        ref = next((r for r in rows if r["scene"] == scene and r["name"] == r["reference"]),
+                   None)
+        if ref is not None and np.isfinite(ref["cpu_s"]):
+            ax.axvline(ref["cpu_s"], color="C3", ls="--", lw=0.8,
+                       label=f"reference run ({ref['cpu_s']:.0f} s)")
+        from matplotlib.ticker import LogFormatter
+        ax.xaxis.set_minor_formatter(LogFormatter(labelOnlyBase=False,
+                                                  minor_thresholds=(1.5, 0.5)))
         ax.set_xlabel("CPU time [s] (one thread)")
         ax.set_ylabel(f"error [%] ({HEADLINE[scene]})")
         ax.set_title(f"{scene}: accuracy against cost")
@@ -148,37 +156,50 @@ def fig_accuracy_runtime(rows, adv, out: Path) -> None:
     plt.close(fig)
 
 
+def _ticks(ax, axis: str, values: list[float], labels: list[str]) -> None:
+    """Fixed ticks with plain labels on a log axis."""
+    from matplotlib.ticker import FixedLocator, NullLocator
+    a = ax.xaxis if axis == "x" else ax.yaxis
+    a.set_major_locator(FixedLocator(values))
+    a.set_minor_locator(NullLocator())
+    (ax.set_xticklabels if axis == "x" else ax.set_yticklabels)(labels)
+
+
 def fig_error_factors(rows, rich, out: Path) -> None:
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4.6), layout="constrained")
-    specs = [("h_over_t", "grid spacing h/t", {"n_t": 16.0}),
-             ("n_t", "particles through the wall n_t", {"h_over_t": 0.25}),
-             ("n_c", "particles around the ring n_c (aspect 4, 2, 1, 1/2)",
-              {"h_over_t": 0.25, "n_t": 8.0})]
-    for ax, (var, label, fixed) in zip(axes, specs):
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.6), layout="constrained", sharey=True)
+    specs = [("h_over_t", "grid spacing h/t (n_t = 16)", {"n_t": 16.0},
+              [2, 1, 0.5, 0.25], ["2", "1", "1/2", "1/4"]),
+             ("n_t", "particles through the wall n_t (h = t/4)", {"h_over_t": 0.25},
+              [2, 4, 8, 16, 32], ["2", "4", "8", "16", "32"]),
+             ("n_c", "particles around: n_c / n_c of square particles (h = t/4, n_t = 8)",
+              {"h_over_t": 0.25, "n_t": 8.0}, [0.25, 0.5, 1, 2], ["1/4", "1/2", "1", "2"])]
+    for ax, (var, label, fixed, ticks, labels) in zip(axes, specs):
         for k, scene in enumerate(SCENES):
-            rs = [r for r in sweep(rows, scene, var, **fixed)
-                  if var != "n_c" or True]
             if var == "n_c":
-                rs = [r for r in rows if r["scene"] == scene and centre(
-                    r, h_over_t=0.25, n_t=8.0, aspect=r["aspect"])]
-                rs = sorted(rs, key=lambda r: r["n_c"])
-            rs = [r for r in rs if np.isfinite(r["error"]) and r["error"] > 0]
-            if not rs:
-                continue
-            x = np.array([r[var] for r in rs])
-            if var == "n_c":
-                x = x / x.max()
-            ax.loglog(x, [100 * r["error"] for r in rs], "o-", color=f"C{k}", label=scene)
+                rs = sorted([r for r in rows if r["scene"] == scene and centre(
+                    r, h_over_t=0.25, n_t=8.0, aspect=r["aspect"])], key=lambda r: -r["aspect"])
+                x = [1.0 / r["aspect"] for r in rs]
+            else:
+                rs = sweep(rows, scene, var, **fixed)
+                x = [r[var] for r in rs]
+            pts = [(xi, r["error"]) for xi, r in zip(x, rs)
+                   if np.isfinite(r["error"]) and r["error"] > 0]
+            if pts:
+                xs, es = zip(*pts)
+                ax.loglog(xs, 100 * np.array(es), "o-", color=f"C{k}", label=scene)
+        ax.set_xscale("log")
+        _ticks(ax, "x", ticks, labels)
         if var == "h_over_t":
             ax.invert_xaxis()
-        ax.set_xlabel(label if var != "n_c" else "n_c / largest n_c (finer to the right)")
-        ax.set_ylabel("error [%]")
+        ax.set_xlabel(label + (" (finer to the right)" if var != "n_c" else ""))
         ax.grid(True, which="both", alpha=0.3)
+        for tgt in TARGETS:
+            ax.axhline(100 * tgt, color="0.6", lw=0.7, ls=":")
         ax.legend()
-        ax.set_title(f"error against {label.split(' n_')[0] if var != 'h_over_t' else 'h/t'}"
-                     + ("" if var == "n_c" else
-                        f" ({', '.join(f'{k} {v:g}' for k, v in fixed.items())})"),
-                     fontsize=10)
+    axes[0].set_ylabel("error [%] against the reference (h = t/8, n_t = 16)")
+    _ticks(axes[0], "y", [1, 2, 5, 10, 20, 50, 100, 200, 500],
+           ["1", "2", "5", "10", "20", "50", "100", "200", "500"])
+    fig.suptitle("which factor matters: one factor at a time, CPDI2 + MUSL, cfl 0.2")
     fig.savefig(out / "error_factors.png", dpi=130)
     plt.close(fig)
 
