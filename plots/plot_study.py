@@ -244,7 +244,10 @@ def fig_crush(rows, folder: Path, out: Path, exp=None) -> None:
                     label="experiment")
         ax.axvspan(0.05, 0.5, color="0.9", zorder=0)
         ax.set_xlim(0, 0.55)
-        ax.set_xlabel("δ / D")
+        ax.set_ylim(0, 3.5e-3 * float(mpmplot.deruntz_hodge(0.5 * ring["D"], ring["D"], ring["t"],
+                                                             ring["sigma_y"], ring["plane"],
+                                                             ring["depth"])))
+        ax.set_xlabel("δ / D (curves above the frame are cut)")
         ax.set_title(f"crush: {title}; shaded: error window")
         ax.legend(fontsize=8, loc="upper left")
     axes[0].set_ylabel("platen force per metre [kN/m]")
@@ -270,10 +273,12 @@ def fig_impact(rows, folder: Path, out: Path, exp=None) -> None:
         if exp is not None:
             ax.plot(exp[0] * 1e3, exp[1] * 1e-3, "o", ms=3, mfc="none", color="k",
                     label="experiment")
-        ax.set_xlabel("time [ms]")
+        ax.set_xlabel("time [ms] (the first spike of h/t = 2 reaches 2200 kN/m, cut)"
+                      if var == "h_over_t" else "time [ms]")
         ax.set_title(f"impact at 30 m/s: {title}")
         ax.legend(fontsize=7)
         ax.set_xlim(0, 0.9)
+        ax.set_ylim(0, 700)
     axes[0].set_ylabel("target force per metre [kN/m]")
     fig.savefig(out / "impact_curves.png", dpi=130)
     plt.close(fig)
