@@ -80,6 +80,12 @@ def curve(name: str, folder: Path) -> np.ndarray | None:
     return np.loadtxt(p, delimiter=",", skiprows=1, ndmin=2) if p.is_file() else None
 
 
+def _legend(ax, **kw) -> None:
+    """A legend when the axes have labelled artists."""
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(**kw)
+
+
 def pareto(points: list[tuple[float, float]]) -> list[tuple[float, float]]:
     """Lower-left envelope: runs no other run beats in both cost and error."""
     front, best = [], math.inf
@@ -151,7 +157,7 @@ def fig_accuracy_runtime(rows, adv, out: Path) -> None:
         ax.set_xlabel("CPU time [s] (one thread)")
         ax.set_ylabel(f"error [%] ({HEADLINE[scene]})")
         ax.set_title(f"{scene}: accuracy against cost")
-        ax.legend(fontsize=7, loc="upper right")
+        _legend(ax, fontsize=7, loc="upper right")
     fig.savefig(out / "accuracy_runtime.png", dpi=130)
     plt.close(fig)
 
@@ -195,7 +201,7 @@ def fig_error_factors(rows, rich, out: Path) -> None:
         ax.grid(True, which="both", alpha=0.3)
         for tgt in TARGETS:
             ax.axhline(100 * tgt, color="0.6", lw=0.7, ls=":")
-        ax.legend()
+        _legend(ax)
     axes[0].set_ylabel("error [%] against the reference (h = t/8, n_t = 16)")
     _ticks(axes[0], "y", [1, 2, 5, 10, 20, 50, 100, 200, 500],
            ["1", "2", "5", "10", "20", "50", "100", "200", "500"])
@@ -249,7 +255,7 @@ def fig_crush(rows, folder: Path, out: Path, exp=None) -> None:
                                                              ring["depth"])))
         ax.set_xlabel("δ / D (curves above the frame are cut)")
         ax.set_title(f"crush: {title}; shaded: error window")
-        ax.legend(fontsize=8, loc="upper left")
+        _legend(ax, fontsize=8, loc="upper left")
     axes[0].set_ylabel("platen force per metre [kN/m]")
     fig.savefig(out / "crush_curves.png", dpi=130)
     plt.close(fig)
@@ -276,7 +282,7 @@ def fig_impact(rows, folder: Path, out: Path, exp=None) -> None:
         ax.set_xlabel("time [ms] (the first spike of h/t = 2 reaches 2200 kN/m, cut)"
                       if var == "h_over_t" else "time [ms]")
         ax.set_title(f"impact at 30 m/s: {title}")
-        ax.legend(fontsize=7)
+        _legend(ax, fontsize=7)
         ax.set_xlim(0, 0.9)
         ax.set_ylim(0, 700)
     axes[0].set_ylabel("target force per metre [kN/m]")
@@ -305,7 +311,7 @@ def fig_cor(rows, out: Path) -> None:
     ax.set_ylabel("coefficient of restitution [-]")
     ax.set_ylim(0, 1)
     ax.set_title("aluminium ring (R/t = 12.5) on a rigid target")
-    ax.legend(fontsize=8)
+    _legend(ax, fontsize=8)
     fig.savefig(out / "impact_cor.png", dpi=130)
     plt.close(fig)
 
@@ -333,7 +339,7 @@ def fig_wave(rows, folder: Path, out: Path, exp=None) -> None:
     ax.set_xlabel("angle from the struck point [deg]")
     ax.set_ylabel("arrival time [µs]")
     ax.set_title("wave round the ring: arrival (10 % of the probe's peak)")
-    ax.legend(fontsize=8)
+    _legend(ax, fontsize=8)
     fig.savefig(out / "wave_arrival.png", dpi=130)
     plt.close(fig)
 
