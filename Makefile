@@ -103,11 +103,12 @@ $(BLD)/bench: tools/bench.f90 $(LIBOBJ) | $(BLD) $(BLD)/tmod_bench
 	$(FC_ALL) $(HDF5_FFLAGS) -I$(BLD) -J$(BLD)/tmod_bench -o $@ $< $(LIBOBJ) $(HDF5_LIBS)
 
 ## study: the refinement study (LEVEL=quick: under 10 min on 2 cores; LEVEL=full: about 1.5 h;
-##        LEVEL=all adds n_t = 32); runs in out/study/ (resumable), table in docs/study/
+##        LEVEL=all adds n_t = 32); runs in out/study/ (resumable), table and figures in
+##        docs/study/ (quick: out/study-quick/)
 LEVEL ?= quick
 study: all
 	$(PYTHON) tools/study.py --level $(LEVEL)
-	$(PYTHON) plots/plot_study.py --level $(LEVEL) $(if $(filter quick,$(LEVEL)),--out out/study-figures-quick)
+	$(PYTHON) plots/plot_study.py --level $(LEVEL)
 
 ## figures: regenerate the study's figures (docs/study/) from the committed table and curves
 figures: deps

@@ -396,12 +396,13 @@ def write_advice_include(rows: list[dict[str, Any]], adv: list[dict[str, Any]], 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--level", default="full", choices=("quick", "full", "all"))
-    ap.add_argument("--out", default=None, help="output folder (default docs/study)")
+    ap.add_argument("--out", default=None, help="output folder (default docs/study; "
+                                                 "out/study-quick for --level quick)")
     ap.add_argument("--experiment", action="append", metavar="SCENE=CSV",
                     help="overlay a measured curve on the crush, impact or wave figure "
                          "(repeatable; columns as for plot_case.py, plots/README.md)")
     args = ap.parse_args(argv)
-    folder = ROOT / "docs" / "study"
+    folder = ROOT / "out" / "study-quick" if args.level == "quick" else ROOT / "docs" / "study"
     out = Path(args.out) if args.out else folder
     out.mkdir(parents=True, exist_ok=True)
     table = folder / f"study_{args.level}.csv"

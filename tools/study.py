@@ -13,7 +13,8 @@ once, one thread each, finished runs skipped, interrupted runs re-run).
 Then every run's metrics are computed against the scene's reference (the finest CPDI2 run of the
 level, whose own error is estimated by Richardson extrapolation over the h sweep) and written to
 docs/study/study_<level>.csv (one row per run), with compact curves in docs/study/curves/ that
-plots/plot_study.py turns into the figures of docs/validation.md. `--tables-only` recomputes
+plots/plot_study.py turns into the figures of docs/validation.md (the quick level writes to
+out/study-quick/ instead: it checks the machinery, its coarse reference is no result). `--tables-only` recomputes
 the table from existing run folders without running anything.
 
 Levels: ``quick`` (under 10 minutes on 2 cores: coarse sweeps, its own coarse reference),
@@ -42,6 +43,12 @@ import mpmplot  # noqa: E402
 
 RUNS = ROOT / "out" / "study"    # not under build/: `make clean` must not delete a study
 OUT = ROOT / "docs" / "study"
+
+
+def out_dir(level: str) -> Path:
+    """Where a level's table and curves go: docs/study (committed) for full and all,
+    out/study-quick for the quick level (a check of the machinery, not a result)."""
+    return ROOT / "out" / "study-quick" if level == "quick" else OUT
 
 #: The scenes: base namelist, wall thickness t [m], and the overrides that make the study
 #: version (crush stops at delta/D about 0.53, impact after the rebound, wave after the front
@@ -357,7 +364,7 @@ def collect(level: str, points: dict[str, list[Point]]) -> tuple[list[dict[str, 
     """Rows of the table and the Richardson estimates, from the run folders."""
     rows: list[dict[str, Any]] = []
     extra: dict[str, Any] = {}
-    curves = OUT / "curves"
+    curves = out_dir(level) / "curves"
     curves.mkdir(parents=True, exist_ok=True)
     for scene, pts in points.items():
         metrics: dict[str, dict[str, Any]] = {}
@@ -409,14 +416,15 @@ def collect(level: str, points: dict[str, list[Point]]) -> tuple[list[dict[str, 
 
 
 def write_table(level: str, rows: list[dict[str, Any]], extra: dict[str, Any]) -> Path:
-    OUT.mkdir(parents=True, exist_ok=True)
-    path = OUT / f"study_{level}.csv"
+    out = out_dir(level)
+    out.mkdir(parents=True, exist_ok=True)
+    path = out / f"study_{level}.csv"
     with open(path, "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=COLUMNS, extrasaction="ignore")
         w.writeheader()
         for r in rows:
             w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items()})
-    (OUT / f"richardson_{level}.json").write_text(json.dumps(extra, indent=1) + "\n")
+    (out / f"richardson_{level}.json").write_text(json.dumps(extra, indent=1) + "\n")
     return path
 
 
