@@ -35,7 +35,7 @@ FC_ALL  := $(FC) $(FFLAGS_common) $(FFLAGS_$(BUILD))
 # HDF5 flags come from pkg-config when make reads this file, so everything that compiles runs
 # in a sub-make started after `deps` has installed what was missing (a fresh machine).
 all: deps
-	@$(MAKE) --no-print-directory bin/tubempm
+	@$(MAKE) --no-print-directory $(if $(filter release,$(BUILD)),bin/tubempm,$(BLD)/tubempm)
 
 ## deps: install what is missing (Debian packages, Python packages); silent when all is there
 deps:
@@ -109,10 +109,13 @@ LEVEL ?= quick
 study: all
 	$(PYTHON) tools/study.py --level $(LEVEL)
 	$(PYTHON) plots/plot_study.py --level $(LEVEL)
+	@$(MAKE) --no-print-directory all    # --check's advice table may have changed
 
-## figures: regenerate the study's figures (docs/study/) from the committed table and curves
+## figures: regenerate the study's figures (docs/study/) from the committed table and curves,
+##          and --check's advice table (src/mpm_advice_table.inc, rebuilt when it changed)
 figures: deps
 	$(PYTHON) plots/plot_study.py --level full
+	@$(MAKE) --no-print-directory all
 
 ## stability: the stability study of docs/stability.md (release build, one run at a time, one
 ##            thread): LEVEL=quick (default, < 10 min) or LEVEL=full; tables and figures in

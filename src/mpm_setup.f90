@@ -301,7 +301,7 @@ contains
             cfg%grid%h <= 0.5_wp*t*(1.0_wp + 1.0e-9_wp)) then
           write(line, '(a,i0,a,f5.2,a)') 'body ', ib, ': h/t = ', cfg%grid%h/t, &
             ': the refinement study found errors of 15 % (crush force) and 25 to 29 % '// &
-            '(impact) at h = t/2 against 4 to 6 % at h = t/4 (docs/validation.md). '// &
+            '(impact) at h = t/2 against 2 to 7 % at h = t/4 (docs/validation.md). '// &
             'Use h <= t/4 with n_thick >= 2 t/h for about 5 %'
           call append_msg(warnings, line)
         end if

@@ -22,6 +22,8 @@ import tempfile
 import traceback
 from pathlib import Path
 
+import numpy as np
+
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tools"))
 sys.path.insert(0, str(ROOT / "plots"))
@@ -146,6 +148,38 @@ def test_batch_runs() -> None:
         shutil.rmtree(tmp, ignore_errors=True)
 
 
+def test_crush_metrics() -> None:
+    """Crush metrics of a made-up history: a constant force F0 while the quarter model's platen
+    advances at a constant speed (delta = twice the advance). The absorbed energy at
+    delta/D = 0.5 is then F0 D / 2 exactly, the window mean is F0, and a curve compared with
+    itself has no error."""
+    import mpmplot
+    import study
+    inputs = mpmplot.read_namelist(ROOT / "namelists" / "crush.nml")
+    D = mpmplot.ring_properties(inputs)["D"]
+    tmp = Path(tempfile.mkdtemp(prefix="test_study_crush_"))
+    try:
+        n, f0 = 397, 3.0e4                      # rows deliberately not aligned with 0.5 D
+        t = np.linspace(0.0, 1.0e-3, n)
+        adv = 0.6 * D / 2 * t / t[-1]           # delta from 0 to 0.6 D
+        cols = {"time": t, "wall1_disp": -adv, "wall1_force": np.full(n, f0),
+                "wall2_disp": np.zeros(n), "wall2_force": np.zeros(n),
+                "wall3_disp": np.zeros(n), "wall3_force": np.zeros(n)}
+        with open(tmp / "history.csv", "w") as fh:
+            fh.write(",".join(cols) + "\n")
+            for i in range(n):
+                fh.write(",".join(f"{cols[k][i]:.17g}" for k in cols) + "\n")
+        m = study.crush_metrics(tmp, inputs)
+        check(close(m["energy_50"], f0 * 0.5 * D, 1e-9),
+              f"energy at delta/D = 0.5: {m['energy_50']} vs F0 D/2 = {f0 * 0.5 * D}")
+        check(close(m["force_mean"], f0, 1e-12), f"window mean {m['force_mean']} vs {f0}")
+        e = study.errors("crush", m, m)
+        check(e["err_F_L2"] == 0.0 and e["err_energy_50"] == 0.0, f"self-error {e}")
+        check(abs(e["noise"]) < 1e-12, f"noise of a constant force {e['noise']}")
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
 def test_check_advice() -> None:
     """`tubempm --check` prints the study's advice from the compiled table: the nearest run to
     namelists/crush.nml (h = t/4, n_thick 8, CPDI2, cfl 0.2) is that very run of the study, with
@@ -177,6 +211,21 @@ def test_check_advice() -> None:
     if check(len(rows) == 1 and rows[0]["error"] != "", "the run is in the table"):
         check(abs(err - 100 * float(rows[0]["error"])) < 0.006,
               f"error {err} % vs table {100 * float(rows[0]['error'])} %")
+    # an input at the reference's settings is not told "error 0 %": references are not in the
+    # compiled table (their error was never measured)
+    import batch
+    ref_text = batch.render((ROOT / "namelists" / "crush.nml").read_text(),
+                            {"grid.h": 1.48e-3 / 8, "body.n_thick": 16})
+    with tempfile.NamedTemporaryFile("w", suffix=".nml", delete=False) as fh:
+        fh.write(ref_text)
+    try:
+        out_ref = subprocess.run([str(exe), "--check", "--quiet", fh.name],
+                                 capture_output=True, text=True).stdout
+    finally:
+        os.unlink(fh.name)
+    m2 = re.search(r"nearest study run: .*error +([\d.]+) %", out_ref)
+    check(m2 is not None and float(m2[1]) > 0.0,
+          f"reference settings: nearest run has a measured error: {m2[0] if m2 else out_ref}")
     for a in csv.DictReader(open(adv_file)):
         if a["scene"] != "crush":
             continue
@@ -193,7 +242,7 @@ def test_check_advice() -> None:
 
 def main() -> int:
     for t in (test_render, test_richardson, test_pareto_advice, test_batch_runs,
-              test_check_advice):
+              test_crush_metrics, test_check_advice):
         try:
             t()
         except Exception:                      # a crash is a failure, with its traceback

@@ -5,7 +5,8 @@ once, resumable.
 Every case gets its own folder ``<root>/<name>/`` holding ``case.nml`` (the base namelist with
 the overrides applied, ``output_dir`` pointing at the folder itself), the run's outputs,
 ``run.log`` (its standard output and error) and, once the process has ended, ``result.json``
-(exit code, wall and CPU seconds, the hash of the input without the folder). A case whose ``result.json`` exists
+(exit code, wall and CPU seconds, the hash of the input without the folder, the binary
+and its hash). A case whose ``result.json`` exists
 for the same input is skipped; any other folder (an interrupted run, or a changed input) is
 cleared and run again. Runs use one OpenMP thread each (``threads``), ``jobs`` at a time.
 
@@ -123,6 +124,20 @@ def case_text(case: Case, folder: Path) -> str:
     return render(case.base.read_text(), overrides)
 
 
+def input_hash(case: Case) -> str:
+    """Hash of a case's input without its folder (title and output_dir): a study folder can
+    be moved without re-running, and a changed input is noticed."""
+    return hashlib.sha256(render(case.base.read_text(), case.overrides).encode()).hexdigest()[:16]
+
+
+def _file_hash(path: Path) -> str:
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for chunk in iter(lambda: fh.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()[:16]
+
+
 def result_of(folder: Path) -> dict[str, Any] | None:
     """The recorded result of a finished case, or None."""
     path = folder / "result.json"
@@ -138,9 +153,7 @@ def _run_one(case: Case, root: Path, threads: int, timeout: float | None,
              binary: Path, log: Callable[[str], None], stop: threading.Event) -> dict[str, Any]:
     folder = root / case.name
     text = case_text(case, folder)
-    # the input without the folder, so that a study folder can be moved without re-running
-    digest = hashlib.sha256(render(case.base.read_text(), case.overrides).encode()
-                            ).hexdigest()[:16]
+    digest = input_hash(case)
     old = result_of(folder)
     if old is not None and old.get("input_hash") == digest:
         old["skipped"] = True
@@ -180,6 +193,7 @@ def _run_one(case: Case, root: Path, threads: int, timeout: float | None,
     result = {"name": case.name, "exit_code": proc.returncode, "wall_s": wall,
               "cpu_s": rusage.ru_utime + rusage.ru_stime, "threads": threads,
               "timed_out": timed_out, "input_hash": digest, "labels": case.labels,
+              "binary": str(binary), "binary_hash": _file_hash(binary),
               "finished": time.strftime("%Y-%m-%d %H:%M:%S")}
     (folder / "result.json").write_text(json.dumps(result, indent=1) + "\n")
     log(f"{case.name}: exit {proc.returncode}, {wall:.1f} s")
@@ -222,7 +236,8 @@ def run_batch(cases: list[Case], root: Path, jobs: int = 2, threads: int = 1,
 
 def read_summary(folder: Path) -> dict[str, Any]:
     """summary.nml of a finished case as a dict ({} if missing)."""
-    sys.path.insert(0, str(ROOT / "plots"))
+    if str(ROOT / "plots") not in sys.path:
+        sys.path.insert(0, str(ROOT / "plots"))
     import mpmplot  # noqa: E402  (plots/ is not a package)
     path = folder / "summary.nml"
     return mpmplot.read_summary(path) if path.is_file() else {}
