@@ -8,7 +8,8 @@
 !! (h/t, n_t, particle aspect ratio), not a guarantee.
 module mpm_advice
   use mpm_kinds, only: wp
-  use mpm_constants, only: SHAPE_RING, basis_names
+  use mpm_constants, only: SHAPE_RING, SECTOR_FULL, basis_names
+  use mpm_particles, only: ring_counts
   use mpm_config, only: config_t
   use mpm_errors, only: append_msg
   implicit none
@@ -20,8 +21,9 @@ module mpm_advice
 
 contains
 
-  !> Which study scene the case resembles: 'crush' (a platen moves at constant velocity),
-  !! 'wave' (a wall follows a motion table), 'impact' (a ring body moves at t = 0), or ''.
+  !> Which study scene the case resembles: 'wave' (a wall gives a blow: a motion table that
+  !! ends at rest), 'crush' (a platen keeps moving), 'impact' (a ring body moves at t = 0), or
+  !! ''.
   pure function scene_of(cfg) result(scene)
     type(config_t), intent(in) :: cfg     !! the case
     character(len=6) :: scene
@@ -29,7 +31,9 @@ contains
     scene = ''
     if (.not. any(cfg%bodies%shape_id == SHAPE_RING)) return
     do k = 1, size(cfg%walls)
-      if (cfg%walls(k)%n_motion > 0 .and. any(cfg%walls(k)%velocity /= 0.0_wp)) then
+      if (cfg%walls(k)%n_motion < 1) cycle
+      if (any(cfg%walls(k)%velocity /= 0.0_wp) .and. &
+          cfg%walls(k)%motion_f(cfg%walls(k)%n_motion) == 0.0_wp) then
         scene = 'wave'
         return
       end if
@@ -56,7 +60,7 @@ contains
     character(len=6) :: scene, basis
     character(len=200) :: line
     real(wp) :: t, r, hot, aspect, d, dbest
-    integer :: ib, k, i, best, nt
+    integer :: ib, k, i, best, nt, nfull, npb, ncb
     text = ''
     scene = scene_of(cfg)
     if (len_trim(scene) == 0 .or. n_study == 0) return
@@ -65,8 +69,9 @@ contains
       t = b%r_outer - b%r_inner
       r = 0.5_wp*(b%r_inner + b%r_outer)
       nt = b%n_thick
-      aspect = 1.0_wp
-      if (b%n_circ > 0) aspect = (2.0_wp*acos(-1.0_wp)*r/real(b%n_circ, wp))/(t/real(nt, wp))
+      ! particles around the whole ring as the set-up makes them (n_circ = 0: automatic)
+      call ring_counts(b%r_inner, b%r_outer, nt, b%n_circ, SECTOR_FULL, nfull, npb, ncb)
+      aspect = (2.0_wp*acos(-1.0_wp)*r/real(nfull, wp))/(t/real(nt, wp))
     end associate
     hot = h/t
     basis = basis_names(cfg%solver%basis_id)

@@ -185,7 +185,7 @@ def design(level: str) -> dict[str, list[Point]]:
         ref = Point(scene, h_over_t=0.125, n_t=16)
         pts = [ref]
         pts += [Point(scene, h_over_t=h, n_t=16) for h in (2.0, 1.0, 0.5, 0.25)]
-        nts = (2, 4, 8, 32) if (scene == "wave" or level == "all") else (2, 4, 8)
+        nts = (2, 4, 8, 32)
         pts += [Point(scene, h_over_t=0.25, n_t=n) for n in nts]
         # (the crush, the most expensive scene, keeps to the cheaper ends of two sweeps:
         # aspect 1/2 and the bases at h = t/4 are in LEVEL=all only)
