@@ -19,9 +19,9 @@ out/study-quick/ instead: it checks the machinery, its coarse reference is no re
 the table from existing run folders without running anything.
 
 Levels: ``quick`` (under 10 minutes on 2 cores: coarse sweeps, its own coarse reference),
-``full`` (about 1.5 hours on 2 cores; the committed table and figures), ``all`` (full plus
-n_t = 32 at h = t/4 for the crush and impact, n_t = 32 at h = t/8 for every scene, the crush's
-bases at h = t/4 and its aspect 1/2; several hours).
+``full`` (about 2 hours on 2 cores; the committed table and figures), ``all`` (full plus
+n_t = 32 at h = t/8 for every scene, the crush's bases at h = t/4 and its aspect 1/2; several
+hours more).
 """
 from __future__ import annotations
 
