@@ -29,6 +29,7 @@ import argparse
 import csv
 import json
 import math
+import os
 import shutil
 import sys
 from dataclasses import dataclass
@@ -448,7 +449,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--level", choices=("quick", "full", "all"), default="quick")
     ap.add_argument("--quick", action="store_const", const="quick", dest="level",
                     help="same as --level quick")
-    ap.add_argument("--jobs", type=int, default=2, help="runs at once (default 2)")
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
+                    help="runs at once (default: the number of cores)")
     ap.add_argument("--tables-only", action="store_true",
                     help="recompute the table from the run folders, run nothing")
     ap.add_argument("--list", action="store_true", help="list the runs and their estimated cost")
