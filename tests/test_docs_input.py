@@ -12,21 +12,15 @@ import re
 import sys
 from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from pycheck import Checks  # noqa: E402
+
 ROOT = Path(__file__).resolve().parent.parent
 DOC = ROOT / "docs" / "input.md"
 SRC = ROOT / "src" / "mpm_config.f90"
 
-passed = 0
-failed = 0
-
-
-def check(cond, msg):
-    global passed, failed
-    if cond:
-        passed += 1
-    else:
-        failed += 1
-        print(f"FAIL [test_docs_input]: {msg}")
+T = Checks("test_docs_input")
+check = T.check
 
 
 def source_groups(text):
@@ -117,8 +111,7 @@ def main():
         for name in sorted(names):
             check(name in set(doc.get(group, [])),
                   f"the full example sets &{group}: {name}, which no table documents")
-    print(f"test_docs_input: {passed} passed, {failed} failed")
-    return 1 if failed else 0
+    return T.summary()
 
 
 if __name__ == "__main__":

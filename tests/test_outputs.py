@@ -24,28 +24,15 @@ import traceback
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from pycheck import Checks, close  # noqa: E402
+
 ROOT = Path(__file__).resolve().parent.parent
 PLOTS = ROOT / "plots"
 NAME = "test_outputs"
 
-passed = 0
-failed = 0
-
-
-def check(cond: bool, msg: str) -> bool:
-    """Count one check; print a line for a failure."""
-    global passed, failed
-    if cond:
-        passed += 1
-    else:
-        failed += 1
-        print(f"FAIL [{NAME}]: {msg}")
-    return bool(cond)
-
-
-def close(a: float, b: float, rtol: float = 1e-12, atol: float = 0.0) -> bool:
-    """|a - b| <= max(atol, rtol |b|), False for NaN."""
-    return math.isfinite(a) and math.isfinite(b) and abs(a - b) <= max(atol, rtol * abs(b))
+T = Checks(NAME)
+check = T.check
 
 
 # ----------------------------------------------------------------------------------------------
@@ -530,5 +517,4 @@ if __name__ == "__main__":
         traceback.print_exc()
         check(False, "the test script crashed (traceback above)")
         rc = 1
-    print(f"{NAME}: {passed} passed, {failed} failed")
-    sys.exit(1 if failed > 0 or rc != 0 else 0)
+    sys.exit(max(T.summary(), 1 if rc != 0 else 0))

@@ -30,16 +30,11 @@ import mpmplot  # noqa: E402
 import stability  # noqa: E402
 from batch import run_batch  # noqa: E402
 
-passed = failed = 0
+sys.path.insert(0, str(ROOT / "tests"))
+from pycheck import Checks  # noqa: E402
 
-
-def check(cond: bool, what: str) -> None:
-    global passed, failed
-    if cond:
-        passed += 1
-    else:
-        failed += 1
-        print(f"FAIL [test_stability_crush.py]: {what}")
+T = Checks("test_stability_crush")
+check = T.check
 
 
 def main() -> int:
@@ -104,8 +99,7 @@ def main() -> int:
     print(f"fold at delta/D = {d_fold:.3f} (study: {fold['delta_fold'] if fold else 'none'})")
     check(fold is not None and abs(d_fold - fold["delta_fold"]) <= 0.03,
           "fast deep crush: fold not where the study found it")
-    print(f"test_stability_crush.py: {passed} passed, {failed} failed")
-    return 1 if failed else 0
+    return T.summary()
 
 
 if __name__ == "__main__":

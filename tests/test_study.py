@@ -27,23 +27,11 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tools"))
 sys.path.insert(0, str(ROOT / "plots"))
+sys.path.insert(0, str(ROOT / "tests"))
+from pycheck import Checks, close  # noqa: E402
 NAME = "test_study"
-passed = 0
-failed = 0
-
-
-def check(cond: bool, msg: str) -> bool:
-    global passed, failed
-    if cond:
-        passed += 1
-    else:
-        failed += 1
-        print(f"FAIL [{NAME}]: {msg}")
-    return bool(cond)
-
-
-def close(a: float, b: float, rtol: float = 1e-12) -> bool:
-    return math.isfinite(a) and math.isfinite(b) and abs(a - b) <= rtol * max(abs(b), 1e-300)
+T = Checks(NAME)
+check = T.check
 
 
 def test_render() -> None:
@@ -249,8 +237,7 @@ def main() -> int:
         except Exception:                      # a crash is a failure, with its traceback
             traceback.print_exc()
             check(False, f"{t.__name__} raised")
-    print(f"{NAME}: {passed} passed, {failed} failed")
-    return 1 if failed else 0
+    return T.summary()
 
 
 if __name__ == "__main__":
