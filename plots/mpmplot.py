@@ -34,7 +34,8 @@ __all__ = [
     "plane_of", "depth_of", "deruntz_hodge",
     "deruntz_hodge_energy", "plastic_collapse_load", "ring_elastic_stiffness", "bar_speed",
     "plate_speed", "dilatational_speed", "shear_speed", "wave_speeds", "contact_phases",
-    "impact_velocity", "rebound_velocity", "arrival_times", "history_walls", "read_experiment",
+    "impact_velocity", "rebound_velocity", "arrival_times", "moving_average", "history_walls",
+    "read_experiment",
 ]
 
 #: Datasets every snapshot group of particles.h5 must hold, with their number of columns
@@ -830,6 +831,14 @@ def rebound_velocity(history: dict[str, np.ndarray], wall: int = 1,
     i2 = i1 + (int(np.argmax(after)) if np.any(after) else len(after))
     v = _com_velocity(history)[i1:max(i2, i1 + 1)] @ n
     return float(np.mean(v))
+
+
+def moving_average(y: np.ndarray, n: int) -> np.ndarray:
+    """Centred moving average of y over n samples; near the ends the window shrinks to the
+    samples there are (so a record that starts and ends at zero stays zero there)."""
+    n = max(1, int(n))
+    k = np.ones(n)
+    return np.convolve(y, k, mode="same") / np.convolve(np.ones_like(y), k, mode="same")
 
 
 def arrival_times(time: np.ndarray, v: np.ndarray, threshold: float = 0.1) -> np.ndarray | float:

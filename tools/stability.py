@@ -124,13 +124,7 @@ def run_reason(folder: Path, summary: dict[str, Any], exit_code: int | None) -> 
     return f"exit {exit_code}"
 
 
-def smooth(y: np.ndarray, n: int) -> np.ndarray:
-    """Centred moving average over n samples (shorter windows at the ends)."""
-    n = max(1, int(n))
-    k = np.ones(n)
-    num = np.convolve(y, k, mode="same")
-    den = np.convolve(np.ones_like(y), k, mode="same")
-    return num / den
+smooth = mpmplot.moving_average
 
 
 def common(result: dict[str, Any], folder: Path) -> dict[str, Any]:

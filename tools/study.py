@@ -15,8 +15,8 @@ level: h = t/8, n_t = 16 for full and all, h = t/4, n_t = 8 for quick; its own e
 estimated by Richardson extrapolation over the h sweep) and written to
 docs/study/study_<level>.csv (one row per run), with compact curves in docs/study/curves/ that
 plots/plot_study.py turns into the figures of docs/validation.md (the quick level writes to
-out/study-quick/ instead: it checks the machinery, its coarse reference is no result). `--tables-only` recomputes
-the table from existing run folders without running anything.
+out/study-quick/ instead: it checks the machinery, its coarse reference is no result).
+`--tables-only` recomputes the table from existing run folders without running anything.
 
 Levels: ``quick`` (under 10 minutes on 2 cores: coarse sweeps, its own coarse reference),
 ``full`` (about 2 hours on 2 cores; the committed table and figures), ``all`` (full plus
@@ -229,7 +229,7 @@ def crush_metrics(folder: Path, inputs: dict) -> dict[str, Any]:
     fine = np.arange(0.0, disp.max(), 0.001 * D)
     ff = np.interp(fine, disp[order], force[order])
     k = max(1, int(round(SMOOTH_WIDTH / 0.001)))
-    sm = np.convolve(ff, np.ones(k) / k, mode="same")
+    sm = mpmplot.moving_average(ff, k)
     m["F_smooth"] = np.interp(x, fine, sm)
     m["force_mean"] = float(np.mean(f))
     m["force_over_dh"] = float(np.mean(f) / np.mean(dh))
@@ -258,7 +258,7 @@ def impact_metrics(folder: Path, inputs: dict) -> dict[str, Any]:
         duration = float(t[on[-1] + 1] - t[on[0]])
         v_reb = float(np.mean(vn[int(0.95 * len(t)):]))
     n = max(1, int(round(PEAK_WINDOW / float(np.median(np.diff(t))))))
-    smooth = np.convolve(f, np.ones(n) / n, mode="valid")
+    smooth = mpmplot.moving_average(f, n)
     m = {"curve_x": t, "curve_y": f, "duration": duration, "peak_10us": float(smooth.max()),
          "cor": v_reb / v_imp if v_imp else float("nan"), "v_impact": v_imp,
          "impulse": float(np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(t))),
@@ -300,7 +300,8 @@ def rel(a: float, b: float) -> float:
 
 def errors(scene: str, m: dict[str, Any], ref: dict[str, Any]) -> dict[str, float]:
     """The scene's error metrics of run m against the reference run ref, and the headline
-    ``error`` (crush: L2 of F(delta); impact: the larger relative error of contact time and COR; wave:
+    ``error`` (crush: L2 of F(delta); impact: the larger relative error of contact time and
+    COR; wave:
     the largest arrival-time error at the probes beyond the struck point, relative to the
     reference's arrival at the farthest probe)."""
     e: dict[str, float] = {}
@@ -359,7 +360,8 @@ def richardson(f1: float, f2: float, f3: float, ratio: float = 2.0) -> dict[str,
 COLUMNS = ["scene", "name", "reference", "basis", "scheme", "h_over_t", "n_t", "n_c", "aspect",
            "cfl", "speed", "particles", "steps", "status", "exit_code", "wall_s", "cpu_s",
            "runtime_ratio", "mps", "energy_error", "error",
-           "err_F_L2", "err_F_smooth", "noise", "err_energy_50", "force_mean", "force_over_dh", "energy_50",
+           "err_F_L2", "err_F_smooth", "noise", "err_energy_50", "force_mean", "force_over_dh",
+           "energy_50",
            "energy_50_dh", "err_duration", "err_cor", "err_peak", "duration", "cor",
            "peak_10us", "v_impact", "impulse", "err_arrival", "err_speed", "wave_speed",
            "speed_bar", "speed_plate"]
