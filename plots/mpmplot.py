@@ -35,6 +35,7 @@ __all__ = [
     "deruntz_hodge_energy", "plastic_collapse_load", "ring_elastic_stiffness", "bar_speed",
     "plate_speed", "dilatational_speed", "shear_speed", "wave_speeds", "contact_phases",
     "impact_velocity", "rebound_velocity", "arrival_times", "moving_average", "history_walls",
+    "probe_disturbance",
     "read_experiment",
 ]
 
@@ -839,6 +840,15 @@ def moving_average(y: np.ndarray, n: int) -> np.ndarray:
     n = max(1, int(n))
     k = np.ones(n)
     return np.convolve(y, k, mode="same") / np.convolve(np.ones_like(y), k, mode="same")
+
+
+def probe_disturbance(history: dict[str, np.ndarray]) -> np.ndarray:
+    """|v - v(0)| of every probe, shape (rows, probes) [m/s]: the disturbance to time the
+    arrival of a wave by (:func:`arrival_times`), also for a body moving at t = 0."""
+    cols = [np.hypot(history[f"probe{j}_vx"] - history[f"probe{j}_vx"][0],
+                     history[f"probe{j}_vy"] - history[f"probe{j}_vy"][0])
+            for j in range(1, history_probes(history) + 1)]
+    return np.column_stack(cols) if cols else np.zeros((len(history["time"]), 0))
 
 
 def arrival_times(time: np.ndarray, v: np.ndarray, threshold: float = 0.1) -> np.ndarray | float:

@@ -342,9 +342,7 @@ def plot_wave(history: History, inputs: Inputs, outdir: str, experiment: str | N
         raise ValueError("wave plot: the history has no probe columns")
     t = history["time"]
     us = 1e6
-    dist = np.column_stack([np.hypot(history[f"probe{j + 1}_vx"] - history[f"probe{j + 1}_vx"][0],
-                                     history[f"probe{j + 1}_vy"] - history[f"probe{j + 1}_vy"][0])
-                            for j in range(nprobe)])
+    dist = mpmplot.probe_disturbance(history)
     arrival = np.atleast_1d(mpmplot.arrival_times(t, dist, threshold))
     angles, struck, _ = probe_angles(history, inputs)
     ring = _ring(inputs)

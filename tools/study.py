@@ -269,12 +269,8 @@ def impact_metrics(folder: Path, inputs: dict) -> dict[str, Any]:
 def wave_metrics(folder: Path, inputs: dict) -> dict[str, Any]:
     from plot_case import probe_angles  # noqa: E402  (plots/ on sys.path)
     h = mpmplot.read_history(folder / "history.csv")
-    nprobe = mpmplot.history_probes(h)
-    t = h["time"]
-    dist = np.column_stack([np.hypot(h[f"probe{j + 1}_vx"] - h[f"probe{j + 1}_vx"][0],
-                                     h[f"probe{j + 1}_vy"] - h[f"probe{j + 1}_vy"][0])
-                            for j in range(nprobe)])
-    arrival = np.atleast_1d(mpmplot.arrival_times(t, dist, ARRIVAL_THRESHOLD))
+    arrival = np.atleast_1d(mpmplot.arrival_times(h["time"], mpmplot.probe_disturbance(h),
+                                                  ARRIVAL_THRESHOLD))
     angles, _, _ = probe_angles(h, inputs)
     r = mpmplot.ring_properties(inputs)
     far = angles > 1.0
