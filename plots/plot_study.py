@@ -3,8 +3,8 @@
 
     python3 plots/plot_study.py [--level full] [--out docs/study]
 
-Reads docs/study/study_<level>.csv, docs/study/richardson_<level>.json and the compact
-curves docs/study/curves/<run>.csv written by tools/study.py, and writes into --out:
+Reads docs/study/study_<level>.csv and the compact curves docs/study/curves/<run>.csv
+written by tools/study.py, and writes into --out:
 
 * accuracy_runtime.png - error against CPU seconds per scene, Pareto front, recommended runs
 * error_factors.png    - error against h/t, n_t and particle aspect ratio (sets n_c)
@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import argparse
 import csv
-import json
 import math
 import subprocess
 import sys
@@ -171,7 +170,7 @@ def _ticks(ax, axis: str, values: list[float], labels: list[str]) -> None:
     (ax.set_xticklabels if axis == "x" else ax.set_yticklabels)(labels)
 
 
-def fig_error_factors(rows, rich, out: Path) -> None:
+def fig_error_factors(rows, out: Path) -> None:
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.6), layout="constrained", sharey=True)
     specs = [("h_over_t", "grid spacing h/t (n_t = 16)", {"n_t": 16.0},
               [2, 1, 0.5, 0.25], ["2", "1", "1/2", "1/4"]),
@@ -220,39 +219,44 @@ def experiment(args_exp: list[str], scene: str) -> tuple[np.ndarray, np.ndarray]
     return None
 
 
-def fig_crush(rows, folder: Path, out: Path, exp=None) -> None:
-    fig, axes = plt.subplots(1, 2, figsize=(13, 4.8), layout="constrained", sharey=True)
-    r0 = next((r for r in rows if r["scene"] == "crush"), None)
-    if r0 is None:
-        return
-    inputs = mpmplot.read_namelist(ROOT / "namelists" / "crush.nml")
-    ring = mpmplot.ring_properties(inputs)
-    for ax, (var, fixed, title) in zip(axes, [
-            ("h_over_t", {"n_t": 16.0}, "grid spacing (n_t = 16)"),
-            ("n_t", {"h_over_t": 0.25}, "particles through the wall (h = t/4)")]):
-        rs = sweep(rows, "crush", var, **fixed)
-        cmap = plt.get_cmap("viridis")
+#: The two sweeps drawn as curves: variable, fixed settings, panel title.
+CURVE_SWEEPS = [("h_over_t", {"n_t": 16.0}, "grid spacing (n_t = 16)"),
+                ("n_t", {"h_over_t": 0.25}, "particles through the wall (h = t/4)")]
+
+
+def _sweep_curves(axes, rows, scene: str, folder: Path, xscale: float, note) -> None:
+    """Each sweep of CURVE_SWEEPS on its axes: the runs' curves coarse to fine (viridis), x
+    scaled by xscale, y in kN/m, labelled with the run's setting and note(run)."""
+    cmap = plt.get_cmap("viridis")
+    for ax, (var, fixed, _) in zip(axes, CURVE_SWEEPS):
+        rs = sweep(rows, scene, var, **fixed)
         order = rs[::-1] if var == "h_over_t" else rs
         for i, r in enumerate(order):
             c = curve(r["name"], folder)
             if c is None:
                 continue
             lab = f"h/t = {r['h_over_t']:g}" if var == "h_over_t" else f"n_t = {r['n_t']:g}"
-            ax.plot(c[:, 0], c[:, 1] * 1e-3, color=cmap(i / max(len(order) - 1, 1) * 0.9),
-                    lw=1.2, label=lab + (" (reference)" if r["name"] == r["reference"] else
-                                         f" (L2 error {r['error']:.1%})"))
-        d = np.linspace(0, 0.6, 200)
-        ax.plot(d, mpmplot.deruntz_hodge(d * ring["D"], ring["D"], ring["t"], ring["sigma_y"],
-                                         ring["plane"], ring["depth"]) * 1e-3, "k--",
-                label="DeRuntz–Hodge")
+            ax.plot(c[:, 0] * xscale, c[:, 1] * 1e-3, lw=1.1, label=lab + note(r),
+                    color=cmap(i / max(len(order) - 1, 1) * 0.9))
+
+
+def fig_crush(rows, folder: Path, out: Path, exp=None) -> None:
+    fig, axes = plt.subplots(1, 2, figsize=(13, 4.8), layout="constrained", sharey=True)
+    ring = mpmplot.ring_properties(mpmplot.read_namelist(ROOT / "namelists" / "crush.nml"))
+    _sweep_curves(axes, rows, "crush", folder, 1.0,
+                  lambda r: " (reference)" if r["name"] == r["reference"]
+                  else f" (L2 error {r['error']:.1%})")
+    d = np.linspace(0, 0.6, 200)
+    dh = mpmplot.deruntz_hodge(d * ring["D"], ring["D"], ring["t"], ring["sigma_y"],
+                               ring["plane"], ring["depth"])
+    for ax, (_, _, title) in zip(axes, CURVE_SWEEPS):
+        ax.plot(d, dh * 1e-3, "k--", label="DeRuntz–Hodge")
         if exp is not None:
             ax.plot(exp[0] / ring["D"], exp[1] * 1e-3, "o", ms=3, mfc="none", color="k",
                     label="experiment")
         ax.axvspan(0.05, 0.5, color="0.9", zorder=0)
         ax.set_xlim(0, 0.55)
-        ax.set_ylim(0, 3.5e-3 * float(mpmplot.deruntz_hodge(0.5 * ring["D"], ring["D"], ring["t"],
-                                                             ring["sigma_y"], ring["plane"],
-                                                             ring["depth"])))
+        ax.set_ylim(0, 3.5e-3 * float(np.interp(0.5, d, dh)))
         ax.set_xlabel("δ / D (curves above the frame are cut)")
         ax.set_title(f"crush: {title}; shaded: error window")
         _legend(ax, fontsize=8, loc="upper left")
@@ -263,19 +267,9 @@ def fig_crush(rows, folder: Path, out: Path, exp=None) -> None:
 
 def fig_impact(rows, folder: Path, out: Path, exp=None) -> None:
     fig, axes = plt.subplots(1, 2, figsize=(13, 4.6), layout="constrained", sharey=True)
-    for ax, (var, fixed, title) in zip(axes, [
-            ("h_over_t", {"n_t": 16.0}, "grid spacing (n_t = 16)"),
-            ("n_t", {"h_over_t": 0.25}, "particles through the wall (h = t/4)")]):
-        rs = sweep(rows, "impact", var, **fixed)
-        order = rs[::-1] if var == "h_over_t" else rs
-        cmap = plt.get_cmap("viridis")
-        for i, r in enumerate(order):
-            c = curve(r["name"], folder)
-            if c is None:
-                continue
-            lab = f"h/t = {r['h_over_t']:g}" if var == "h_over_t" else f"n_t = {r['n_t']:g}"
-            ax.plot(c[:, 0] * 1e3, c[:, 1] * 1e-3, color=cmap(i / max(len(order) - 1, 1) * 0.9),
-                    lw=1.0, label=f"{lab}: COR {r['cor']:.3f}, contact {r['duration'] * 1e3:.3f} ms")
+    _sweep_curves(axes, rows, "impact", folder, 1e3,
+                  lambda r: f": COR {r['cor']:.3f}, contact {r['duration'] * 1e3:.3f} ms")
+    for ax, (var, _, title) in zip(axes, CURVE_SWEEPS):
         if exp is not None:
             ax.plot(exp[0] * 1e3, exp[1] * 1e-3, "o", ms=3, mfc="none", color="k",
                     label="experiment")
@@ -415,8 +409,6 @@ def main(argv: list[str] | None = None) -> int:
               file=sys.stderr)
         return 1
     rows = read_table(table)
-    rich_path = folder / f"richardson_{args.level}.json"
-    rich = json.loads(rich_path.read_text()) if rich_path.is_file() else {}
     adv = advice(rows)
     with open(out / f"advice_{args.level}.csv", "w", newline="") as fh:
         keys = ["scene", "target", "name", "basis", "scheme", "h_over_t", "n_t", "n_c", "aspect",
@@ -431,7 +423,7 @@ def main(argv: list[str] | None = None) -> int:
         write_advice_include(rows, adv, ROOT / "src" / "mpm_advice_table.inc",
                              f"docs/study/study_{args.level}.csv")
     fig_accuracy_runtime(rows, adv, out)
-    fig_error_factors(rows, rich, out)
+    fig_error_factors(rows, out)
     fig_crush(rows, folder, out, experiment(args.experiment, "crush"))
     fig_impact(rows, folder, out, experiment(args.experiment, "impact"))
     fig_cor(rows, out)
