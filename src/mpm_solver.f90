@@ -443,7 +443,9 @@ contains
       end select
       need_max = max(need_max, need)
       lo = min(lo, blk(:, ip))
-      hi = max(hi, blk(:, ip) + need - 1)
+      ! the transfers run over the whole nb x nb block (zero weights past `need`), so the
+      ! grid must hold all of it, not just the part this particle needs
+      hi = max(hi, blk(:, ip) + max(nb, need) - 1)
     end do
   end subroutine basis_kernel
 

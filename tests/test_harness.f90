@@ -15,9 +15,10 @@ program test_harness
   call check_close(1.0_dp, 2.0_dp, 'deliberately far apart', rtol=1e-3_dp)
   nan = ieee_value(nan, ieee_quiet_nan)
   call check_close(nan, 1.0_dp, 'NaN must fail', atol=huge(1.0_dp))
+  call check_close(1.0_dp, nan, 'NaN expected must fail', atol=huge(1.0_dp))
   call check_close([1.0_dp, 2.0_dp], [1.0_dp], 'size mismatch must fail', atol=1.0_dp)
   call test_count(p1, f1)
-  ! Undo the four deliberate failures by checking them: they must be exactly 4 new failures.
+  ! Undo the five deliberate failures by checking them: they must be exactly 5 new failures.
   call reset_expected(f1 - f0, p1 - p0)
 
   call begin_test('checks that must pass')
@@ -30,10 +31,10 @@ program test_harness
 contains
   subroutine reset_expected(new_fail, new_pass)
     integer, intent(in) :: new_fail, new_pass
-    ! The four deliberate failures must have moved the counts by exactly 4 failures, 0 passes.
-    if (new_fail == 4 .and. new_pass == 0) then
-      print '(a)', 'test_harness: the 4 deliberate failures above were detected (as they must be)'
-      call clear_failures(4)
+    ! The five deliberate failures must have moved the counts by exactly 5 failures, 0 passes.
+    if (new_fail == 5 .and. new_pass == 0) then
+      print '(a)', 'test_harness: the 5 deliberate failures above were detected (as they must be)'
+      call clear_failures(5)
     else
       print '(a,i0,a,i0)', 'test_harness: deliberate failures not detected: fail +', new_fail, &
         ' pass +', new_pass

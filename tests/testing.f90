@@ -40,7 +40,7 @@ contains
     end if
   end subroutine check
 
-  !> Pass when |a - e| <= max(atol, rtol*|e|); NaN or Inf in a fails.
+  !> Pass when |a - e| <= max(atol, rtol*|e|); NaN or Inf in a, and NaN in e, fail.
   subroutine check_close_scalar(a, e, msg, rtol, atol)
     real(dp), intent(in) :: a                 !! actual
     real(dp), intent(in) :: e                 !! expected
@@ -73,6 +73,12 @@ contains
         n_fail = n_fail + 1
         write(output_unit, '(5a,i0,a)') 'FAIL [', trim(current), ']: ', msg, &
           ': index ', i, ' is not finite'
+        return
+      end if
+      if (ieee_is_nan(e(i))) then
+        n_fail = n_fail + 1
+        write(output_unit, '(5a,i0,a)') 'FAIL [', trim(current), ']: ', msg, &
+          ': index ', i, ' expected value is NaN'
         return
       end if
       if (abs(a(i) - e(i)) > max(at, rt*abs(e(i)))) then
