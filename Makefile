@@ -30,7 +30,7 @@ TESTSRC := $(wildcard tests/test_*.f90)
 TESTS   := $(patsubst tests/%.f90,$(BLD)/%,$(TESTSRC))
 FC_ALL  := $(FC) $(FFLAGS_common) $(FFLAGS_$(BUILD))
 
-.PHONY: all deps test run plots clean help check-namelists bench study stability figures fuzz
+.PHONY: all deps test run plots clean help check-namelists check-paraview bench study stability figures fuzz
 
 # HDF5 flags come from pkg-config when make reads this file, so everything that compiles runs
 # in a sub-make started after `deps` has installed what was missing (a fresh machine).
@@ -122,6 +122,13 @@ figures: deps
 ##            docs/stability/, runs in build/stability/ (reused when unchanged)
 stability: all
 	$(PYTHON) tools/stability.py --level $(or $(LEVEL),quick)
+
+## check-paraview: install Debian's ParaView (pvbatch, xvfb) if missing, then open a run's
+##                 particles.xdmf with ParaView's default reader and check every array
+check-paraview: deps
+	@bash tools/install-deps.sh --paraview
+	@$(MAKE) --no-print-directory BUILD=debug build/debug/tubempm
+	@TUBEMPM=build/debug/tubempm bash tests/test_paraview.sh $$(mktemp -d)
 
 ## check-namelists: bin/tubempm --check on every file in namelists/
 check-namelists: all

@@ -4,7 +4,8 @@
 ! Layout (docs/output.md): /meta (attribute code_version, dataset input_nml); one group per
 ! snapshot /snap_NNNNNN with attributes time, step, dt, ndim, np, ncorner, and datasets
 ! x (np,2), v (np,2), mass (np), volume (np), stress (np,4: xx,yy,xy,zz), F (np,4: 11,21,12,22),
-! eqps (np), corners (ncorner,2), quads (np,4; 0-based corner ids, counter-clockwise).
+! eqps (np), corners (ncorner,2), quads (np,4; 0-based corner ids, counter-clockwise), and
+! the 1-D copies vx, vy, sxx, syy, sxy, szz and body (np) that the XDMF index points at.
 ! (Fortran writes x(2,np); h5py reads it as (np, 2).) Every dataset carries `units` and
 ! `long_name`. The file is flushed after every snapshot, so a killed run keeps them all.
 module mpm_io_hdf5
@@ -164,6 +165,17 @@ contains
     call write_real_2d(gid, 'F', reshape(p%F, [4, p%np]), '-', &
                        'deformation gradient F11, F21, F12, F22', stat, errmsg)
     call write_real_1d(gid, 'eqps', p%eqps, '-', 'equivalent plastic strain', stat, errmsg)
+    ! the components once more as 1-D datasets: ParaView's default XDMF reader (Xdmf3) skips
+    ! hyperslabs of the 2-D ones ("unrecognized array type"), so the XDMF index points at these
+    call write_real_1d(gid, 'vx', p%v(1, :), 'm/s', 'particle velocity x', stat, errmsg)
+    call write_real_1d(gid, 'vy', p%v(2, :), 'm/s', 'particle velocity y', stat, errmsg)
+    call write_real_1d(gid, 'sxx', p%stress(1, :), 'Pa', 'Cauchy stress xx', stat, errmsg)
+    call write_real_1d(gid, 'syy', p%stress(2, :), 'Pa', 'Cauchy stress yy', stat, errmsg)
+    call write_real_1d(gid, 'sxy', p%stress(3, :), 'Pa', 'Cauchy stress xy', stat, errmsg)
+    call write_real_1d(gid, 'szz', p%stress(4, :), 'Pa', 'Cauchy stress zz', stat, errmsg)
+    call write_int_2d(gid, 'body', reshape(p%body(1:p%np), [1, p%np]), '-', &
+                      'body of each particle (order of the &body groups, from 1)', stat, errmsg, &
+                      flat=.true.)
     call write_real_2d(gid, 'corners', corners, 'm', 'particle domain corners', stat, errmsg)
     call write_int_2d(gid, 'quads', quads, '-', 'corner ids of each particle (0-based, ccw)', &
                       stat, errmsg)
@@ -264,12 +276,16 @@ contains
       call scalar_attr(u, 'eqps', g//'/eqps', np)
       call scalar_attr(u, 'mass', g//'/mass', np)
       call scalar_attr(u, 'volume', g//'/volume', np)
-      call column_attr(u, 'vx', g//'/v', np, 2, 0)
-      call column_attr(u, 'vy', g//'/v', np, 2, 1)
-      call column_attr(u, 'sxx', g//'/stress', np, 4, 0)
-      call column_attr(u, 'syy', g//'/stress', np, 4, 1)
-      call column_attr(u, 'sxy', g//'/stress', np, 4, 2)
-      call column_attr(u, 'szz', g//'/stress', np, 4, 3)
+      call scalar_attr(u, 'vx', g//'/vx', np)
+      call scalar_attr(u, 'vy', g//'/vy', np)
+      call scalar_attr(u, 'sxx', g//'/sxx', np)
+      call scalar_attr(u, 'syy', g//'/syy', np)
+      call scalar_attr(u, 'sxy', g//'/sxy', np)
+      call scalar_attr(u, 'szz', g//'/szz', np)
+      write(u, '(a)') '    <Attribute Name="body" AttributeType="Scalar" Center="Cell">'
+      write(u, '(a)') '     <DataItem Dimensions="'//np//'" NumberType="Int" Precision="4"'// &
+        ' Format="HDF">'//g//'/body</DataItem>'
+      write(u, '(a)') '    </Attribute>'
       write(u, '(a)') '   </Grid>'
     end do
     write(u, '(a)') '  </Grid>'
@@ -289,21 +305,6 @@ contains
       ' Format="HDF">'//ref//'</DataItem>'
     write(u, '(a)') '    </Attribute>'
   end subroutine scalar_attr
-
-  !> One column of an (np, ncol) dataset as a scalar cell attribute (a hyperslab).
-  subroutine column_attr(u, name, ref, np, ncol, col)
-    integer, intent(in) :: u               !! unit
-    character(len=*), intent(in) :: name, ref, np  !! attribute name, HDF5 reference, count
-    integer, intent(in) :: ncol, col       !! columns of the dataset, column (0-based)
-    write(u, '(a)') '    <Attribute Name="'//name//'" AttributeType="Scalar" Center="Cell">'
-    write(u, '(a)') '     <DataItem ItemType="HyperSlab" Dimensions="'//np//' 1" Type="HyperSlab">'
-    write(u, '(a)') '      <DataItem Dimensions="3 2" Format="XML">0 '//itoa(col)//' 1 1 '// &
-      np//' 1</DataItem>'
-    write(u, '(a)') '      <DataItem Dimensions="'//np//' '//itoa(ncol)//'" NumberType="Float"'// &
-      ' Precision="8" Format="HDF">'//ref//'</DataItem>'
-    write(u, '(a)') '     </DataItem>'
-    write(u, '(a)') '    </Attribute>'
-  end subroutine column_attr
 
   !> A real scalar attribute.
   subroutine write_real_attr(loc, name, value, stat, errmsg)
@@ -446,20 +447,28 @@ contains
     call h5sclose_f(sid, ierr)
   end subroutine write_real_2d
 
-  !> A 2-D integer dataset.
-  subroutine write_int_2d(loc, name, a, units, long_name, stat, errmsg)
+  !> A 2-D integer dataset; with flat, a 1-D dataset of all its values.
+  subroutine write_int_2d(loc, name, a, units, long_name, stat, errmsg, flat)
     integer(hid_t), intent(in) :: loc      !! group
     character(len=*), intent(in) :: name   !! dataset name
     integer, intent(in) :: a(:,:)          !! data
     character(len=*), intent(in) :: units, long_name  !! metadata
     integer, intent(inout) :: stat         !! status
     character(len=:), allocatable, intent(inout) :: errmsg  !! message
+    logical, intent(in), optional :: flat  !! write a 1-D dataset
     integer(hid_t) :: sid, did
     integer(hsize_t) :: dims(2)
-    integer :: ierr
+    integer :: ierr, rank
     if (stat /= 0) return
     dims = [int(size(a, 1), hsize_t), int(size(a, 2), hsize_t)]
-    call h5screate_simple_f(2, dims, sid, ierr)
+    rank = 2
+    if (present(flat)) then
+      if (flat) then
+        dims = [int(size(a), hsize_t), 1_hsize_t]
+        rank = 1
+      end if
+    end if
+    call h5screate_simple_f(rank, dims(1:rank), sid, ierr)
     call h5_check(ierr, 'h5screate_simple_f '//name, stat, errmsg)
     call h5dcreate_f(loc, name, H5T_NATIVE_INTEGER, sid, did, ierr)
     call h5_check(ierr, 'h5dcreate_f '//name, stat, errmsg)

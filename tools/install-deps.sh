@@ -3,15 +3,20 @@
 # Install what tubempm needs and is missing: Debian packages (gfortran, HDF5 Fortran, pkg-config)
 # and the Python packages of plots/requirements.txt. Idempotent; silent when all is present.
 # Without root it prints the exact commands to run by hand and exits 2.
-#   usage: tools/install-deps.sh [--python-only|--fortran-only]
+#   usage: tools/install-deps.sh [--python-only|--fortran-only|--paraview]
+#   --paraview: only ParaView with its Python (pvbatch) and a virtual display (xvfb), for
+#   `make check-paraview`
 set -u
 here=$(cd "$(dirname "$0")/.." && pwd)
 want_fortran=1; want_python=1
+want_paraview=0
 case "${1:-}" in
+  --paraview) want_fortran=0; want_python=0; want_paraview=1 ;;
   --python-only) want_fortran=0 ;;
   --fortran-only) want_python=0 ;;
   "") ;;
-  *) echo "usage: $0 [--python-only|--fortran-only]" >&2; exit 2 ;;
+  -h|--help) awk 'NR > 2 && /^#/ {sub(/^# ?/, ""); print; next} NR > 2 {exit}' "$0"; exit 0 ;;
+  *) echo "usage: $0 [--python-only|--fortran-only|--paraview]" >&2; exit 2 ;;
 esac
 
 missing_deb=()
@@ -31,6 +36,12 @@ if [ $want_fortran = 1 ]; then
     done
   fi
   [ $hdf5_ok = 1 ] || missing_deb+=(libhdf5-dev)
+fi
+if [ $want_paraview = 1 ]; then
+  command -v pvbatch >/dev/null 2>&1 || missing_deb+=(paraview)
+  [ -e /usr/lib/python3/dist-packages/paraview ] || command -v pvpython >/dev/null 2>&1 \
+    || missing_deb+=(python3-paraview)
+  command -v xvfb-run >/dev/null 2>&1 || missing_deb+=(xvfb xauth)
 fi
 py=${PYTHON:-python3}
 missing_py=()

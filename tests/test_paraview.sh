@@ -1,0 +1,96 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# particles.xdmf as ParaView opens it (issue 15): ParaView's own default reader (Xdmf3ReaderS in
+# ParaView 5.11) must give every array at every time step. Before the fix it dropped vx, vy, sxx,
+# syy, sxy and szz ("Skipping unrecognized array type [None]" for each hyperslab). Oracle: the
+# datasets of particles.h5 read with h5py: per time step the time, the cell count (= particles),
+# the point count (= corners) and the range of each of the ten arrays must match exactly.
+# Needs pvbatch (Debian: paraview, python3-paraview; xvfb for a display): `make check-paraview`
+# installs them. Without pvbatch the test says so and counts nothing.
+#   usage: TUBEMPM=build/debug/tubempm bash tests/test_paraview.sh SCRATCH
+set -u
+bin=${TUBEMPM:-bin/tubempm}
+scratch=${1:-$(mktemp -d)}
+mkdir -p "$scratch"
+here=$(cd "$(dirname "$0")" && pwd)
+py=${PYTHON:-python3}
+pass=0; fail=0
+ok()  { pass=$((pass + 1)); }
+bad() { fail=$((fail + 1)); echo "FAIL [paraview]: $*"; }
+
+pvbatch=$(command -v pvbatch || true)
+if [ -z "$pvbatch" ]; then
+  echo "paraview: pvbatch not found: skipped (make check-paraview installs ParaView and runs this)"
+  echo "paraview: 0 passed, 0 failed"
+  exit 0
+fi
+run_pv() {  # ParaView needs a display for its render view: a virtual one where there is none
+  if [ -z "${DISPLAY:-}" ] && command -v xvfb-run > /dev/null; then
+    timeout 300 xvfb-run -a "$pvbatch" "$@"
+  else
+    timeout 300 "$pvbatch" "$@"
+  fi
+}
+
+# a full ring (2 bodies would do too): three snapshots, plastic flow so that eqps is not 0
+cat > "$scratch/pv.nml" <<NML
+&run title = 'pv', output_dir = '$scratch/pv', t_end = 1.0e-4, snapshot_every = 5.0e-5 /
+&grid h = 1.0e-3 /
+&material name = 'alu', model = 'j2', E = 70.0e9, nu = 0.33, rho = 2700.0, sigma_y = 150.0e6 /
+&body center = 0.0, 0.0262, r_inner = 0.024, r_outer = 0.026, n_thick = 4, velocity = 0.0, -30.0 /
+&wall point = 0.0, 0.0, normal = 0.0, 1.0 /
+NML
+OMP_NUM_THREADS=1 "$bin" --quiet "$scratch/pv.nml" > "$scratch/run.log" 2>&1 && ok \
+  || bad "the run failed: $(tail -3 "$scratch/run.log")"
+run_pv "$here/paraview/read_xdmf.py" "$scratch/pv/particles.xdmf" "$scratch/pv/last.png" \
+  > "$scratch/pv.json" 2> "$scratch/pv.err"
+rc=$?
+[ $rc -eq 0 ] && ok || bad "pvbatch exit $rc: $(tail -3 "$scratch/pv.err")"
+if grep -q "unrecognized array type" "$scratch/pv.err"; then
+  bad "ParaView skipped arrays: $(grep -m1 unrecognized "$scratch/pv.err")"
+else
+  ok
+fi
+$py - "$scratch/pv/particles.h5" "$scratch/pv.json" <<'PY'
+import json, sys
+import h5py, numpy as np
+fails = 0
+def check(cond, what):
+    global fails
+    if not cond:
+        fails += 1
+        print('FAIL [paraview]:', what)
+steps = [json.loads(ln) for ln in open(sys.argv[2]) if ln.startswith('{')]
+with h5py.File(sys.argv[1], 'r') as f:
+    snaps = sorted(k for k in f if k.startswith('snap_'))
+    check(len(steps) == len(snaps), 'ParaView sees %d time steps, particles.h5 has %d'
+          % (len(steps), len(snaps)))
+    want = {'eqps': 'eqps', 'mass': 'mass', 'volume': 'volume', 'body': 'body',
+            'vx': ('v', 0), 'vy': ('v', 1), 'sxx': ('stress', 0), 'syy': ('stress', 1),
+            'sxy': ('stress', 2), 'szz': ('stress', 3)}
+    for s, name in zip(steps, snaps):
+        g = f[name]
+        check(s.get('reader') == 'Xdmf3ReaderS', '%s: default reader %s' % (name, s.get('reader')))
+        check(abs(s['time'] - g.attrs['time'][()]) <= 1e-12 * max(1.0, abs(s['time'])),
+              '%s: time %g vs %g' % (name, s['time'], g.attrs['time'][()]))
+        check(s['cells'] == g['x'].shape[0], '%s: %d cells, %d particles'
+              % (name, s['cells'], g['x'].shape[0]))
+        check(s['points'] == g['corners'].shape[0], '%s: %d points, %d corners'
+              % (name, s['points'], g['corners'].shape[0]))
+        for arr, src in want.items():
+            if arr not in s['arrays']:
+                check(False, '%s: array %s missing in ParaView' % (name, arr))
+                continue
+            data = g[src][()] if isinstance(src, str) else g[src[0]][()][:, src[1]]
+            lo, hi = s['arrays'][arr][1:]
+            check(lo == data.min() and hi == data.max(), '%s: %s range %r..%r, h5 %r..%r'
+                  % (name, arr, lo, hi, data.min(), data.max()))
+    check(steps and steps[-1]['arrays'].get('eqps', [0, 0, 0])[2] > 0,
+          'no plastic strain at the last step (the scene should yield)')
+print('paraview-data: %d failed' % fails)
+sys.exit(1 if fails else 0)
+PY
+[ $? -eq 0 ] && ok || bad "ParaView's arrays differ from particles.h5 (above)"
+[ -s "$scratch/pv/last.png" ] && ok || bad "no screenshot"
+echo "paraview: $pass passed, $fail failed"
+[ $fail -eq 0 ]
