@@ -5,7 +5,7 @@ module mpm_constants
   implicit none
   private
   public :: pi, version_string, EXIT_OK, EXIT_INTERNAL, EXIT_INPUT, EXIT_IO, EXIT_NUMERIC, &
-            EXIT_INTERRUPTED, name_len, path_len, msg_len, max_table
+            name_len, path_len, msg_len, max_table
   public :: BASIS_LINEAR, BASIS_UGIMP, BASIS_CPDI1, BASIS_CPDI2, basis_names
   public :: SCHEME_USL, SCHEME_USF, SCHEME_MUSL, scheme_names
   public :: PLANE_STRAIN, PLANE_STRESS, plane_names
@@ -23,7 +23,6 @@ module mpm_constants
   integer, parameter :: EXIT_INPUT = 2      !! bad command line or namelist
   integer, parameter :: EXIT_IO = 3         !! file could not be read or written
   integer, parameter :: EXIT_NUMERIC = 4    !! numerical failure detected
-  integer, parameter :: EXIT_INTERRUPTED = 5 !! stopped by SIGINT/SIGTERM after a checkpoint
 
   integer, parameter :: name_len = 64       !! length of names and enumeration values
   integer, parameter :: path_len = 512      !! length of file paths

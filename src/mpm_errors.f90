@@ -2,15 +2,15 @@
 ! SPDX-License-Identifier: MIT
 module mpm_errors
   use, intrinsic :: iso_fortran_env, only: error_unit
-  use mpm_constants, only: EXIT_OK, EXIT_INTERNAL, EXIT_INPUT, EXIT_IO, EXIT_NUMERIC, &
-                           EXIT_INTERRUPTED
+  use mpm_sys, only: sys_exit
   implicit none
   private
   public :: fatal, warn, append_msg
 
 contains
 
-  !> Print one or more `ERROR [where]: ...` lines and stop with the exit code of INTERFACE.md.
+  !> Print one or more `ERROR [where]: ...` lines and exit with `code` (an EXIT_* code of
+  !! docs/output.md, or 128 + signal after SIGINT/SIGTERM), printing nothing else.
   !! A message holding several lines (separated by new_line) gets one ERROR prefix per line.
   subroutine fatal(where, msg, code)
     character(len=*), intent(in) :: where  !! the routine or stage that failed
@@ -29,15 +29,8 @@ contains
       if (i0 > len(msg)) exit
     end do
     flush(error_unit)
-    select case (code)
-    case (EXIT_OK);          stop
-    case (EXIT_INPUT);       error stop 2
-    case (EXIT_IO);          error stop 3
-    case (EXIT_NUMERIC);     error stop 4
-    case (EXIT_INTERRUPTED); error stop 5
-    case (EXIT_INTERNAL);    error stop 1
-    case default;            error stop 1
-    end select
+    ! the project's own lines only: ERROR STOP would add its own line and a backtrace
+    call sys_exit(code)
   end subroutine fatal
 
   !> Print `WARNING [where]: msg` on standard error (runs go on).

@@ -138,7 +138,7 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg  !! what failed
     integer(hid_t) :: gid
     integer :: ierr, ncorner
-    real(wp), allocatable :: corners(:,:)
+    real(wp), allocatable :: corners(:,:), col(:)
     integer, allocatable :: quads(:,:)
     character(len=11) :: name
     stat = 0
@@ -167,12 +167,18 @@ contains
     call write_real_1d(gid, 'eqps', p%eqps, '-', 'equivalent plastic strain', stat, errmsg)
     ! the components once more as 1-D datasets: ParaView's default XDMF reader (Xdmf3) skips
     ! hyperslabs of the 2-D ones ("unrecognized array type"), so the XDMF index points at these
-    call write_real_1d(gid, 'vx', p%v(1, :), 'm/s', 'particle velocity x', stat, errmsg)
-    call write_real_1d(gid, 'vy', p%v(2, :), 'm/s', 'particle velocity y', stat, errmsg)
-    call write_real_1d(gid, 'sxx', p%stress(1, :), 'Pa', 'Cauchy stress xx', stat, errmsg)
-    call write_real_1d(gid, 'syy', p%stress(2, :), 'Pa', 'Cauchy stress yy', stat, errmsg)
-    call write_real_1d(gid, 'sxy', p%stress(3, :), 'Pa', 'Cauchy stress xy', stat, errmsg)
-    call write_real_1d(gid, 'szz', p%stress(4, :), 'Pa', 'Cauchy stress zz', stat, errmsg)
+    col = p%v(1, 1:p%np)
+    call write_real_1d(gid, 'vx', col, 'm/s', 'particle velocity x', stat, errmsg)
+    col = p%v(2, 1:p%np)
+    call write_real_1d(gid, 'vy', col, 'm/s', 'particle velocity y', stat, errmsg)
+    col = p%stress(1, 1:p%np)
+    call write_real_1d(gid, 'sxx', col, 'Pa', 'Cauchy stress xx', stat, errmsg)
+    col = p%stress(2, 1:p%np)
+    call write_real_1d(gid, 'syy', col, 'Pa', 'Cauchy stress yy', stat, errmsg)
+    col = p%stress(3, 1:p%np)
+    call write_real_1d(gid, 'sxy', col, 'Pa', 'Cauchy stress xy', stat, errmsg)
+    col = p%stress(4, 1:p%np)
+    call write_real_1d(gid, 'szz', col, 'Pa', 'Cauchy stress zz', stat, errmsg)
     call write_int_2d(gid, 'body', reshape(p%body(1:p%np), [1, p%np]), '-', &
                       'body of each particle (order of the &body groups, from 1)', stat, errmsg, &
                       flat=.true.)

@@ -5,7 +5,7 @@ module mpm_sys
   implicit none
   private
   public :: sys_mkdir_p, sys_install_signals, sys_signal_received, sys_stdout_isatty, &
-            sys_rename
+            sys_rename, sys_exit
 
   interface
     function c_install_signals() result(r) bind(C, name='tubempm_install_signals')
@@ -34,9 +34,22 @@ module mpm_sys
       integer(c_int), value :: n
       integer(c_int) :: r
     end function c_rename
+    subroutine c_exit(code) bind(C, name='tubempm_exit')
+      import :: c_int
+      integer(c_int), value :: code
+    end subroutine c_exit
   end interface
 
 contains
+
+  !> End the program with exit status `code`, printing nothing (every unit is flushed first).
+  subroutine sys_exit(code)
+    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
+    integer, intent(in) :: code            !! exit status
+    flush(output_unit)
+    flush(error_unit)
+    call c_exit(int(code, c_int))
+  end subroutine sys_exit
 
   !> Create a directory and its parents; stat = errno (0 ok), errmsg the reason.
   subroutine sys_mkdir_p(path, stat, errmsg)

@@ -6,6 +6,7 @@
 #include <errno.h>
 #include <signal.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <sys/types.h>
@@ -73,4 +74,12 @@ int tubempm_rename(const char *from, const char *to, char *msg, int len) {
   }
   msg[0] = '\0';
   return 0;
+}
+
+/* Exit with `code` and nothing else on the terminal (Fortran's ERROR STOP prints its own line
+ * and, in debug builds, a backtrace). The caller has flushed its Fortran units; exit() runs the
+ * Fortran runtime's own clean-up, which closes them. */
+void tubempm_exit(int code) {
+  fflush(NULL);
+  exit(code);
 }

@@ -124,7 +124,8 @@ contains
     write(output_unit, '(a)') '  --quiet                      no progress line (errors and warnings still printed)'
     write(output_unit, '(a)') ''
     write(output_unit, '(a)') 'exit status: 0 ok, 1 internal error, 2 bad input, 3 I/O failure,'
-    write(output_unit, '(a)') '             4 numerical failure, 5 interrupted (checkpoint written)'
+    write(output_unit, '(a)') '             4 numerical failure, 130 / 143 stopped by SIGINT / SIGTERM'
+    write(output_unit, '(a)') '             (128 + the signal, as shells report it; a checkpoint is written)'
     write(output_unit, '(a)') 'input: docs/input.md; outputs: docs/output.md'
   end subroutine print_help
 
@@ -322,15 +323,8 @@ contains
         ', energy error ', s%energy_error
       write(output_unit, '(a)') 'outputs in '//dir
     end if
-    if (sig /= 0) then
-      call write_err('ERROR [run]: '//trim(sm%message)//'; a checkpoint is in '//dir// &
-                     '/checkpoint.bin and the outputs are complete up to that time')
-      select case (sig)
-      case (2); error stop 130
-      case (15); error stop 143
-      case default; error stop 5
-      end select
-    end if
+    if (sig /= 0) call fatal('run', trim(sm%message)//'; a checkpoint is in '//dir// &
+      '/checkpoint.bin and the outputs are complete up to that time', 128 + sig)
 
   end subroutine run_case
 

@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# Error exits print the project's own lines only (issue 15): bad input (2), an output folder
+# that cannot be written (3), a numerical failure (4) and SIGTERM (143) each give their exit
+# status and, on standard error, nothing but `ERROR [...]` / `WARNING [...]` lines: no
+# "ERROR STOP n" and no backtrace (before the fix gfortran printed both after the project's
+# lines). Also: --help states the exit status that SIGTERM actually gives.
+#   usage: TUBEMPM=build/debug/tubempm bash tests/test_exits.sh SCRATCH
+set -u
+bin=${TUBEMPM:-bin/tubempm}
+scratch=${1:-$(mktemp -d)}
+mkdir -p "$scratch"
+here=$(cd "$(dirname "$0")" && pwd)
+pass=0; fail=0
+ok()  { pass=$((pass + 1)); }
+bad() { fail=$((fail + 1)); echo "FAIL [exits]: $*"; }
+export OMP_NUM_THREADS=1
+
+# expect NAME WANTED_STATUS STATUS ERRFILE: the status, at least one ERROR line, nothing foreign
+expect() {
+  [ "$3" -eq "$2" ] && ok || bad "$1: exit $3, expected $2"
+  grep -q '^ERROR \[' "$4" && ok || bad "$1: no ERROR line on standard error"
+  local foreign
+  foreign=$(grep -v -E '^(ERROR|WARNING) \[' "$4" | grep -v -E '^\s*$' | head -3)
+  [ -z "$foreign" ] && ok || bad "$1: standard error holds more than the project's lines: $foreign"
+}
+
+ring() {  # NAME EXTRA_RUN: a falling ring, one line per group
+  cat > "$scratch/$1.nml" <<NML
+&run title = '$1', output_dir = '$scratch/$1', t_end = 2.0e-4 $2 /
+&grid h = 1.0e-3 /
+&material name = 'alu', model = 'j2', E = 70.0e9, nu = 0.33, rho = 2700.0, sigma_y = 150.0e6 /
+&body center = 0.0, 0.0262, r_inner = 0.024, r_outer = 0.026, n_thick = 4, velocity = 0.0, -30.0 /
+&wall point = 0.0, 0.0, normal = 0.0, 1.0 /
+NML
+}
+
+# 2: bad input
+"$bin" --check "$here/bad_inputs/13_nu_range.nml" > /dev/null 2> "$scratch/input.err"
+expect 'bad input' 2 $? "$scratch/input.err"
+# 2: bad command line
+"$bin" --no-such-option > /dev/null 2> "$scratch/cli.err"
+expect 'command line' 2 $? "$scratch/cli.err"
+# 3: output folder that cannot be created (a regular file stands in its way)
+touch "$scratch/blocker"
+ring io ", output_dir = '$scratch/blocker/out'"
+sed -i "s|output_dir = '$scratch/io', ||" "$scratch/io.nml"
+"$bin" --quiet "$scratch/io.nml" > /dev/null 2> "$scratch/io.err"
+expect 'I/O failure' 3 $? "$scratch/io.err"
+# 4: numerical failure (a time step far above the stable limit)
+sed -e "/^&run /s|[[:space:]]*/[[:space:]]*\$|, output_dir = '$scratch/numeric', cfl = 1.5 /|" \
+  "$here/scenes/stability_impact.nml" > "$scratch/numeric.nml"
+"$bin" --quiet "$scratch/numeric.nml" > /dev/null 2> "$scratch/numeric.err"
+expect 'numerical failure' 4 $? "$scratch/numeric.err"
+# 143: SIGTERM during a run
+ring sig ""
+sed -i 's/t_end = 2.0e-4/t_end = 5.0e-2/' "$scratch/sig.nml"
+"$bin" --quiet "$scratch/sig.nml" > /dev/null 2> "$scratch/sig.err" &
+pid=$!
+sleep 2
+kill -TERM $pid 2>/dev/null
+wait $pid
+expect 'SIGTERM' 143 $? "$scratch/sig.err"
+# --help names what SIGTERM gives
+"$bin" --help | grep -q '143' && ok || bad "--help does not name exit status 143 (SIGTERM)"
+echo "exits: $pass passed, $fail failed"
+[ $fail -eq 0 ]
