@@ -30,7 +30,7 @@ TESTSRC := $(wildcard tests/test_*.f90)
 TESTS   := $(patsubst tests/%.f90,$(BLD)/%,$(TESTSRC))
 FC_ALL  := $(FC) $(FFLAGS_common) $(FFLAGS_$(BUILD))
 
-.PHONY: all deps test run plots clean help check-namelists bench study stability figures fuzz
+.PHONY: all deps test run clean help check-namelists bench study stability figures fuzz
 
 # HDF5 flags come from pkg-config when make reads this file, so everything that compiles runs
 # in a sub-make started after `deps` has installed what was missing (a fresh machine).
