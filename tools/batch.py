@@ -238,6 +238,6 @@ def read_summary(folder: Path) -> dict[str, Any]:
     """summary.nml of a finished case as a dict ({} if missing)."""
     if str(ROOT / "plots") not in sys.path:
         sys.path.insert(0, str(ROOT / "plots"))
-    import mpmplot  # noqa: E402  (plots/ is not a package)
+    from mpmplot import readers  # noqa: E402  (plots/ is not on the path by default)
     path = folder / "summary.nml"
-    return mpmplot.read_summary(path) if path.is_file() else {}
+    return readers.read_summary(path) if path.is_file() else {}

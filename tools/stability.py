@@ -46,7 +46,7 @@ sys.path.insert(0, str(HERE))
 sys.path.insert(0, str(ROOT / "plots"))
 import batch  # noqa: E402
 from batch import Case, run_batch, read_summary  # noqa: E402
-import mpmplot  # noqa: E402
+from mpmplot import analysis, namelist, readers, scene, theory  # noqa: E402
 
 RUNS = ROOT / "build" / "stability"
 OUT = ROOT / "docs" / "stability"
@@ -124,7 +124,7 @@ def run_reason(folder: Path, summary: dict[str, Any], exit_code: int | None) -> 
     return f"exit {exit_code}"
 
 
-smooth = mpmplot.moving_average
+smooth = analysis.moving_average
 
 
 def common(result: dict[str, Any], folder: Path) -> dict[str, Any]:
@@ -143,19 +143,19 @@ def crush_metrics(folder: Path) -> dict[str, Any]:
     out = {"plateau_N": float("nan"), "err_dh": float("nan"), "noise": float("nan"),
            "delta_max": float("nan")}
     try:
-        h = mpmplot.read_history(folder / "history.csv")
-        inputs = mpmplot.read_namelist(folder / "input.nml")
+        h = readers.read_history(folder / "history.csv")
+        inputs = namelist.read_namelist(folder / "input.nml")
     except (OSError, ValueError):
         return out
-    disp, force, _ = mpmplot.crush_displacement(h, inputs)
+    disp, force, _ = scene.crush_displacement(h, inputs)
     out["delta_max"] = float(np.nanmax(disp)) if disp.size else float("nan")
     dt_row = float(np.median(np.diff(h["time"]))) if len(h["time"]) > 2 else HIST
     fs = smooth(force, round(SMOOTH / dt_row) + 1)
     sel = (disp >= PLATEAU[0]) & (disp <= PLATEAU[1])
     if np.count_nonzero(sel) < 10 or not np.all(np.isfinite(force[sel])):
         return out
-    ring = mpmplot.ring_properties(inputs)
-    dh = mpmplot.deruntz_hodge(disp[sel], ring["D"], ring["t"], ring["sigma_y"],
+    ring = scene.ring_properties(inputs)
+    dh = theory.deruntz_hodge(disp[sel], ring["D"], ring["t"], ring["sigma_y"],
                                ring["plane"], ring["depth"])
     plateau = float(np.mean(fs[sel]))
     out.update(plateau_N=plateau, err_dh=plateau / float(np.mean(dh)) - 1.0,
@@ -237,7 +237,7 @@ def ppc_tag(h: float, nt: int) -> str:
 def impact_metrics(folder: Path) -> dict[str, Any]:
     out = {"impulse": float("nan"), "noise": float("nan")}
     try:
-        h = mpmplot.read_history(folder / "history.csv")
+        h = readers.read_history(folder / "history.csv")
     except (OSError, ValueError):
         return out
     t, f = h["time"], h["wall1_force"]
@@ -466,19 +466,19 @@ def stick_metrics(folder: Path, t_load: float, series: list[dict[str, Any]],
            "gap_loaded": float("nan"), "gap_released": float("nan"),
            "springback": float("nan"), "force_loaded": float("nan")}
     try:
-        h = mpmplot.read_history(folder / "history.csv")
-        inputs = mpmplot.read_namelist(folder / "input.nml")
-        names = mpmplot.read_frames(folder / "particles.h5")
+        h = readers.read_history(folder / "history.csv")
+        inputs = namelist.read_namelist(folder / "input.nml")
+        names = readers.read_frames(folder / "particles.h5")
     except (OSError, ValueError, KeyError):
         return out
     t = h["time"]
     delta = -(h["wall1_disp"] + h["wall2_disp"])
     f = smooth(h["wall1_force"], round(SMOOTH / HIST) + 1)
-    ring = mpmplot.ring_properties(inputs)
+    ring = scene.ring_properties(inputs)
     center = ring["center"]
     gaps = []
     for name in names:
-        fr = mpmplot.read_frame(folder / "particles.h5", name)
+        fr = readers.read_frame(folder / "particles.h5", name)
         g = inner_gap(fr, center, 3.0e-3)
         k = min(int(np.searchsorted(t, fr["time"] - 1e-12)), len(t) - 1)
         gaps.append((float(fr["time"]), float(delta[k]), g, float(f[k])))
@@ -604,22 +604,22 @@ def distort_metrics(folder: Path, c: Case, series: list[dict[str, Any]]) -> dict
                            "angle_worst": float("nan"), "mismatch_final": float("nan"),
                            "delta_reached": float("nan")}
     try:
-        h = mpmplot.read_history(folder / "history.csv")
-        inputs = mpmplot.read_namelist(folder / "input.nml")
-        names = mpmplot.read_frames(folder / "particles.h5")
+        h = readers.read_history(folder / "history.csv")
+        inputs = namelist.read_namelist(folder / "input.nml")
+        names = readers.read_frames(folder / "particles.h5")
     except (OSError, ValueError, KeyError):
         return out
-    disp, _, _ = mpmplot.crush_displacement(h, inputs)
-    ring = mpmplot.ring_properties(inputs)
+    disp, _, _ = scene.crush_displacement(h, inputs)
+    ring = scene.ring_properties(inputs)
     cx, cy = ring["center"]
     h_cell = c.labels["h_over_t"] * T_CRUSH
-    first = mpmplot.read_frame(folder / "particles.h5", names[0])
+    first = readers.read_frame(folder / "particles.h5", names[0])
     angle0 = np.degrees(np.arctan2(first["x"][:, 1] - cy, first["x"][:, 0] - cx))
     basis = c.labels["basis"]
     pairs = corner_pairs(first, 1.0e-3 * h_cell) if basis == "cpdi1" else np.zeros((0, 2), int)
     speed = c.labels.get("speed", 5.0)
     for name in names:
-        fr = mpmplot.read_frame(folder / "particles.h5", name)
+        fr = readers.read_frame(folder / "particles.h5", name)
         k = min(int(np.searchsorted(h["time"], fr["time"] - 1e-12)), len(disp) - 1)
         d = float(disp[k]) / D_CRUSH
         m = quad_measures(fr)
@@ -664,7 +664,7 @@ def part_flip(lv: dict[str, Any]) -> None:
         row = {"part": "flip", "case": c.name, **c.labels}
         row.update(common(r, folder))
         try:
-            h = mpmplot.read_history(folder / "history.csv")
+            h = readers.read_history(folder / "history.csv")
         except (OSError, ValueError):
             rows.append(row)
             continue
