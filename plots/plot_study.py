@@ -1,10 +1,11 @@
 # SPDX-License-Identifier: MIT
 """Figures of the refinement study (docs/validation.md) from its table and curves.
 
-    python3 plots/plot_study.py [--level full] [--out docs/study]
+    python3 plots/plot_study.py [--level quick|full] [--out FOLDER]   (default: quick)
 
-Reads docs/study/study_<level>.csv and the compact curves docs/study/curves/<run>.csv
-written by tools/study.py, and writes into --out:
+Reads study_<level>.csv and the compact curves curves/<run>.csv that tools/study.py wrote
+(docs/study/ for the full level, out/study-quick/ for the quick one), and writes into --out
+(default: the same folder):
 
 * accuracy_runtime.png - error against CPU seconds per scene, Pareto front, recommended runs
 * error_factors.png    - error against h/t, n_t and particle aspect ratio (sets n_c)
@@ -393,9 +394,13 @@ def write_advice_include(rows: list[dict[str, Any]], adv: list[dict[str, Any]], 
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--level", default="full", choices=("quick", "full", "all"))
+    ap.add_argument("--level", default="quick", choices=("quick", "full", "all"),
+                    help="whose table (default quick, as tools/study.py): quick reads and "
+                         "writes out/study-quick/; full reads docs/study/, writes its figures "
+                         "there and --check's advice table src/mpm_advice_table.inc")
     ap.add_argument("--out", default=None, help="output folder (default docs/study; "
-                                                 "out/study-quick for --level quick)")
+                                                 "out/study-quick for --level quick); with "
+                                                 "--out the advice table is not written")
     ap.add_argument("--experiment", action="append", metavar="SCENE=CSV",
                     help="overlay a measured curve on the crush, impact or wave figure "
                          "(repeatable; columns as for plot_case.py, plots/README.md)")

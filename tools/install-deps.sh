@@ -11,6 +11,9 @@ case "${1:-}" in
   --python-only) want_fortran=0 ;;
   --fortran-only) want_python=0 ;;
   "") ;;
+  -h|--help) echo "usage: tools/install-deps.sh [--python-only|--fortran-only]"
+             echo "  installs what is missing (Debian packages, plots/requirements.txt); silent when all is there"
+             exit 0 ;;
   *) echo "usage: $0 [--python-only|--fortran-only]" >&2; exit 2 ;;
 esac
 

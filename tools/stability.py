@@ -695,8 +695,8 @@ PARTS = {"cfl": part_cfl, "crush": part_crush, "nthick": part_nthick, "stick": p
          "distort": part_distort, "flip": part_flip}
 
 
-def main(argv: list[str] | None = None) -> int:
-    global OUT
+def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
+    """The command line (the level defaults to quick, as in ``make stability``)."""
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter,
                                  epilog=__doc__.split("\n\n", 1)[1])
@@ -708,12 +708,20 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--parts", default=",".join(PARTS),
                     help=f"comma-separated subset of {','.join(PARTS)}")
     args = ap.parse_args(argv)
-    level = "quick" if args.quick else args.level
-    OUT = Path(args.out) if args.out else folder_of(level)
-    names = args.parts.split(",")
-    for name in names:
+    if args.quick:
+        args.level = "quick"
+    for name in args.parts.split(","):
         if name not in PARTS:
             ap.error(f"unknown part {name!r}; choose from {', '.join(PARTS)}")
+    return args
+
+
+def main(argv: list[str] | None = None) -> int:
+    global OUT
+    args = parse_args(argv)
+    level = args.level
+    OUT = Path(args.out) if args.out else folder_of(level)
+    names = args.parts.split(",")
     lv = LEVELS[level]
     t0 = time.monotonic()
     for name in names:
