@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: MIT
 """Plot the result of a tubempm run against the closed forms (and a measured curve).
 
-The plot is chosen by the kind of scene (scene.scene_kind, or --kind):
+The plot is chosen by the kind of scene (the ``scene`` of summary.nml through
+mpmplot.scene.scene_kind, or --kind; a wave scene without probes gets the generic plot):
 
 * crush:   platen force vs platen displacement with the DeRuntz-Hodge curve and the elastic
            diametral stiffness; energies vs displacement with kinetic / plastic.
@@ -467,6 +468,8 @@ def main(argv: list[str] | None = None) -> int:
               file=sys.stderr)
         return 2
     kind = args.kind or scene.scene_kind(inputs, outdir)
+    if kind == "wave" and not args.kind and readers.history_probes(history) == 0:
+        kind = "generic"                       # a platen pulse without probes: energies
     failure = readers.run_failure(outdir)
     run = (inputs.get("run") or [{}])[0]
     title = str(run.get("title") or os.path.basename(os.path.normpath(outdir)))
