@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
-"""The output files of a run follow shared/INTERFACE.md (history.csv, summary.nml, input.nml,
+"""The output files of a run follow docs/output.md (history.csv, summary.nml, input.nml,
 particles.h5, particles.xdmf), and the plotting scripts work on them.
 
 A tiny elastic aluminium ring (r 24–26 mm, 2 particles through the wall, h = 2 mm) flies at
@@ -95,7 +95,7 @@ CASE_TEXT = """! test_outputs: elastic aluminium ring onto a rigid frictionless 
 
 
 def expected_header(nwall: int, nprobe: int) -> list[str]:
-    """history.csv columns from the rules of shared/INTERFACE.md (and the three extra columns
+    """history.csv columns from the rules of docs/output.md (and the three extra columns
     the code appends at the end: step, dt, energy_error)."""
     cols = ["time"]
     for k in range(1, nwall + 1):
@@ -151,7 +151,7 @@ def check_history(outdir: Path) -> dict[str, list[float]] | None:
         return None
     header = [h.strip() for h in lines[0].split(",")]
     want = expected_header(NWALL, len(PROBES))
-    if not check(header == want, "history.csv header equals the INTERFACE.md order for 1 wall "
+    if not check(header == want, "history.csv header equals the docs/output.md order for 1 wall "
                  "and 2 probes"):
         print(f"  got:      {header}")
         print(f"  expected: {want}")
@@ -193,7 +193,7 @@ def check_history(outdir: Path) -> dict[str, list[float]] | None:
 
 
 def check_summary(outdir: Path) -> dict | None:
-    """Every INTERFACE.md field, status completed."""
+    """Every field of docs/output.md, status completed."""
     path = outdir / "summary.nml"
     if not check(path.is_file(), f"{path} exists"):
         return None

@@ -5,7 +5,8 @@
 # build/, bin/, out/ and __pycache__/) holds no file newer than the start of this test, and
 # `git status --porcelain` is unchanged (when this is a git work tree). Also: run_scenes.sh
 # refuses an unknown scene (exit 2) without touching docs/figures/scenes.txt, and
-# tools/stability.py defaults to the level `make stability` uses (quick).
+# tools/stability.py defaults to the level `make stability` uses (quick); README.md, Makefile,
+# namelists/, docs/, plots/ and tools/ cite no internal document (METHOD.md, INTERFACE.md, ...).
 #   usage: bash tests/test_tools.sh SCRATCH
 set -u
 if [ -n "${TUBEMPM_TEST_TOOLS:-}" ]; then   # a tool that ignored --help ran the test suite
@@ -62,6 +63,11 @@ make -n --no-print-directory stability 2>/dev/null | grep -q "tools/stability.py
   || bad "make stability does not run tools/stability.py --level quick"
 make -n --no-print-directory stability 2>/dev/null | grep -q "plots/plot_stability.py --level quick" && ok \
   || bad "make stability does not draw the quick level's figures"
+
+# the product cites its own docs and the literature, not the project's internal notes
+cites=$(grep -rnE "(METHOD|INTERFACE|STYLE)\.md|shared/" README.md Makefile namelists docs plots tools \
+        --include='*.md' --include='*.nml' --include='*.py' --include='*.sh' --include=Makefile 2>/dev/null)
+[ -z "$cites" ] && ok || bad "internal documents cited: $(echo "$cites" | head -3)"
 
 # nothing written into the repository
 new=$(changed)
