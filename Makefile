@@ -30,7 +30,7 @@ TESTSRC := $(wildcard tests/test_*.f90)
 TESTS   := $(patsubst tests/%.f90,$(BLD)/%,$(TESTSRC))
 FC_ALL  := $(FC) $(FFLAGS_common) $(FFLAGS_$(BUILD))
 
-.PHONY: all deps test run plots clean help check-namelists check-paraview bench study stability figures fuzz
+.PHONY: all deps test run clean help check-namelists check-paraview bench study stability figures fuzz
 
 # HDF5 flags come from pkg-config when make reads this file, so everything that compiles runs
 # in a sub-make started after `deps` has installed what was missing (a fresh machine).
@@ -112,16 +112,19 @@ study: all
 	@$(MAKE) --no-print-directory all    # --check's advice table may have changed
 
 ## figures: regenerate the study's figures (docs/study/) from the committed table and curves,
-##          and --check's advice table (src/mpm_advice_table.inc, rebuilt when it changed)
+##          and --check's advice table (src/mpm_advice_table.inc, rebuilt when it changed);
+##          the stability study's figures (docs/stability/) from its committed tables
 figures: deps
 	$(PYTHON) plots/plot_study.py --level full
+	$(PYTHON) plots/plot_stability.py --level full
 	@$(MAKE) --no-print-directory all
 
 ## stability: the stability study of docs/stability.md (release build, one run at a time, one
-##            thread): LEVEL=quick (default, < 10 min) or LEVEL=full; tables and figures in
-##            docs/stability/, runs in build/stability/ (reused when unchanged)
+##            thread): LEVEL=quick (default, < 10 min; tables and figures in out/stability-quick/)
+##            or LEVEL=full (docs/stability/); runs in build/stability/ (reused when unchanged)
 stability: all
-	$(PYTHON) tools/stability.py --level $(or $(LEVEL),quick)
+	$(PYTHON) tools/stability.py --level $(LEVEL)
+	$(PYTHON) plots/plot_stability.py --level $(LEVEL)
 
 ## check-paraview: install Debian's ParaView (pvbatch, xvfb) if missing, then open a run's
 ##                 particles.xdmf with ParaView's default reader and check every array

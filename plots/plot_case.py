@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: MIT
 """Plot the result of a tubempm run against the closed forms (and a measured curve).
 
-The plot is chosen by the kind of scene (mpmplot.scene_kind, or --kind):
+The plot is chosen by the kind of scene (the ``scene`` of summary.nml through
+mpmplot.scene.scene_kind, or --kind; a wave scene without probes gets the generic plot):
 
 * crush:   platen force vs platen displacement with the DeRuntz-Hodge curve and the elastic
            diametral stiffness; energies vs displacement with kinetic / plastic.
@@ -33,7 +34,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import style  # noqa: E402,F401  (Agg backend and rcParams, before pyplot)
-import mpmplot  # noqa: E402
+from mpmplot import analysis, readers, scene, theory  # noqa: E402
 
 import matplotlib.pyplot as plt  # noqa: E402
 
@@ -85,20 +86,20 @@ def _experiment(path: str | None, kind: str) -> tuple[np.ndarray, np.ndarray] | 
     if kind not in EXPERIMENT_COLUMNS:
         print(f"note: --experiment is not used for a {kind} scene", file=sys.stderr)
         return None
-    a, b = mpmplot.read_experiment(path, EXPERIMENT_COLUMNS[kind])
+    a, b = readers.read_experiment(path, EXPERIMENT_COLUMNS[kind])
     return a, b
 
 
 def _ring(inputs: Inputs) -> dict[str, Any] | None:
     """Ring properties, or None when the case has no ring."""
     try:
-        return mpmplot.ring_properties(inputs)
+        return scene.ring_properties(inputs)
     except ValueError:
         return None
 
 
 def _walls(inputs: Inputs, history: History) -> list[dict[str, Any]]:
-    return mpmplot.wall_table(inputs, mpmplot.history_walls(history))
+    return scene.wall_table(inputs, readers.history_walls(history))
 
 
 def _energy_lines(ax: plt.Axes, x: np.ndarray, history: History) -> None:
@@ -115,10 +116,10 @@ def plot_crush(history: History, inputs: Inputs, outdir: str, experiment: str | 
                title: str) -> tuple[plt.Figure, list[str]]:
     """Platen force and energies vs platen displacement, with the closed forms."""
     walls = [w for w in _walls(inputs, history) if not w["mirror"]]
-    disp, force, k = mpmplot.crush_displacement(history, inputs)
+    disp, force, k = scene.crush_displacement(history, inputs)
     top = next(w for w in walls if w["index"] == k)
     ring = _ring(inputs)
-    depth = mpmplot.depth_of(inputs)
+    depth = scene.depth_of(inputs)
 
     fig, (ax, ax2) = plt.subplots(1, 2, layout="constrained", figsize=(11.5, 4.6))
     ax.plot(disp * 1e3, force * 1e-3, color="C0", label=f"MPM, wall {k} (moving platen)")
@@ -134,39 +135,33 @@ def plot_crush(history: History, inputs: Inputs, outdir: str, experiment: str | 
     dmax = float(np.nanmax(disp)) if disp.size else 0.0
     if ring is not None and np.isfinite(ring["sigma_y"]) and dmax > 0:
         D, t, plane = ring["D"], ring["t"], ring["plane"]
-        p0 = mpmplot.plastic_collapse_load(D, t, ring["sigma_y"], plane, depth)
+        p0 = theory.plastic_collapse_load(D, t, ring["sigma_y"], plane, depth)
         d = np.linspace(0.0, min(dmax, 0.97 * D), 400)
-        ax.plot(d * 1e3, mpmplot.deruntz_hodge(d, D, t, ring["sigma_y"], plane, depth) * 1e-3,
+        ax.plot(d * 1e3, theory.deruntz_hodge(d, D, t, ring["sigma_y"], plane, depth) * 1e-3,
                 color="C3", ls="--",
                 label=r"DeRuntz–Hodge $P_0/\sqrt{1-(\delta/D)^2}$"
                 + f", $P_0$ = {p0 * 1e-3:.3g} kN")
-        kel = mpmplot.ring_elastic_stiffness(ring["R"], t, ring["E"], ring["nu"], plane, depth)
+        kel = theory.ring_elastic_stiffness(ring["R"], t, ring["E"], ring["nu"], plane, depth)
         de = np.linspace(0.0, min(dmax, 1.5 * p0 / kel), 50)
         ax.plot(de * 1e3, kel * de * 1e-3, color="C1", ls=":", lw=1.8,
-                label=f"elastic ring $P = k\\delta$, k = {kel * 1e-6:.3g} kN/mm")
+                label=f"thin elastic ring $P = k\\delta$ (closed form), k = {kel * 1e-6:.3g} kN/mm")
         lo, hi = 0.1 * D, 0.3 * D
         sel = (disp >= lo) & (disp <= hi)
         if np.count_nonzero(sel) < 3:           # short stroke: second half of it
             sel = disp >= 0.5 * dmax
         plateau = float(np.mean(force[sel])) if np.any(sel) else float("nan")
-        dh_plateau = float(np.mean(mpmplot.deruntz_hodge(disp[sel], D, t, ring["sigma_y"],
+        dh_plateau = float(np.mean(theory.deruntz_hodge(disp[sel], D, t, ring["sigma_y"],
                                                          plane, depth))) if np.any(sel) else \
             float("nan")
         rng = f"{disp[sel].min() * 1e3:.3g}–{disp[sel].max() * 1e3:.3g} mm" if np.any(sel) else ""
-        soft = (force > 0) & (force < 0.3 * p0) & (disp > 0)
-        k_mpm = float(np.sum(force[soft] * disp[soft]) / np.sum(disp[soft] ** 2)) \
-            if np.count_nonzero(soft) >= 3 else float("nan")
         lines += [f"plateau {plateau * 1e-3:.4g} kN (DeRuntz–Hodge {dh_plateau * 1e-3:.4g} kN) "
                   f"over {rng}",
                   f"plane {plane}, $\\sigma_0$ = {ring['sigma_y'] * 1e-6:.4g} MPa, "
                   f"D = {D * 1e3:.4g} mm, t = {t * 1e3:.4g} mm"]
         numbers += [f"plateau force     {plateau:.6g} N (mean over {rng})",
                     f"DeRuntz-Hodge     {dh_plateau:.6g} N over the same range; "
-                    f"P0 = {p0:.6g} N (plane {plane})",
-                    f"elastic stiffness {_fmt(k_mpm, '.6g')} N/m (MPM fit over rows with "
-                    f"F < 0.3 P0; n/a if fewer than 3) vs "
-                    f"{kel:.6g} N/m (thin ring)"]
-        dW = mpmplot.deruntz_hodge_energy(disp, D, t, ring["sigma_y"], plane, depth)
+                    f"P0 = {p0:.6g} N (plane {plane})"]
+        dW = theory.deruntz_hodge_energy(disp, D, t, ring["sigma_y"], plane, depth)
         ax2.plot(disp * 1e3, dW, color="C3", ls="--", lw=1.0,
                  label=r"DeRuntz–Hodge $P_0\,D\,\arcsin(\delta/D)$")
     exp = _experiment(experiment, "crush")
@@ -213,10 +208,10 @@ def _total_mass(outdir: str, inputs: Inputs) -> float:
     """Mass of the full structure for depth [kg] from the first snapshot (NaN if unreadable)."""
     h5 = os.path.join(outdir, "particles.h5")
     try:
-        frame = mpmplot.read_frame(h5, 0)
+        frame = readers.read_frame(h5, 0)
     except (OSError, KeyError, ValueError, IndexError, ImportError):
         return float("nan")
-    return float(np.sum(frame["mass"])) * mpmplot.depth_of(inputs) * mpmplot.sector_factor(inputs)
+    return float(np.sum(frame["mass"])) * scene.depth_of(inputs) * scene.sector_factor(inputs)
 
 
 def plot_impact(history: History, inputs: Inputs, outdir: str, experiment: str | None,
@@ -232,12 +227,12 @@ def plot_impact(history: History, inputs: Inputs, outdir: str, experiment: str |
     t = history["time"]
     f = history[f"wall{k}_force"]
     vn = history["com_vx"] * n[0] + history["com_vy"] * n[1]
-    ph = mpmplot.contact_phases(t, f, away=vn > 0.0)
-    v_imp = mpmplot.impact_velocity(history, k, n, ph)
-    v_reb = mpmplot.rebound_velocity(history, k, n, ph)
+    ph = analysis.contact_phases(t, f, away=vn > 0.0)
+    v_imp = analysis.impact_velocity(history, k, n, ph)
+    v_reb = analysis.rebound_velocity(history, k, n, ph)
     cor = v_reb / v_imp if v_imp != 0 else float("nan")
     mass = _total_mass(outdir, inputs)
-    depth = mpmplot.depth_of(inputs)
+    depth = scene.depth_of(inputs)
     ms = 1e3
 
     fig, (ax, ax2) = plt.subplots(1, 2, layout="constrained", figsize=(11.5, 4.6))
@@ -317,7 +312,7 @@ def probe_angles(history: History, inputs: Inputs) -> tuple[np.ndarray, int, np.
     point is the probe nearest the moving wall (a wall with a velocity or a motion table), or
     probe 1 without one.
     """
-    nprobe = mpmplot.history_probes(history)
+    nprobe = readers.history_probes(history)
     pos = np.array([[history[f"probe{j + 1}_x"][0], history[f"probe{j + 1}_y"][0]]
                     for j in range(nprobe)])
     ring = _ring(inputs)
@@ -337,13 +332,13 @@ def probe_angles(history: History, inputs: Inputs) -> tuple[np.ndarray, int, np.
 def plot_wave(history: History, inputs: Inputs, outdir: str, experiment: str | None,
               title: str, threshold: float = 0.1) -> tuple[plt.Figure, list[str]]:
     """Probe velocity disturbances vs time and arrival time vs angle from the struck point."""
-    nprobe = mpmplot.history_probes(history)
+    nprobe = readers.history_probes(history)
     if nprobe == 0:
         raise ValueError("wave plot: the history has no probe columns")
     t = history["time"]
     us = 1e6
-    dist = mpmplot.probe_disturbance(history)
-    arrival = np.atleast_1d(mpmplot.arrival_times(t, dist, threshold))
+    dist = analysis.probe_disturbance(history)
+    arrival = np.atleast_1d(analysis.arrival_times(t, dist, threshold))
     angles, struck, _ = probe_angles(history, inputs)
     ring = _ring(inputs)
 
@@ -381,8 +376,8 @@ def plot_wave(history: History, inputs: Inputs, outdir: str, experiment: str | N
         R = ring["R"]
         t0 = arrival[struck] if np.isfinite(arrival[struck]) else 0.0
         th = np.linspace(0.0, 180.0, 200)
-        speeds = {"bar": mpmplot.bar_speed(ring["E"], ring["rho"]),
-                  "plate": mpmplot.plate_speed(ring["E"], ring["nu"], ring["rho"])}
+        speeds = {"bar": theory.bar_speed(ring["E"], ring["rho"]),
+                  "plate": theory.plate_speed(ring["E"], ring["nu"], ring["rho"])}
         for (name, c), ls in zip(speeds.items(), ("--", ":")):
             ax2.plot(th, (t0 + R * np.radians(th) / c) * us, color="C3" if name == "bar" else "C1",
                      ls=ls, label=f"$t_0 + R\\theta/c$, {name} c = {c:.0f} m/s")
@@ -424,7 +419,7 @@ def plot_generic(history: History, inputs: Inputs, outdir: str, experiment: str 
         ax.plot(t * scale, total - history["external"], color="C5", lw=1.0,
                 label="kinetic + strain + plastic + damped − external")
     ax.set_xlabel(f"time [{unit}]")
-    ax.set_ylabel(f"energy [J] (depth {mpmplot.depth_of(inputs):g} m)")
+    ax.set_ylabel(f"energy [J] (depth {scene.depth_of(inputs):g} m)")
     ax.set_title(f"{title}: energies")
     ax.legend(loc="best")
     numbers = [f"generic: {len(t)} rows to t = {t[-1]:.6g} s"]
@@ -463,8 +458,8 @@ def main(argv: list[str] | None = None) -> int:
     """Read the run, draw the plot for its kind of scene, print the key numbers."""
     args = parse_args(argv)
     try:
-        outdir, inputs = mpmplot.resolve_case(args.case, args.dir)
-        history = mpmplot.read_history(os.path.join(outdir, "history.csv"))
+        outdir, inputs = scene.resolve_case(args.case, args.dir)
+        history = readers.read_history(os.path.join(outdir, "history.csv"))
     except (OSError, ValueError) as exc:
         print(f"ERROR [plot_case]: {exc}", file=sys.stderr)
         return 2
@@ -472,7 +467,10 @@ def main(argv: list[str] | None = None) -> int:
         print(f"ERROR [plot_case]: {outdir}/history.csv has fewer than two rows; nothing to plot",
               file=sys.stderr)
         return 2
-    kind = args.kind or mpmplot.scene_kind(inputs)
+    kind = args.kind or scene.scene_kind(inputs, outdir)
+    if kind == "wave" and not args.kind and readers.history_probes(history) == 0:
+        kind = "generic"                       # a platen pulse without probes: energies
+    failure = readers.run_failure(outdir)
     run = (inputs.get("run") or [{}])[0]
     title = str(run.get("title") or os.path.basename(os.path.normpath(outdir)))
     out = args.out or os.path.join(outdir, f"{kind}.png")
@@ -483,10 +481,14 @@ def main(argv: list[str] | None = None) -> int:
     except (OSError, ValueError, KeyError) as exc:
         print(f"ERROR [plot_case]: {kind} plot of {outdir}: {exc}", file=sys.stderr)
         return 2
+    if failure:
+        style.mark_failed(fig, failure)
     fig.savefig(out, dpi=style.DPI)
     plt.close(fig)
     print(f"{title}: {kind} scene, {history['time'].size} history rows, t_end "
           f"{history['time'][-1]:.6g} s")
+    if failure:
+        print(f"  {failure}")
     for line in numbers:
         print("  " + line)
     print(f"wrote {out}")

@@ -23,7 +23,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import style  # noqa: E402  (Agg backend and rcParams, before pyplot)
-import mpmplot  # noqa: E402
+from mpmplot import readers, scene  # noqa: E402
 
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.collections import PolyCollection  # noqa: E402
@@ -100,13 +100,13 @@ def main(argv: list[str] | None = None) -> int:
     args = p.parse_args(argv)
 
     try:
-        outdir, inputs = mpmplot.resolve_case(args.case, args.dir)
+        outdir, inputs = scene.resolve_case(args.case, args.dir)
         h5 = args.h5 or os.path.join(outdir, "particles.h5")
-        names = mpmplot.read_frames(h5)
+        names = readers.read_frames(h5)
         chosen = pick_frames(len(names), args.frames)
         if not chosen:
             raise ValueError(f"{h5}: no snapshots")
-        frames = [mpmplot.read_frame(h5, names[j]) for j in chosen]
+        frames = [readers.read_frame(h5, names[j]) for j in chosen]
     except (OSError, ValueError, KeyError, IndexError) as exc:
         print(f"ERROR [plot_shapes]: {exc}", file=sys.stderr)
         return 2
@@ -114,10 +114,10 @@ def main(argv: list[str] | None = None) -> int:
     hpath = os.path.join(outdir, "history.csv")
     if os.path.isfile(hpath):
         try:
-            history = mpmplot.read_history(hpath)
+            history = readers.read_history(hpath)
         except ValueError as exc:
             print(f"warning: {exc}; walls drawn at their initial position", file=sys.stderr)
-    walls = mpmplot.wall_table(inputs, mpmplot.history_walls(history) if history else None)
+    walls = scene.wall_table(inputs, readers.history_walls(history) if history else None)
 
     mm = 1e3
     allc = np.vstack([f["corners"] for f in frames]) * mm
@@ -161,7 +161,13 @@ def main(argv: list[str] | None = None) -> int:
     fig.colorbar(pc, ax=axes, label=label, shrink=0.9)
     run = (inputs.get("run") or [{}])[0]
     title = str(run.get("title") or os.path.basename(os.path.normpath(outdir)))
-    fig.suptitle(f"{title}: deformed particle domains ({frames[0]['np']} particles)")
+    suptitle = f"{title}: deformed particle domains ({frames[0]['np']} particles)"
+    failure = readers.run_failure(outdir)
+    if failure:
+        style.mark_failed(fig, failure, suptitle)
+        print(f"  {failure}")
+    else:
+        fig.suptitle(suptitle)
     out = args.out or os.path.join(outdir, "shapes.png")
     fig.savefig(out, dpi=style.DPI)
     plt.close(fig)

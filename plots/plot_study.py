@@ -1,10 +1,11 @@
 # SPDX-License-Identifier: MIT
 """Figures of the refinement study (docs/validation.md) from its table and curves.
 
-    python3 plots/plot_study.py [--level full] [--out docs/study]
+    python3 plots/plot_study.py [--level quick|full] [--out FOLDER]   (default: quick)
 
-Reads docs/study/study_<level>.csv and the compact curves docs/study/curves/<run>.csv
-written by tools/study.py, and writes into --out:
+Reads study_<level>.csv and the compact curves curves/<run>.csv that tools/study.py wrote
+(docs/study/ for the full level, out/study-quick/ for the quick one), and writes into --out
+(default: the same folder):
 
 * accuracy_runtime.png - error against CPU seconds per scene, Pareto front, recommended runs
 * error_factors.png    - error against h/t, n_t and particle aspect ratio (sets n_c)
@@ -30,7 +31,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import style  # noqa: E402,F401  (sets the matplotlib defaults)
 import matplotlib.pyplot as plt  # noqa: E402
-import mpmplot  # noqa: E402
+from mpmplot import namelist, readers, scene, theory  # noqa: E402
 from plot_case import EXPERIMENT_COLUMNS  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -215,7 +216,7 @@ def experiment(args_exp: list[str], scene: str) -> tuple[np.ndarray, np.ndarray]
     for item in args_exp or []:
         key, _, path = item.partition("=")
         if key == scene and path:
-            return mpmplot.read_experiment(path, EXPERIMENT_COLUMNS[scene])
+            return readers.read_experiment(path, EXPERIMENT_COLUMNS[scene])
     return None
 
 
@@ -242,12 +243,12 @@ def _sweep_curves(axes, rows, scene: str, folder: Path, xscale: float, note) -> 
 
 def fig_crush(rows, folder: Path, out: Path, exp=None) -> None:
     fig, axes = plt.subplots(1, 2, figsize=(13, 4.8), layout="constrained", sharey=True)
-    ring = mpmplot.ring_properties(mpmplot.read_namelist(ROOT / "namelists" / "crush.nml"))
+    ring = scene.ring_properties(namelist.read_namelist(ROOT / "namelists" / "crush.nml"))
     _sweep_curves(axes, rows, "crush", folder, 1.0,
                   lambda r: " (reference)" if r["name"] == r["reference"]
                   else f" (L2 error {r['error']:.1%})")
     d = np.linspace(0, 0.6, 200)
-    dh = mpmplot.deruntz_hodge(d * ring["D"], ring["D"], ring["t"], ring["sigma_y"],
+    dh = theory.deruntz_hodge(d * ring["D"], ring["D"], ring["t"], ring["sigma_y"],
                                ring["plane"], ring["depth"])
     for ax, (_, _, title) in zip(axes, CURVE_SWEEPS):
         ax.plot(d, dh * 1e-3, "k--", label="DeRuntz–Hodge")
@@ -290,8 +291,8 @@ def fig_cor(rows, out: Path) -> None:
         key=lambda r: r["speed"])
     if not rs:
         return
-    inputs = mpmplot.read_namelist(ROOT / "namelists" / "impact.nml")
-    ring = mpmplot.ring_properties(inputs)
+    inputs = namelist.read_namelist(ROOT / "namelists" / "impact.nml")
+    ring = scene.ring_properties(inputs)
     vy = ring["sigma_y"] / math.sqrt(ring["E"] * ring["rho"])
     fig, ax = plt.subplots(figsize=(7.5, 4.6), layout="constrained")
     ax.axhspan(0.75, 0.78, color="C2", alpha=0.25,
@@ -321,11 +322,11 @@ def fig_wave(rows, folder: Path, out: Path, exp=None) -> None:
         ax.plot(c[:, 0], c[:, 1] * 1e6, "o-", ms=4, lw=1,
                 color=cmap(i / max(len(rs) - 1, 1) * 0.9),
                 label=f"h/t = {r['h_over_t']:g}, n_t 16: fitted {r['wave_speed']:.0f} m/s")
-    inputs = mpmplot.read_namelist(ROOT / "namelists" / "wave.nml")
-    ring = mpmplot.ring_properties(inputs)
+    inputs = namelist.read_namelist(ROOT / "namelists" / "wave.nml")
+    ring = scene.ring_properties(inputs)
     th = np.linspace(0, 180, 50)
-    for name, c, ls in (("bar", mpmplot.bar_speed(ring["E"], ring["rho"]), "--"),
-                        ("plate", mpmplot.plate_speed(ring["E"], ring["nu"], ring["rho"]), ":")):
+    for name, c, ls in (("bar", theory.bar_speed(ring["E"], ring["rho"]), "--"),
+                        ("plate", theory.plate_speed(ring["E"], ring["nu"], ring["rho"]), ":")):
         ax.plot(th, np.radians(th) * ring["R"] / c * 1e6, "k", ls=ls,
                 label=f"Rθ / c, {name} speed {c:.0f} m/s")
     if exp is not None:
@@ -393,9 +394,13 @@ def write_advice_include(rows: list[dict[str, Any]], adv: list[dict[str, Any]], 
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--level", default="full", choices=("quick", "full", "all"))
+    ap.add_argument("--level", default="quick", choices=("quick", "full", "all"),
+                    help="whose table (default quick, as tools/study.py): quick reads and "
+                         "writes out/study-quick/; full reads docs/study/, writes its figures "
+                         "there and --check's advice table src/mpm_advice_table.inc")
     ap.add_argument("--out", default=None, help="output folder (default docs/study; "
-                                                 "out/study-quick for --level quick)")
+                                                 "out/study-quick for --level quick); with "
+                                                 "--out the advice table is not written")
     ap.add_argument("--experiment", action="append", metavar="SCENE=CSV",
                     help="overlay a measured curve on the crush, impact or wave figure "
                          "(repeatable; columns as for plot_case.py, plots/README.md)")

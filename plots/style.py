@@ -36,6 +36,14 @@ RC: dict[str, object] = {
 }
 
 
+def mark_failed(fig, failure: str, title: str = "") -> None:
+    """Say in red above the plots that the run did not complete (``failure``: one line, e.g.
+    from ``mpmplot.readers.run_failure``), above the figure's ``title`` if any."""
+    text = failure if len(failure) <= 150 else failure[:147] + "..."
+    fig.suptitle(f"{text}\n{title}" if title else text, color="red", fontsize=10,
+                 fontweight="bold")
+
+
 def apply() -> None:
     """Apply the shared rcParams (idempotent)."""
     matplotlib.rcParams.update(RC)

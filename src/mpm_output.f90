@@ -31,6 +31,7 @@ module mpm_output
   type :: summary_t
     character(len=16) :: status = 'completed'  !! completed | unstable | interrupted
     character(len=1024) :: message = ''        !! failure message, if any
+    character(len=8) :: scene = ''             !! crush | wave | impact ('' : generic)
     real(wp) :: wall_seconds = 0.0_wp          !! elapsed wall-clock time [s]
     integer :: threads = 1                     !! OpenMP threads
   end type summary_t
@@ -224,6 +225,8 @@ contains
     end if
     write(u, '(a)', iostat=stat, iomsg=msg) '&summary'
     write(u, '(3a)', iostat=stat, iomsg=msg) '  status = ''', trim(sm%status), ''''
+    write(u, '(3a)', iostat=stat, iomsg=msg) '  scene = ''', &
+      trim(merge(sm%scene, 'generic ', len_trim(sm%scene) > 0)), ''''
     write(u, '(a,i0)', iostat=stat, iomsg=msg) '  steps = ', s%step
     write(u, '(a,i0)', iostat=stat, iomsg=msg) '  particles = ', s%p%np
     write(u, '(a,i0)', iostat=stat, iomsg=msg) '  nodes = ', s%g%nn

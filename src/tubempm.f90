@@ -13,7 +13,7 @@ program tubempm
   use mpm_errors, only: fatal, warn
   use mpm_config, only: config_t, read_config, write_config, write_config_unit, default_config
   use mpm_setup, only: setup_sim, setup_report, sector_factor
-  use mpm_advice, only: study_advice
+  use mpm_advice, only: study_advice, scene_of
   use mpm_solver, only: sim_t, solver_step
   use mpm_particles, only: particles_t
   use mpm_output, only: history_t, history_open, history_write, history_close, write_summary, &
@@ -227,6 +227,7 @@ contains
       next_snap = cfg%run%snapshot_every
     end if
     if (.not. sys_install_signals()) call warn('run', 'could not install signal handlers')
+    sm%scene = scene_of(cfg)               ! the scene rule --check advises by
     sm%threads = 1
     !$ sm%threads = omp_get_max_threads()
     good = s%p

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
-"""The output files of a run follow shared/INTERFACE.md (history.csv, summary.nml, input.nml,
+"""The output files of a run follow docs/output.md (history.csv, summary.nml, input.nml,
 particles.h5, particles.xdmf), and the plotting scripts work on them.
 
 A tiny elastic aluminium ring (r 24–26 mm, 2 particles through the wall, h = 2 mm) flies at
@@ -11,7 +11,7 @@ this script is reported as a failure too).
 
     TUBEMPM=build/debug/tubempm python3 tests/test_outputs.py SCRATCHDIR
 
-Standard library, numpy and h5py only (plus plots/mpmplot.py for read_namelist).
+Standard library, numpy and h5py only (plus plots/mpmplot, the readers under test).
 """
 from __future__ import annotations
 
@@ -24,11 +24,12 @@ import traceback
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from pycheck import Checks, close  # noqa: E402
-
 ROOT = Path(__file__).resolve().parent.parent
 PLOTS = ROOT / "plots"
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+sys.path.insert(0, str(PLOTS))
+from pycheck import Checks, close  # noqa: E402
+from mpmplot import namelist, readers, scene  # noqa: E402
 NAME = "test_outputs"
 
 T = Checks(NAME)
@@ -94,7 +95,7 @@ CASE_TEXT = """! test_outputs: elastic aluminium ring onto a rigid frictionless 
 
 
 def expected_header(nwall: int, nprobe: int) -> list[str]:
-    """history.csv columns from the rules of shared/INTERFACE.md (and the three extra columns
+    """history.csv columns from the rules of docs/output.md (and the three extra columns
     the code appends at the end: step, dt, energy_error)."""
     cols = ["time"]
     for k in range(1, nwall + 1):
@@ -106,7 +107,7 @@ def expected_header(nwall: int, nprobe: int) -> list[str]:
     return cols
 
 
-SUMMARY_FIELDS = ["status", "steps", "particles", "nodes", "sim_time", "wall_seconds",
+SUMMARY_FIELDS = ["status", "scene", "steps", "particles", "nodes", "sim_time", "wall_seconds",
                   "runtime_ratio", "updates_per_second", "threads", "energy_error", "dt_last",
                   "active_nodes", "grid_grown", "min_corner_jacobian", "max_area_deviation",
                   "message"]
@@ -150,7 +151,7 @@ def check_history(outdir: Path) -> dict[str, list[float]] | None:
         return None
     header = [h.strip() for h in lines[0].split(",")]
     want = expected_header(NWALL, len(PROBES))
-    if not check(header == want, "history.csv header equals the INTERFACE.md order for 1 wall "
+    if not check(header == want, "history.csv header equals the docs/output.md order for 1 wall "
                  "and 2 probes"):
         print(f"  got:      {header}")
         print(f"  expected: {want}")
@@ -191,13 +192,13 @@ def check_history(outdir: Path) -> dict[str, list[float]] | None:
     return cols
 
 
-def check_summary(outdir: Path, nml) -> dict | None:
-    """Every INTERFACE.md field, status completed."""
+def check_summary(outdir: Path) -> dict | None:
+    """Every field of docs/output.md, status completed."""
     path = outdir / "summary.nml"
     if not check(path.is_file(), f"{path} exists"):
         return None
     try:
-        groups = nml.read_namelist(path)
+        groups = namelist.read_namelist(path)
     except Exception as exc:  # noqa: BLE001 - any reader failure is a failed check
         check(False, f"summary.nml reads as a namelist: {exc}")
         return None
@@ -207,6 +208,8 @@ def check_summary(outdir: Path, nml) -> dict | None:
     for field in SUMMARY_FIELDS:
         check(field in s, f"summary.nml has '{field}'")
     check(s.get("status") == "completed", f"status = 'completed' (got {s.get('status')!r})")
+    check(s.get("scene") == "impact", f"scene = 'impact' for a ring flying onto a static wall "
+          f"(got {s.get('scene')!r})")
     for field in ("steps", "particles", "nodes", "threads", "active_nodes"):
         check(isinstance(s.get(field), int) and s[field] > 0,
               f"summary {field} is a positive integer (got {s.get(field)!r})")
@@ -363,13 +366,13 @@ def check_xdmf(outdir: Path, snaps: list[dict]) -> None:
     check(nslab == 0, f"no HyperSlab items, which ParaView's default reader skips ({nslab})")
 
 
-def check_input_echo(outdir: Path, nml) -> None:
+def check_input_echo(outdir: Path) -> None:
     """input.nml reads back and holds every group with the case's values."""
     path = outdir / "input.nml"
     if not check(path.is_file(), f"{path} exists"):
         return
     try:
-        groups = nml.read_namelist(path)
+        groups = namelist.read_namelist(path)
     except Exception as exc:  # noqa: BLE001
         check(False, f"input.nml reads back with read_namelist: {exc}")
         return
@@ -390,20 +393,20 @@ def check_input_echo(outdir: Path, nml) -> None:
           "input.nml output_dir is the case's")
 
 
-def check_readers(outdir: Path, scratch: Path, nml, snaps: list[dict]) -> None:
-    """plots/mpmplot.py reads the real files, and names what is missing in a broken one."""
+def check_readers(outdir: Path, scratch: Path, snaps: list[dict]) -> None:
+    """plots/mpmplot reads the real files, and names what is missing in a broken one."""
     import h5py
     try:
-        hist = nml.read_history(outdir / "history.csv")
+        hist = readers.read_history(outdir / "history.csv")
         check(list(hist) == expected_header(NWALL, len(PROBES)),
-              "mpmplot.read_history gives the columns in file order")
-        check(nml.read_summary(outdir / "summary.nml").get("status") == "completed",
-              "mpmplot.read_summary reads the status")
-        names = nml.read_frames(outdir / "particles.h5")
-        check(len(names) == len(snaps), "mpmplot.read_frames lists every snapshot")
-        frame = nml.read_frame(outdir / "particles.h5", -1)
+              "readers.read_history gives the columns in file order")
+        check(readers.read_summary(outdir / "summary.nml").get("status") == "completed",
+              "readers.read_summary reads the status")
+        names = readers.read_frames(outdir / "particles.h5")
+        check(len(names) == len(snaps), "readers.read_frames lists every snapshot")
+        frame = readers.read_frame(outdir / "particles.h5", -1)
         check(frame["x"].shape == (frame["np"], 2) and frame["name"] == names[-1],
-              "mpmplot.read_frame(-1) reads the last snapshot")
+              "readers.read_frame(-1) reads the last snapshot")
     except Exception as exc:  # noqa: BLE001
         check(False, f"mpmplot reads the outputs: {exc}")
         return
@@ -412,10 +415,10 @@ def check_readers(outdir: Path, scratch: Path, nml, snaps: list[dict]) -> None:
     with h5py.File(broken, "r+") as f:
         del f["snap_000000"]["eqps"]
     try:
-        nml.read_frame(broken, 0)
-        check(False, "mpmplot.read_frame raises on a snapshot without eqps")
+        readers.read_frame(broken, 0)
+        check(False, "readers.read_frame raises on a snapshot without eqps")
     except KeyError as exc:
-        check("eqps" in str(exc), f"mpmplot.read_frame names the missing dataset ({exc})")
+        check("eqps" in str(exc), f"readers.read_frame names the missing dataset ({exc})")
 
 
 def check_png(path: Path, what: str) -> None:
@@ -442,8 +445,6 @@ def main() -> int:
     if not check(bool(binary) and os.access(binary, os.X_OK),
                  f"TUBEMPM names an executable binary (got {binary!r})"):
         return 1
-    sys.path.insert(0, str(PLOTS))
-    import mpmplot as nml  # noqa: PLC0415 (after the path is set)
 
     outdir = scratch / "out_outputs"
     if outdir.is_dir():                        # outputs of an earlier run of this test
@@ -454,7 +455,7 @@ def main() -> int:
         snapshot_every=SNAPSHOT_EVERY, rho=RHO, cx=CENTER[0], cy=CENTER[1], r_in=R_IN,
         r_out=R_OUT, v0=V0, p1x=PROBES[0][0], p1y=PROBES[0][1], p2x=PROBES[1][0],
         p2y=PROBES[1][1]))
-    check(nml.case_output_dir(case) == str(outdir), "mpmplot.case_output_dir finds the "
+    check(scene.case_output_dir(case) == str(outdir), "scene.case_output_dir finds the "
           "&run output_dir")
 
     # --check: validate only
@@ -470,20 +471,20 @@ def main() -> int:
         show(proc)
         return 1
     cols = check_history(outdir)
-    summary = check_summary(outdir, nml)
+    summary = check_summary(outdir)
     snaps = check_h5(outdir, summary)
     check_xdmf(outdir, snaps)
-    check_input_echo(outdir, nml)
+    check_input_echo(outdir)
     if cols is not None and snaps and "mass" in snaps[0]:
         ke0 = 0.5 * snaps[0]["mass"] * V0 ** 2       # depth 1 m
         check(close(cols["kinetic"][0], ke0, rtol=1e-9),
               f"initial kinetic energy {cols['kinetic'][0]:.6g} J = 1/2 m v^2 = {ke0:.6g} J")
 
-    check_readers(outdir, scratch, nml, snaps)
+    check_readers(outdir, scratch, snaps)
 
     # the plots
-    groups = nml.read_namelist(case)
-    kind = nml.scene_kind(groups)
+    groups = namelist.read_namelist(case)
+    kind = scene.scene_kind(groups)
     proc = run([sys.executable, str(PLOTS / "plot_case.py"), "--case", str(case)], timeout=300)
     if not check(proc.returncode == 0, f"plot_case.py exits 0 (got {proc.returncode})"):
         show(proc)

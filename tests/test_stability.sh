@@ -43,14 +43,15 @@ grep -q "status = 'unstable'" "$scratch/cfl15/summary.nml" 2>/dev/null && ok \
 $py - "$scratch/cfl15" "$root/plots" <<'PY' && ok || bad "cfl 1.5: last good state not readable or not good"
 import glob, os, sys
 sys.path.insert(0, sys.argv[2])
-import numpy as np, mpmplot
+import numpy as np
+from mpmplot import readers
 d = sys.argv[1]
 crash = glob.glob(os.path.join(d, "crash_*.h5"))
 assert len(crash) == 1, crash
 step = int(os.path.basename(crash[0])[6:-3])
-fr = mpmplot.read_frame(crash[0])
-first = mpmplot.read_frame(os.path.join(d, "particles.h5"), 0)
-summ = mpmplot.read_summary(os.path.join(d, "summary.nml"))
+fr = readers.read_frame(crash[0])
+first = readers.read_frame(os.path.join(d, "particles.h5"), 0)
+summ = readers.read_summary(os.path.join(d, "summary.nml"))
 assert fr["step"] == step and step < summ["steps"], (fr["step"], step, summ["steps"])
 for k in ("x", "v", "stress", "F", "corners"):
     assert np.all(np.isfinite(fr[k])), k
@@ -67,8 +68,8 @@ variant stability_impact cfl02 ""
 $py - "$scratch/cfl02/summary.nml" "$root/plots" <<'PY' && ok || bad "default cfl: not completed or energy error >= 5 %"
 import sys
 sys.path.insert(0, sys.argv[2])
-import mpmplot
-s = mpmplot.read_summary(sys.argv[1])
+from mpmplot import readers
+s = readers.read_summary(sys.argv[1])
 print("default cfl:", s["status"], "energy error", s["energy_error"])
 assert s["status"] == "completed" and s["energy_error"] < 0.05
 PY

@@ -26,7 +26,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tools"))
 sys.path.insert(0, str(ROOT / "plots"))
 import numpy as np  # noqa: E402
-import mpmplot  # noqa: E402
+from mpmplot import namelist, readers, scene  # noqa: E402
 import stability  # noqa: E402
 from batch import run_batch  # noqa: E402
 
@@ -59,8 +59,8 @@ def main() -> int:
     for c, r in zip(cases, res):
         folder = scratch / c.name
         check(r["exit_code"] == 0, f"{c.name}: exit {r['exit_code']}")
-        h = mpmplot.read_history(folder / "history.csv")
-        disp, force, _ = mpmplot.crush_displacement(h, mpmplot.read_namelist(folder /
+        h = readers.read_history(folder / "history.csv")
+        disp, force, _ = scene.crush_displacement(h, namelist.read_namelist(folder /
                                                                              "input.nml"))
         dt_row = float(np.median(np.diff(h["time"])))
         noise[c.labels["basis"]] = stability.force_noise(disp, force, stability.TEST_WINDOW,
@@ -80,21 +80,21 @@ def main() -> int:
     check(r["exit_code"] == 4, f"fast deep crush: exit {r['exit_code']}, expected 4")
     check("folded CPDI2 domain" in log and "time step dt =" in log and "Remedy" in log,
           "fast deep crush: the message does not name the fold, the time step and the remedy")
-    summ = mpmplot.read_summary(folder / "summary.nml")
+    summ = readers.read_summary(folder / "summary.nml")
     check(summ.get("status") == "unstable" and summ.get("min_corner_jacobian", 1.0) <= 0.0,
           f"fast deep crush: summary {summ.get('status')}, "
           f"min_corner_jacobian {summ.get('min_corner_jacobian')}")
     crash = glob.glob(str(folder / "crash_*.h5"))
     ok = len(crash) == 1
     if ok:
-        fr = mpmplot.read_frame(crash[0])
+        fr = readers.read_frame(crash[0])
         m = stability.quad_measures(fr)
         ok = bool(np.all(np.isfinite(fr["corners"])) and np.min(m["jmin"]) > 0.0)
         print(f"last good state {os.path.basename(crash[0])}: smallest corner Jacobian ratio "
               f"{np.min(m['jmin']):.3f} (not folded)")
     check(ok, "fast deep crush: no readable, unfolded last good state")
-    h = mpmplot.read_history(folder / "history.csv")
-    disp, _, _ = mpmplot.crush_displacement(h, mpmplot.read_namelist(folder / "input.nml"))
+    h = readers.read_history(folder / "history.csv")
+    disp, _, _ = scene.crush_displacement(h, namelist.read_namelist(folder / "input.nml"))
     d_fold = float(disp[-1]) / stability.D_CRUSH
     print(f"fold at delta/D = {d_fold:.3f} (study: {fold['delta_fold'] if fold else 'none'})")
     check(fold is not None and abs(d_fold - fold["delta_fold"]) <= 0.03,

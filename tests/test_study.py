@@ -36,12 +36,12 @@ check = T.check
 
 def test_render() -> None:
     import batch
-    import mpmplot
+    from mpmplot import namelist
     base = (ROOT / "namelists" / "wave.nml").read_text()
     text = batch.render(base, {"grid.h": 0.25e-3, "body.n_thick": 16, "probe[7].point":
                                (0.0, 0.05), "solver.deterministic": True,
                                "run.title": "a'b"})
-    nml = mpmplot.parse_namelist(text, "rendered")
+    nml = namelist.parse_namelist(text, "rendered")
     check(close(nml["grid"][0]["h"], 0.25e-3), "render: replaced h")
     check(nml["body"][0]["n_thick"] == 16, "render: replaced n_thick")
     check(nml["solver"][0]["deterministic"] is True, "render: added deterministic")
@@ -49,7 +49,7 @@ def test_render() -> None:
     pts = [p["point"] for p in nml["probe"]]
     check(len(pts) == 7 and close(pts[6][1], 0.05) and close(pts[5][1], 0.047650635),
           "render: only the 7th &probe changed")
-    orig = mpmplot.parse_namelist(base, "base")
+    orig = namelist.parse_namelist(base, "base")
     same = all(nml[g] == orig[g] for g in ("material", "wall"))
     check(same, "render: groups without overrides unchanged")
     for bad in ({"probe[8].point": (0.0, 0.0)}, {"grid h": 1.0}):
@@ -141,10 +141,10 @@ def test_crush_metrics() -> None:
     advances at a constant speed (delta = twice the advance). The absorbed energy at
     delta/D = 0.5 is then F0 D / 2 exactly, the window mean is F0, and a curve compared with
     itself has no error."""
-    import mpmplot
     import study
-    inputs = mpmplot.read_namelist(ROOT / "namelists" / "crush.nml")
-    D = mpmplot.ring_properties(inputs)["D"]
+    from mpmplot import namelist, scene
+    inputs = namelist.read_namelist(ROOT / "namelists" / "crush.nml")
+    D = scene.ring_properties(inputs)["D"]
     tmp = Path(tempfile.mkdtemp(prefix="test_study_crush_"))
     try:
         n, f0 = 397, 3.0e4                      # rows deliberately not aligned with 0.5 D

@@ -238,6 +238,36 @@ def read_summary(folder: Path) -> dict[str, Any]:
     """summary.nml of a finished case as a dict ({} if missing)."""
     if str(ROOT / "plots") not in sys.path:
         sys.path.insert(0, str(ROOT / "plots"))
-    import mpmplot  # noqa: E402  (plots/ is not a package)
+    from mpmplot import readers  # noqa: E402  (plots/ is not on the path by default)
     path = folder / "summary.nml"
-    return mpmplot.read_summary(path) if path.is_file() else {}
+    return readers.read_summary(path) if path.is_file() else {}
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Command line: a library first; on its own it lists the cases of a batch folder."""
+    import argparse  # noqa: PLC0415 (only the command line needs it)
+    ap = argparse.ArgumentParser(
+        description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog=__doc__.split("\n\n", 1)[1] + "\nOn its own, it reads a batch folder and writes "
+        "nothing:\n    python3 tools/batch.py --status build/stability")
+    ap.add_argument("--status", metavar="ROOT", required=True,
+                    help="list the case folders under ROOT with their exit code, CPU seconds "
+                         "and summary status")
+    args = ap.parse_args(argv)
+    root = Path(args.status)
+    if not root.is_dir():
+        print(f"ERROR [batch]: {root} is not a folder", file=sys.stderr)
+        return 2
+    for folder in sorted(p for p in root.iterdir() if p.is_dir()):
+        res = result_of(folder)
+        status = read_summary(folder).get("status", "-")
+        if res is None:
+            print(f"{folder.name:50s} not finished")
+        else:
+            print(f"{folder.name:50s} exit {res.get('exit_code')!s:>4}  "
+                  f"{float(res.get('cpu_s', float('nan'))):8.1f} CPU s  {status}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -14,7 +14,7 @@ plot to OUT/scaling.png. With --compare OLD.csv (an earlier run) it adds the rat
 A run during which other processes used more than a quarter of a core is repeated (up to three
 times); the column other_busy keeps the cores they used (the largest over the rounds).
 
-usage: tools/bench.py --exe build/release/bench [--out docs/bench] [--quick] [--tag TAG]
+usage: tools/bench.py --exe build/release/bench [--out out/bench] [--quick] [--tag TAG]
                       [--compare OLD.csv]
 """
 import argparse
@@ -259,7 +259,8 @@ def read_csv(path):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--exe", required=True, help="the bench program (release build)")
-    ap.add_argument("--out", default="docs/bench", help="folder for the CSV file and the plot")
+    ap.add_argument("--out", default="out/bench", help="folder for the CSV file and the plot "
+                    "(default out/bench; make bench writes docs/bench)")
     ap.add_argument("--quick", action="store_true", help="sizes up to 1e5 particles only")
     ap.add_argument("--tag", default="", help="label added to the file names")
     ap.add_argument("--compare", default="", help="an earlier CSV file to compare with")

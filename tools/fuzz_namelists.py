@@ -93,7 +93,8 @@ def main() -> int:
     ap.add_argument("--count", type=int, default=200)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--timeout", type=float, default=10.0, help="seconds per run")
-    ap.add_argument("--out", default="fuzz_out", help="folder for mutants and failures")
+    ap.add_argument("--out", default="out/fuzz", help="folder for mutants and failures "
+                    "(default out/fuzz)")
     ap.add_argument("--inputs", default="namelists/*.nml")
     args = ap.parse_args()
 

@@ -5,7 +5,13 @@
 # without its summary line counts as one failure. Exit 1 when anything failed.
 #   usage: tools/run-tests.sh BLD
 set -u
+case "${1:-}" in
+  -h|--help) echo "usage: tools/run-tests.sh [BLD]   (default build/debug; make test builds it first)"
+             echo "  runs BLD/test_* and tests/test_*.sh, tests/test_*.py; last line: N passed, M failed"
+             exit 0 ;;
+esac
 bld=${1:-build/debug}
+[ -d "$bld" ] || { echo "ERROR [run-tests]: $bld is not a build folder (make test builds build/debug)" >&2; exit 2; }
 scratch=$(mktemp -d "${TMPDIR:-/tmp}/tubempm-tests.XXXXXX")
 trap 'rm -rf "$scratch"' EXIT
 total_pass=0; total_fail=0; t0=$(date +%s)

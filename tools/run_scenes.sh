@@ -3,11 +3,26 @@
 # Run the paper's three scenes (namelists/crush.nml, impact.nml, wave.nml) with the release build
 # and write their figures to docs/figures/ (PNG) and their key numbers to docs/figures/scenes.txt.
 # Two runs at once with one thread each (the machine has two cores).
+# A subset of the scenes writes its figures but not scenes.txt (the numbers of all three scenes):
+# its numbers go to build/scenes.txt instead.
 #   usage: tools/run_scenes.sh [scene ...]      (default: crush impact wave)
 set -eu
+usage() { echo "usage: tools/run_scenes.sh [crush] [impact] [wave]   (default: all three)"
+          echo "  runs namelists/<scene>.nml (release build bin/tubempm), writes docs/figures/<scene>.png"
+          echo "  and <scene>_shapes.png, and, for all three scenes, docs/figures/scenes.txt"; }
+for a in "$@"; do
+  case $a in
+    -h|--help) usage; exit 0 ;;
+    crush|impact|wave) ;;
+    *) echo "ERROR [run_scenes]: unknown scene '$a'" >&2; usage >&2; exit 2 ;;
+  esac
+done
 cd "$(dirname "$0")/.."
 py=${PYTHON:-python3}
 scenes=${*:-crush impact wave}
+numbers=docs/figures/scenes.txt
+[ "$scenes" = "crush impact wave" ] || numbers=build/scenes.txt
+[ -x bin/tubempm ] || { echo "ERROR [run_scenes]: bin/tubempm not found: run make first" >&2; exit 2; }
 mkdir -p docs/figures
 run() {
   local c=$1
@@ -22,13 +37,13 @@ for c in $scenes; do
 done
 fail=0
 for p in "${pids[@]}"; do wait "$p" || fail=1; done
-: > docs/figures/scenes.txt
+: > "$numbers"
 for c in $scenes; do
   [ -f "out/$c/summary.nml" ] || continue
   { echo "== $c"; grep -E "status|steps|particles|wall_seconds|runtime_ratio|updates_per_second|energy_error" "out/$c/summary.nml"
     $py plots/plot_case.py --case "namelists/$c.nml" --out "docs/figures/$c.png"
     $py plots/plot_shapes.py --case "namelists/$c.nml" --out "docs/figures/${c}_shapes.png"
-  } >> docs/figures/scenes.txt 2>&1
+  } >> "$numbers" 2>&1
 done
-cat docs/figures/scenes.txt
+cat "$numbers"
 exit $fail

@@ -42,7 +42,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tools"))
 sys.path.insert(0, str(ROOT / "plots"))
 import batch  # noqa: E402
-import mpmplot  # noqa: E402
+from mpmplot import analysis, namelist, readers, scene, theory  # noqa: E402
 
 RUNS = ROOT / "out" / "study"    # not under build/: `make clean` must not delete a study
 OUT = ROOT / "docs" / "study"
@@ -151,10 +151,10 @@ _RINGS: dict[str, dict[str, Any]] = {}
 def ring_of(scene: str) -> dict[str, Any]:
     """Mean radius, wall, sector and dilatational speed of a scene's ring."""
     if scene not in _RINGS:
-        inputs = mpmplot.read_namelist(SCENES[scene]["base"])
-        r = mpmplot.ring_properties(inputs)
-        r["sector"] = str(mpmplot.ring_body(inputs).get("sector", "full")).lower()
-        r["c"] = mpmplot.dilatational_speed(r["E"], r["nu"], r["rho"])
+        inputs = namelist.read_namelist(SCENES[scene]["base"])
+        r = scene.ring_properties(inputs)
+        r["sector"] = str(scene.ring_body(inputs).get("sector", "full")).lower()
+        r["c"] = theory.dilatational_speed(r["E"], r["nu"], r["rho"])
         _RINGS[scene] = r
     return _RINGS[scene]
 
@@ -212,9 +212,9 @@ def design(level: str) -> dict[str, list[Point]]:
 # ----------------------------------------------------------------------------------------------
 
 def crush_metrics(folder: Path, inputs: dict) -> dict[str, Any]:
-    h = mpmplot.read_history(folder / "history.csv")
-    disp, force, _ = mpmplot.crush_displacement(h, inputs)
-    r = mpmplot.ring_properties(inputs)
+    h = readers.read_history(folder / "history.csv")
+    disp, force, _ = scene.crush_displacement(h, inputs)
+    r = scene.ring_properties(inputs)
     D = r["D"]
     x = np.linspace(*CRUSH_WINDOW, 91) * D
     m: dict[str, Any] = {"curve_x": disp / D, "curve_y": force}
@@ -222,31 +222,31 @@ def crush_metrics(folder: Path, inputs: dict) -> dict[str, Any]:
         return m
     order = np.argsort(disp, kind="stable")          # disp is monotone once the ramp is over
     f = np.interp(x, disp[order], force[order])
-    dh = mpmplot.deruntz_hodge(x, D, r["t"], r["sigma_y"], r["plane"], r["depth"])
+    dh = theory.deruntz_hodge(x, D, r["t"], r["sigma_y"], r["plane"], r["depth"])
     m["F_window"] = f
     # the same, smoothed over delta/D = SMOOTH_WIDTH: the mean response without the
     # high-frequency (cell-crossing, contact) content
     fine = np.arange(0.0, disp.max(), 0.001 * D)
     ff = np.interp(fine, disp[order], force[order])
     k = max(1, int(round(SMOOTH_WIDTH / 0.001)))
-    sm = mpmplot.moving_average(ff, k)
+    sm = analysis.moving_average(ff, k)
     m["F_smooth"] = np.interp(x, fine, sm)
     m["force_mean"] = float(np.mean(f))
     m["force_over_dh"] = float(np.mean(f) / np.mean(dh))
     work = np.concatenate([[0.0], np.cumsum(0.5 * (force[1:] + force[:-1]) * np.diff(disp))])
     m["energy_50"] = float(np.interp(CRUSH_WINDOW[1] * D, disp[order], work[order]))
-    m["energy_50_dh"] = float(mpmplot.deruntz_hodge_energy(CRUSH_WINDOW[1] * D, D, r["t"],
+    m["energy_50_dh"] = float(theory.deruntz_hodge_energy(CRUSH_WINDOW[1] * D, D, r["t"],
                                                            r["sigma_y"], r["plane"], r["depth"]))
     return m
 
 
 def impact_metrics(folder: Path, inputs: dict) -> dict[str, Any]:
-    h = mpmplot.read_history(folder / "history.csv")
+    h = readers.read_history(folder / "history.csv")
     t = h["time"]
     f = h["wall1_force"]
     vn = h["com_vy"]                                   # target normal (0, 1)
-    ph = mpmplot.contact_phases(t, f, away=vn > 0.0)
-    v_imp = mpmplot.impact_velocity(h, 1, (0.0, 1.0), ph)
+    ph = analysis.contact_phases(t, f, away=vn > 0.0)
+    v_imp = analysis.impact_velocity(h, 1, (0.0, 1.0), ph)
     # A ring that rings after the blow may touch the target again (at low speeds, several
     # times): the contact lasts from the first touch to the last separation, and the rebound
     # velocity is the centre of mass's at the end, once the last 5 % of the record is free
@@ -258,7 +258,7 @@ def impact_metrics(folder: Path, inputs: dict) -> dict[str, Any]:
         duration = float(t[on[-1] + 1] - t[on[0]])
         v_reb = float(np.mean(vn[int(0.95 * len(t)):]))
     n = max(1, int(round(PEAK_WINDOW / float(np.median(np.diff(t))))))
-    smooth = mpmplot.moving_average(f, n)
+    smooth = analysis.moving_average(f, n)
     m = {"curve_x": t, "curve_y": f, "duration": duration, "peak_10us": float(smooth.max()),
          "cor": v_reb / v_imp if v_imp else float("nan"), "v_impact": v_imp,
          "impulse": float(np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(t))),
@@ -268,19 +268,19 @@ def impact_metrics(folder: Path, inputs: dict) -> dict[str, Any]:
 
 def wave_metrics(folder: Path, inputs: dict) -> dict[str, Any]:
     from plot_case import probe_angles  # noqa: E402  (plots/ on sys.path)
-    h = mpmplot.read_history(folder / "history.csv")
-    arrival = np.atleast_1d(mpmplot.arrival_times(h["time"], mpmplot.probe_disturbance(h),
+    h = readers.read_history(folder / "history.csv")
+    arrival = np.atleast_1d(analysis.arrival_times(h["time"], analysis.probe_disturbance(h),
                                                   ARRIVAL_THRESHOLD))
     angles, _, _ = probe_angles(h, inputs)
-    r = mpmplot.ring_properties(inputs)
+    r = scene.ring_properties(inputs)
     far = angles > 1.0
     s = np.radians(angles[far]) * r["R"]
     ok = np.isfinite(arrival[far])
     speed = float(np.polyfit(arrival[far][ok], s[ok], 1)[0]) if np.count_nonzero(ok) >= 2 \
         else float("nan")
     return {"curve_x": angles, "curve_y": arrival, "arrivals": arrival, "wave_speed": speed,
-            "speed_bar": mpmplot.bar_speed(r["E"], r["rho"]),
-            "speed_plate": mpmplot.plate_speed(r["E"], r["nu"], r["rho"])}
+            "speed_bar": theory.bar_speed(r["E"], r["rho"]),
+            "speed_plate": theory.plate_speed(r["E"], r["nu"], r["rho"])}
 
 
 METRICS = {"crush": crush_metrics, "impact": impact_metrics, "wave": wave_metrics}
@@ -393,7 +393,7 @@ def collect(level: str, points: dict[str, list[Point]]) -> tuple[list[dict[str, 
                 row["mps"] = float(summ["particles"]) * float(summ["steps"]) / cpu / 1e6
                 row["energy_error"] = summ.get("energy_error", "")
             if res is not None and res.get("exit_code") == 0:
-                inputs = mpmplot.read_namelist(folder / "case.nml")
+                inputs = namelist.read_namelist(folder / "case.nml")
                 m = METRICS[scene](folder, inputs)
                 metrics[p.name] = m
                 row.update({k: v for k, v in m.items() if np.isscalar(v)})
