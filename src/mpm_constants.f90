@@ -5,7 +5,7 @@ module mpm_constants
   implicit none
   private
   public :: pi, version_string, EXIT_OK, EXIT_INTERNAL, EXIT_INPUT, EXIT_IO, EXIT_NUMERIC, &
-            EXIT_INTERRUPTED, name_len, path_len, msg_len, max_table
+            EXIT_INTERRUPTED, EXIT_SIGINT, EXIT_SIGTERM, name_len, path_len, msg_len, max_table
   public :: BASIS_LINEAR, BASIS_UGIMP, BASIS_CPDI1, BASIS_CPDI2, basis_names
   public :: SCHEME_USL, SCHEME_USF, SCHEME_MUSL, scheme_names
   public :: PLANE_STRAIN, PLANE_STRESS, plane_names
@@ -24,6 +24,8 @@ module mpm_constants
   integer, parameter :: EXIT_IO = 3         !! file could not be read or written
   integer, parameter :: EXIT_NUMERIC = 4    !! numerical failure detected
   integer, parameter :: EXIT_INTERRUPTED = 5 !! stopped by SIGINT/SIGTERM after a checkpoint
+  integer, parameter :: EXIT_SIGINT = 130   !! stopped by SIGINT after a checkpoint (128 + 2)
+  integer, parameter :: EXIT_SIGTERM = 143  !! stopped by SIGTERM after a checkpoint (128 + 15)
 
   integer, parameter :: name_len = 64       !! length of names and enumeration values
   integer, parameter :: path_len = 512      !! length of file paths

@@ -3,7 +3,7 @@
 module mpm_errors
   use, intrinsic :: iso_fortran_env, only: error_unit
   use mpm_constants, only: EXIT_OK, EXIT_INTERNAL, EXIT_INPUT, EXIT_IO, EXIT_NUMERIC, &
-                           EXIT_INTERRUPTED
+                           EXIT_INTERRUPTED, EXIT_SIGINT, EXIT_SIGTERM
   implicit none
   private
   public :: fatal, warn, append_msg
@@ -35,6 +35,8 @@ contains
     case (EXIT_IO);          error stop 3
     case (EXIT_NUMERIC);     error stop 4
     case (EXIT_INTERRUPTED); error stop 5
+    case (EXIT_SIGINT);      error stop 130
+    case (EXIT_SIGTERM);     error stop 143
     case (EXIT_INTERNAL);    error stop 1
     case default;            error stop 1
     end select
