@@ -55,7 +55,7 @@ contains
   subroutine grid_velocity_walls(st, g, tl, wk, dt)
     type(state_t), intent(in) :: st        !! state (walls, time)
     type(grid_t), intent(inout) :: g       !! grid: velocities
-    type(tiles_t), intent(in) :: tl        !! live spans
+    type(tiles_t), intent(inout) :: tl     !! live spans (span sums untouched)
     type(work_t), intent(inout) :: wk      !! per-wall data of the step
     real(wp), intent(in) :: dt             !! time step [s]
     integer :: k, i0, i1, j0, j1, i, j, n
@@ -70,7 +70,7 @@ contains
           n = 1 + i + g%nx*j
           if (g%mass(n) > g%mass_cut) then
             g%vel(:, n) = g%mom(:, n)/g%mass(n)
-            if (st%nwall > 0) call node_walls(st%walls, wk%wall_work, g, i, j, n, dt, tol)
+            if (st%nwall > 0) call node_walls(st, wk, g, tl, i, j, n, dt, tol, 0)
           else
             g%vel(:, n) = 0.0_wp
           end if
@@ -121,8 +121,7 @@ contains
           end if
           g%vel(:, n) = v1
           g%dvel(:, n) = v1 - v0
-          if (st%nwall > 0) call node_walls(st%walls, wk%wall_work, g, i, j, n, dt, tol, &
-                                             tl%span_sum(:, k))
+          if (st%nwall > 0) call node_walls(st, wk, g, tl, i, j, n, dt, tol, k)
         end do
       end do
       tl%span_sum(1, k) = edamp
@@ -155,37 +154,38 @@ contains
     tol = 1.0e-6_wp*g%h
   end subroutine wall_setup
 
-  !> The walls, in order, on active node n = (i, j) (METHOD.md sec. 5). With span_sum (step 3)
+  !> The walls, in order, on active node n = (i, j) (METHOD.md sec. 5). With k > 0 (step 3)
   !! the velocity change also enters dvel and the momentum added is summed into the partial
-  !! sums of the node's span. A wall other than 'slip' cannot act where no material is within reach
-  !! (gap = huge); a 'slip' wall acts on the nodes on or behind its plane.
-  subroutine node_walls(walls, ww, g, i, j, n, dt, tol, span_sum)
-    type(wall_t), intent(in) :: walls(:)   !! walls
-    real(wp), intent(in) :: ww(:,:)        !! per wall: velocity, point, normal (6, nwall)
+  !! sums of span k. A wall other than 'slip' cannot act where no material is within reach
+  !! (gap = huge); a 'slip' wall acts on the nodes on or behind its plane. (Called per node:
+  !! scalar derived-type dummies, so that no array descriptor is built per call.)
+  subroutine node_walls(st, wk, g, tl, i, j, n, dt, tol, k)
+    type(state_t), intent(in) :: st        !! state (walls)
+    type(work_t), intent(in) :: wk         !! per wall: velocity, point, normal (wall_work)
     type(grid_t), intent(inout) :: g       !! grid: node velocity (and change) updated
+    type(tiles_t), intent(inout) :: tl     !! partial sums per span (written with k > 0)
     integer, intent(in) :: i, j, n         !! node indices and id
     real(wp), intent(in) :: dt             !! time step [s]
     real(wp), intent(in) :: tol            !! tolerance on the node distance [m]
-    real(wp), intent(inout), optional :: span_sum(:)  !! partial sums of the node's span:
-                                           !! momentum added per wall (absent: not recorded)
+    integer, intent(in) :: k               !! span of the node, or 0: no reactions recorded
     integer :: iw
     real(wp) :: xn(2), dist, dp(2)
     xn(1) = g%origin(1) + g%h*real(i, wp)
     xn(2) = g%origin(2) + g%h*real(j, wp)
-    do iw = 1, size(walls)
-      if (walls(iw)%contact == CONTACT_SLIP) then
-        dist = dot_product(xn - ww(3:4, iw), ww(5:6, iw)) - tol
+    do iw = 1, st%nwall
+      if (st%walls(iw)%contact == CONTACT_SLIP) then
+        dist = dot_product(xn - wk%wall_work(3:4, iw), wk%wall_work(5:6, iw)) - tol
         if (dist > 0.0_wp) cycle
       else
         if (g%gap(iw, n) == huge(1.0_wp)) cycle
         dist = 0.0_wp                         ! (read by 'slip' only)
       end if
-      call wall_constrain_node(walls(iw)%contact, walls(iw)%friction, &
-                               ww(5:6, iw), ww(1:2, iw), dist, &
+      call wall_constrain_node(st%walls(iw)%contact, st%walls(iw)%friction, &
+                               wk%wall_work(5:6, iw), wk%wall_work(1:2, iw), dist, &
                                g%gap(iw, n), g%mass(n), dt, g%vel(:, n), dp)
-      if (present(span_sum)) then
+      if (k > 0) then
         g%dvel(:, n) = g%dvel(:, n) + dp/g%mass(n)
-        span_sum(2*iw:2*iw + 1) = span_sum(2*iw:2*iw + 1) + dp
+        tl%span_sum(2*iw:2*iw + 1, k) = tl%span_sum(2*iw:2*iw + 1, k) + dp
       end if
     end do
   end subroutine node_walls

@@ -4,7 +4,6 @@
 module mpm_weights
   use mpm_kinds, only: wp
   use mpm_constants, only: EXIT_NUMERIC, BASIS_LINEAR, BASIS_UGIMP, BASIS_CPDI1, BASIS_CPDI2
-  use mpm_particles, only: particles_t, particle_corners
   use mpm_grid, only: grid_t, grid_grow
   use mpm_basis, only: weights_linear, weights_ugimp, weights_cpdi1, weights_cpdi2
   use mpm_state, only: params_t, state_t, work_t, diag_t, chunk, state_context
@@ -51,8 +50,9 @@ contains
       !$omp   private(ic) reduction(max: need_max, bad, hi) reduction(min: lo, jmin_all) &
       !$omp   if(wk%par)
       do ic = 1, nchunk
-        call basis_kernel(1 + (ic - 1)*chunk, min(ic*chunk, st%p%np), st%p, prm%basis, nb, &
-               origin, h, wk%blk, wk%w, wk%gw, need_max, lo, hi, bad, jmin_all)
+        call basis_kernel(1 + (ic - 1)*chunk, min(ic*chunk, st%p%np), st%p%np, st%p%nc, &
+               prm%basis, nb, origin, h, st%p%x, st%p%half, st%p%F, st%p%r10, st%p%r20, &
+               st%p%corner, st%p%xc, wk%blk, wk%w, wk%gw, need_max, lo, hi, bad, jmin_all)
       end do
       !$omp end parallel do
       if (prm%basis == BASIS_CPDI2) diag%jmin_seen = min(diag%jmin_seen, jmin_all)
@@ -107,17 +107,23 @@ contains
   !> Step 1 for particles ip0..ip1: block, weights and gradients; the largest block width
   !! needed, the node range touched, the last folded CPDI2 domain and the smallest corner
   !! Jacobian ratio (all merged into the caller's values).
-  subroutine basis_kernel(ip0, ip1, p, basis, nb, origin, h, blk, w, gw, need_max, lo, hi, &
-                          bad, jmin_all)
+  subroutine basis_kernel(ip0, ip1, np, nc, basis, nb, origin, h, x, half, F, r10, r20, &
+                          corner, xc, blk, w, gw, need_max, lo, hi, bad, jmin_all)
     integer, intent(in) :: ip0, ip1        !! particles
-    type(particles_t), intent(in) :: p     !! particles (position, domain)
+    integer, intent(in) :: np, nc          !! particles, corners
     integer, intent(in) :: basis           !! BASIS_* code
     integer, intent(in) :: nb              !! block width [nodes]
     real(wp), intent(in) :: origin(2)      !! grid origin [m]
     real(wp), intent(in) :: h              !! cell size [m]
-    integer, intent(out) :: blk(2, p%np)   !! lower-left node of each block
-    real(wp), intent(out) :: w(nb*nb, p%np)  !! weights [-]
-    real(wp), intent(out) :: gw(2, nb*nb, p%np)  !! gradients [1/m]
+    real(wp), intent(in) :: x(2, np)       !! positions [m]
+    real(wp), intent(in) :: half(2, np)    !! uGIMP half sizes [m]
+    real(wp), intent(in) :: F(2, 2, np)    !! deformation gradients [-]
+    real(wp), intent(in) :: r10(2, np), r20(2, np)  !! initial CPDI1 half-vectors [m]
+    integer, intent(in) :: corner(4, np)   !! corner ids
+    real(wp), intent(in) :: xc(2, nc)      !! corner positions [m]
+    integer, intent(out) :: blk(2, np)     !! lower-left node of each block
+    real(wp), intent(out) :: w(nb*nb, np)  !! weights [-]
+    real(wp), intent(out) :: gw(2, nb*nb, np)  !! gradients [1/m]
     integer, intent(inout) :: need_max     !! largest block width needed
     integer, intent(inout) :: lo(2), hi(2) !! node range touched
     integer, intent(inout) :: bad          !! last particle with a folded CPDI2 domain (or 0)
@@ -127,17 +133,20 @@ contains
     do ip = ip0, ip1
       select case (basis)
       case (BASIS_LINEAR)
-        call weights_linear(p%x(:, ip), origin, h, nb, blk(1, ip), blk(2, ip), w(:, ip), &
+        call weights_linear(x(:, ip), origin, h, nb, blk(1, ip), blk(2, ip), w(:, ip), &
                             gw(:, :, ip), need)
       case (BASIS_UGIMP)
-        call weights_ugimp(p%x(:, ip), p%half(:, ip), origin, h, nb, blk(1, ip), blk(2, ip), &
+        call weights_ugimp(x(:, ip), half(:, ip), origin, h, nb, blk(1, ip), blk(2, ip), &
                            w(:, ip), gw(:, :, ip), need)
       case (BASIS_CPDI1)
-        call weights_cpdi1(p%x(:, ip), matmul(p%F(:, :, ip), p%r10(:, ip)), &
-                           matmul(p%F(:, :, ip), p%r20(:, ip)), origin, h, nb, blk(1, ip), &
+        call weights_cpdi1(x(:, ip), matmul(F(:, :, ip), r10(:, ip)), &
+                           matmul(F(:, :, ip), r20(:, ip)), origin, h, nb, blk(1, ip), &
                            blk(2, ip), w(:, ip), gw(:, :, ip), need)
       case default
-        xq = particle_corners(p, ip, BASIS_CPDI2)
+        xq(:, 1) = xc(:, corner(1, ip))      ! particle_corners, inline: this loop is hot
+        xq(:, 2) = xc(:, corner(2, ip))
+        xq(:, 3) = xc(:, corner(3, ip))
+        xq(:, 4) = xc(:, corner(4, ip))
         call weights_cpdi2(xq, origin, h, nb, blk(1, ip), blk(2, ip), w(:, ip), gw(:, :, ip), &
                            need, jmin)
         if (.not. jmin > 0.0_wp) bad = max(bad, ip)
