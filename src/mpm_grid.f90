@@ -1,26 +1,19 @@
 !> The background grid: square cells, node-based fields, and its placement and growth; the
-!! tiles that bound the region holding material, and the per-thread scatter buffers.
+!! per-thread scatter buffers (node-sized). The tiles that bound the live region are mpm_tiles.
 ! SPDX-License-Identifier: MIT
 !
 ! Node (i, j), i = 0..nx-1, j = 0..ny-1, is at origin + h*(i, j) and has the 1-based id
 ! n = 1 + i + nx*j. The grid carries no state from one step to the next (every step maps the
 ! particles afresh), so it can be moved or enlarged between steps at no cost but allocation.
 !
-! Tiles: squares of ts x ts nodes (ts a power of two), tile (tx, ty) = nodes
-! tx*ts..tx*ts+ts-1 by ty*ts..ty*ts+ts-1, id 1 + tx + ntx*ty. A particle whose block's
-! lower-left node lies in tile (tx, ty) writes only to tiles tx..tx+1 by ty..ty+1 while its
-! block width nb <= ts + 1. The live tiles are those; mass, mom and force are zero outside
-! them, and vel, dvel are set on all of their nodes by the grid update, so a step resets and
-! visits the live tiles only, never the whole grid. Runs of live tiles in a tile row are kept
-! as spans (node rectangles), so that grid loops run over long rows. Tiles of equal parity
-! (tx mod 2, ty mod 2) are written by disjoint particle sets: the four colours of the
-! deterministic scatter.
+! The node fields mass, mom and force are zero outside the live tiles (mpm_tiles).
 module mpm_grid
   use mpm_kinds, only: wp, i8
   implicit none
   private
   public :: grid_t, grid_init, grid_node_id, grid_node_x, grid_grow, grid_memory_bytes
-  public :: grid_set_tiles, grid_clear_live, grid_span, grid_thread_buffers
+  public :: buffers_t, grid_thread_buffers, buffers_memory_bytes, grid_write_placement, &
+            grid_read_placement
 
   !> Node fields of a square-cell grid.
   type :: grid_t
@@ -38,29 +31,16 @@ module mpm_grid
     real(wp), allocatable :: gap(:,:)    !! (nwall, nn) distance of the nearest material [m]
     integer :: nactive = 0               !! nodes with mass above mass_cut this step
     real(wp) :: mass_cut = 0.0_wp        !! active-node cut-off, 1e-12 of the largest mass [kg/m]
-    ! tiles
-    integer :: ts = 0                    !! tile side [nodes], a power of two (0: not set)
-    integer :: ts_shift = 0              !! log2(ts)
-    integer :: ntx = 0, nty = 0          !! tiles along x and y
-    integer :: nspan = 0                 !! spans of live tiles
-    integer :: stamp = 0                 !! binning pass number (marks occupied tiles)
-    integer, allocatable :: occupied(:)  !! stamp of the last pass that binned a particle here
-    integer, allocatable :: span(:,:)    !! (i0, i1, j0, j1) node ranges of the spans, ascending
-    integer, allocatable :: tile_start(:) !! (ntiles + 1) first sorted particle of each tile
-    integer, allocatable :: colour_tiles(:) !! occupied tiles grouped by band and colour
-    integer :: ngroup = 0                !! groups (band, colour) of colour_tiles
-    integer, allocatable :: group_start(:) !! group i holds colour_tiles(group_start(i):..(i+1)-1)
-    integer, allocatable :: group_pos(:) !! work array of the grouping (ngroup)
-    real(wp), allocatable :: colour_sum(:,:) !! (2, ntiles) partial sums per listed tile
-    real(wp), allocatable :: span_sum(:,:) !! partial sums per span (nsum, ntiles)
-    ! scatter buffers of threads 1..nbuf (thread 0 scatters into mass, mom, force)
+  end type grid_t
+
+  !> Scatter buffers of threads 1..nbuf (thread 0 scatters into the grid's mass, mom, force).
+  type :: buffers_t
     integer :: nbuf = 0                  !! buffers allocated
+    integer :: nn = 0                    !! nodes per buffer (the grid's when allocated)
     real(wp), allocatable :: buf_mass(:,:)     !! (nn, nbuf) [kg/m]
     real(wp), allocatable :: buf_mom(:,:,:)    !! (2, nn, nbuf) [kg/s]
     real(wp), allocatable :: buf_force(:,:,:)  !! (2, nn, nbuf) [N/m]
-  end type grid_t
-
-  integer, parameter :: tile_side_min = 4      !! smallest tile side [nodes]
+  end type buffers_t
 
 contains
 
@@ -84,11 +64,10 @@ contains
     call grid_allocate(g, nwall)
   end subroutine grid_init
 
-  !> (Re)allocate the node fields for the current nx, ny; all zero, no live tiles.
+  !> (Re)allocate the node fields for the current nx, ny; all zero.
   subroutine grid_allocate(g, nwall)
     type(grid_t), intent(inout) :: g      !! the grid
     integer, intent(in) :: nwall          !! number of walls
-    integer :: nbuf
     g%nn = g%nx*g%ny
     if (allocated(g%mass)) deallocate(g%mass, g%mom, g%force, g%vel, g%dvel, g%gap)
     allocate(g%mass(g%nn), g%mom(2, g%nn), g%force(2, g%nn), g%vel(2, g%nn), g%dvel(2, g%nn))
@@ -100,93 +79,22 @@ contains
     g%dvel = 0.0_wp
     g%gap = huge(1.0_wp)
     g%nactive = 0
-    g%nspan = 0
-    call tile_allocate(g, max(g%ts, tile_side_min))
-    nbuf = g%nbuf
-    g%nbuf = 0
-    call grid_thread_buffers(g, nbuf + 1)
   end subroutine grid_allocate
 
-  !> Tile arrays for tile side ts (the node fields must be zero: no live tiles).
-  subroutine tile_allocate(g, ts)
-    type(grid_t), intent(inout) :: g      !! the grid
-    integer, intent(in) :: ts             !! tile side, a power of two [nodes]
-    integer :: ntiles
-    g%ts = ts
-    g%ts_shift = 0
-    do while (ishft(1, g%ts_shift) < ts)
-      g%ts_shift = g%ts_shift + 1
-    end do
-    g%ntx = (g%nx + ts - 1)/ts
-    g%nty = (g%ny + ts - 1)/ts
-    ntiles = g%ntx*g%nty
-    if (allocated(g%occupied)) deallocate(g%occupied, g%span, g%tile_start, g%colour_tiles, &
-                                          g%colour_sum)
-    if (allocated(g%span_sum)) deallocate(g%span_sum)
-    allocate(g%occupied(ntiles), g%span(4, ntiles), g%tile_start(ntiles + 1), &
-             g%colour_tiles(ntiles), g%colour_sum(2, ntiles))
-    g%occupied = 0
-    g%stamp = 0
-    g%nspan = 0
-    g%tile_start = 1
-    g%ngroup = 0
-  end subroutine tile_allocate
-
-  !> Use tiles of side ts (a power of two >= 4); a change first clears the live region.
-  subroutine grid_set_tiles(g, ts, par)
-    type(grid_t), intent(inout) :: g      !! the grid
-    integer, intent(in) :: ts             !! tile side [nodes]
-    logical, intent(in) :: par            !! run in parallel
-    if (ts == g%ts) return
-    call grid_clear_live(g, par)
-    call tile_allocate(g, ts)
-  end subroutine grid_set_tiles
-
-  !> Zero mass, momentum and force on the live tiles: afterwards they are zero everywhere.
-  !! No live tiles remain. (Velocity and its change need no clearing: the grid update sets them
-  !! on every node of the live tiles, and nothing reads them elsewhere but with weight 0.)
-  subroutine grid_clear_live(g, par)
-    type(grid_t), intent(inout) :: g      !! the grid
-    logical, intent(in) :: par            !! run in parallel
-    integer :: k, j, n0, n1
-    !$omp parallel do default(none) schedule(static) shared(g) private(k, j, n0, n1) if(par)
-    do k = 1, g%nspan
-      do j = g%span(3, k), g%span(4, k)
-        n0 = 1 + g%span(1, k) + g%nx*j
-        n1 = 1 + g%span(2, k) + g%nx*j
-        g%mass(n0:n1) = 0.0_wp
-        g%mom(:, n0:n1) = 0.0_wp
-        g%force(:, n0:n1) = 0.0_wp
-      end do
-    end do
-    !$omp end parallel do
-    g%nspan = 0
-  end subroutine grid_clear_live
-
-  !> Node ranges (0-based columns i0..i1, rows j0..j1) of live span k.
-  pure subroutine grid_span(g, k, i0, i1, j0, j1)
-    type(grid_t), intent(in) :: g         !! the grid
-    integer, intent(in) :: k              !! span index
-    integer, intent(out) :: i0, i1        !! first and last node column [-]
-    integer, intent(out) :: j0, j1        !! first and last node row [-]
-    i0 = g%span(1, k)
-    i1 = g%span(2, k)
-    j0 = g%span(3, k)
-    j1 = g%span(4, k)
-  end subroutine grid_span
-
-  !> Make sure threads 1..nthreads-1 have zeroed scatter buffers (no-op when they exist).
-  subroutine grid_thread_buffers(g, nthreads)
-    type(grid_t), intent(inout) :: g      !! the grid
+  !> Make sure threads 1..nthreads-1 have zeroed scatter buffers of nn nodes (no-op when they
+  !! exist; a grid of another size gets new ones, as many as before at least).
+  subroutine grid_thread_buffers(b, nn, nthreads)
+    type(buffers_t), intent(inout) :: b   !! the buffers
+    integer, intent(in) :: nn             !! nodes of the grid
     integer, intent(in) :: nthreads       !! threads that will scatter
-    if (nthreads - 1 <= g%nbuf) return
-    if (allocated(g%buf_mass)) deallocate(g%buf_mass, g%buf_mom, g%buf_force)
-    g%nbuf = nthreads - 1
-    allocate(g%buf_mass(g%nn, g%nbuf), g%buf_mom(2, g%nn, g%nbuf), &
-             g%buf_force(2, g%nn, g%nbuf))
-    g%buf_mass = 0.0_wp
-    g%buf_mom = 0.0_wp
-    g%buf_force = 0.0_wp
+    if (nthreads - 1 <= b%nbuf .and. (b%nn == nn .or. b%nbuf == 0)) return
+    if (allocated(b%buf_mass)) deallocate(b%buf_mass, b%buf_mom, b%buf_force)
+    b%nbuf = max(b%nbuf, nthreads - 1)
+    b%nn = nn
+    allocate(b%buf_mass(nn, b%nbuf), b%buf_mom(2, nn, b%nbuf), b%buf_force(2, nn, b%nbuf))
+    b%buf_mass = 0.0_wp
+    b%buf_mom = 0.0_wp
+    b%buf_force = 0.0_wp
   end subroutine grid_thread_buffers
 
   !> Enlarge the grid by whole cells on each side: add(1:2) at the low x/y side,
@@ -217,14 +125,45 @@ contains
     x(2) = g%origin(2) + g%h*real((n - 1)/g%nx, wp)
   end function grid_node_x
 
-  !> Memory held by the grid [bytes]: per node 9 reals of fields, nwall gaps, 5 reals per
-  !! extra thread buffer; per tile 7 integers, 2 reals and the partial sums.
+  !> Memory held by the grid's node fields [bytes]: per node 9 reals and nwall gaps.
   pure function grid_memory_bytes(g, nwall) result(b)
     type(grid_t), intent(in) :: g         !! the grid
     integer, intent(in) :: nwall          !! number of walls
     integer(i8) :: b
-    b = int(g%nx, i8)*int(g%ny, i8)*(8_i8*(9_i8 + int(max(nwall, 1), i8) + 5_i8*int(g%nbuf, i8))) &
-        + int(g%ntx, i8)*int(g%nty, i8)*44_i8
-    if (allocated(g%span_sum)) b = b + 8_i8*size(g%span_sum, kind=i8)
+    b = int(g%nx, i8)*int(g%ny, i8)*(8_i8*(9_i8 + int(max(nwall, 1), i8)))
   end function grid_memory_bytes
+
+  !> Memory held by the scatter buffers [bytes]: 5 reals per node and buffer.
+  pure function buffers_memory_bytes(b) result(n)
+    type(buffers_t), intent(in) :: b      !! the buffers
+    integer(i8) :: n
+    n = int(b%nn, i8)*8_i8*5_i8*int(b%nbuf, i8)
+  end function buffers_memory_bytes
+
+  !> Write the grid's placement (nodes along x and y, origin) to the open unformatted stream
+  !! unit u (a checkpoint record; the grid may have grown during the run).
+  subroutine grid_write_placement(g, u, stat, errmsg)
+    type(grid_t), intent(in) :: g             !! the grid
+    integer, intent(in) :: u                  !! unit, open for unformatted stream output
+    integer, intent(out) :: stat              !! 0 or the iostat of the failed write
+    character(len=*), intent(inout) :: errmsg !! the iomsg on failure
+    write(u, iostat=stat, iomsg=errmsg) g%nx, g%ny, g%origin
+  end subroutine grid_write_placement
+
+  !> Read a record of grid_write_placement and grow g (set up from the same input, so on the
+  !! same lattice) to that placement.
+  subroutine grid_read_placement(g, u, nwall, stat, errmsg)
+    type(grid_t), intent(inout) :: g          !! the grid
+    integer, intent(in) :: u                  !! unit, open for unformatted stream input
+    integer, intent(in) :: nwall              !! number of walls
+    integer, intent(out) :: stat              !! 0 or the iostat of the failed read
+    character(len=*), intent(inout) :: errmsg !! the iomsg on failure
+    integer :: nx, ny
+    real(wp) :: origin(2)
+    read(u, iostat=stat, iomsg=errmsg) nx, ny, origin
+    if (stat /= 0) return
+    call grid_grow(g, [nint((g%origin(1) - origin(1))/g%h), nint((g%origin(2) - origin(2))/g%h), &
+                       0, 0], nwall)
+    call grid_grow(g, [0, 0, nx - g%nx, ny - g%ny], nwall)
+  end subroutine grid_read_placement
 end module mpm_grid

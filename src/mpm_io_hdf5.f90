@@ -16,13 +16,12 @@ module mpm_io_hdf5
                   H5F_ACC_TRUNC_F, H5F_ACC_RDWR_F, H5F_SCOPE_GLOBAL_F, H5T_NATIVE_DOUBLE, &
                   H5T_NATIVE_INTEGER, H5T_NATIVE_CHARACTER, H5S_SCALAR_F
   use mpm_kinds, only: wp, i8
-  use mpm_constants, only: version_string, BASIS_CPDI2, BASIS_CPDI1
-  use mpm_particles, only: particles_t
+  use mpm_constants, only: version_string, BASIS_CPDI2
+  use mpm_particles, only: particles_t, particle_corners
   use mpm_strings, only: itoa
   implicit none
   private
-  public :: snapfile_t, snap_create, snap_reopen, snap_write, snap_close, xdmf_write, &
-            particle_corners
+  public :: snapfile_t, snap_create, snap_reopen, snap_write, snap_close, xdmf_write
 
   !> An open snapshot file and the list of its snapshots (for the XDMF index).
   type :: snapfile_t
@@ -151,7 +150,7 @@ contains
     call write_int_attr(gid, 'step', int(step), stat, errmsg)
     call write_real_attr(gid, 'dt', dt, stat, errmsg)
     call write_int_attr(gid, 'ndim', 2, stat, errmsg)
-    call particle_corners(p, basis, corners, quads)
+    call output_corners(p, basis, corners, quads)
     ncorner = size(corners, 2)
     call write_int_attr(gid, 'np', p%np, stat, errmsg)
     call write_int_attr(gid, 'ncorner', ncorner, stat, errmsg)
@@ -213,15 +212,14 @@ contains
     sf%fid = -1
   end subroutine snap_close
 
-  !> Domain corners for output: the shared CPDI2 corners; otherwise four per particle
-  !! (CPDI1 parallelogram x +- r1 +- r2, or the axis-aligned square x +- half).
-  subroutine particle_corners(p, basis, corners, quads)
+  !> Domain corners for output: the shared CPDI2 corners; otherwise the four corners of each
+  !! particle (mpm_particles: particle_corners), not shared.
+  subroutine output_corners(p, basis, corners, quads)
     type(particles_t), intent(in) :: p     !! particles
     integer, intent(in) :: basis           !! BASIS_* code
     real(wp), allocatable, intent(out) :: corners(:,:)  !! (2, ncorner) [m]
     integer, allocatable, intent(out) :: quads(:,:)     !! (4, np) 0-based ids
     integer :: ip
-    real(wp) :: r1(2), r2(2)
     if (basis == BASIS_CPDI2) then
       corners = p%xc
       quads = p%corner - 1
@@ -229,20 +227,10 @@ contains
     end if
     allocate(corners(2, 4*p%np), quads(4, p%np))
     do ip = 1, p%np
-      if (basis == BASIS_CPDI1) then
-        r1 = matmul(p%F(:, :, ip), p%r10(:, ip))
-        r2 = matmul(p%F(:, :, ip), p%r20(:, ip))
-      else
-        r1 = [p%half(1, ip), 0.0_wp]
-        r2 = [0.0_wp, p%half(2, ip)]
-      end if
-      corners(:, 4*ip - 3) = p%x(:, ip) - r1 - r2
-      corners(:, 4*ip - 2) = p%x(:, ip) + r1 - r2
-      corners(:, 4*ip - 1) = p%x(:, ip) + r1 + r2
-      corners(:, 4*ip) = p%x(:, ip) - r1 + r2
+      corners(:, 4*ip - 3:4*ip) = particle_corners(p, ip, basis)
       quads(:, ip) = [4*ip - 4, 4*ip - 3, 4*ip - 2, 4*ip - 1]
     end do
-  end subroutine particle_corners
+  end subroutine output_corners
 
   !> Write the XDMF index of all snapshots: a temporal collection of quadrilateral meshes
   !! (the particle domains) with cell data.

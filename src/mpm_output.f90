@@ -238,9 +238,9 @@ contains
     write(u, '(a,es24.16e3)', iostat=stat, iomsg=msg) '  energy_error = ', s%energy_error
     write(u, '(a,es24.16e3)', iostat=stat, iomsg=msg) '  dt_last = ', s%dt
     write(u, '(a,i0)', iostat=stat, iomsg=msg) '  active_nodes = ', s%g%nactive
-    write(u, '(a,i0)', iostat=stat, iomsg=msg) '  grid_grown = ', s%grown
-    write(u, '(a,es24.16e3)', iostat=stat, iomsg=msg) '  min_corner_jacobian = ', s%jmin_seen
-    write(u, '(a,es24.16e3)', iostat=stat, iomsg=msg) '  max_area_deviation = ', s%area_dev
+    write(u, '(a,i0)', iostat=stat, iomsg=msg) '  grid_grown = ', s%diag%grown
+    write(u, '(a,es24.16e3)', iostat=stat, iomsg=msg) '  min_corner_jacobian = ', s%diag%jmin_seen
+    write(u, '(a,es24.16e3)', iostat=stat, iomsg=msg) '  max_area_deviation = ', s%diag%area_dev
     write(u, '(3a)', iostat=stat, iomsg=msg) '  message = ''', &
       trim(quote_free(sm%message)), ''''
     write(u, '(a)', iostat=stat, iomsg=msg) '/'

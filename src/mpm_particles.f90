@@ -8,11 +8,12 @@
 ! use the domain's centroid, area and (CPDI1) half-vectors.
 module mpm_particles
   use mpm_kinds, only: wp, i8
-  use mpm_constants, only: pi, SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER
+  use mpm_constants, only: pi, SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER, BASIS_CPDI1, BASIS_CPDI2
   implicit none
   private
   public :: particles_t, particles_allocate, ring_counts, ring_fill, rect_counts, rect_fill, &
-            quad_area_centroid, particles_memory_bytes
+            quad_area_centroid, particles_memory_bytes, particles_write, particles_read, &
+            particle_corners
 
   !> All particles of all bodies. Component index first.
   type :: particles_t
@@ -208,10 +209,82 @@ contains
     c = s/(6.0_wp*area)
   end subroutine quad_area_centroid
 
-  !> Memory held per the particle arrays [bytes] (excluding the per-step basis cache).
-  pure function particles_memory_bytes(np, nc) result(b)
-    integer, intent(in) :: np, nc             !! particles and corners
+  !> Memory held by the particle arrays [bytes] (excluding the per-step basis cache).
+  pure function particles_memory_bytes(p) result(b)
+    type(particles_t), intent(in) :: p        !! particles
     integer(i8) :: b
-    b = int(np, i8)*(8_i8*29_i8 + 4_i8*6_i8) + int(nc, i8)*16_i8
+    b = (bytes_r(p%x) + bytes_r(p%v) + bytes_r(p%r10) + bytes_r(p%r20) + bytes_r(p%half) &
+         + bytes_r(p%stress) + bytes_r(p%xc)) + (bytes_1(p%mass) + bytes_1(p%vol0) &
+         + bytes_1(p%vol) + bytes_1(p%eqps) + bytes_1(p%wplastic)) + 8_i8*size(p%F, kind=i8) &
+        + 4_i8*(size(p%corner, kind=i8) + size(p%mat, kind=i8) + size(p%body, kind=i8))
+  contains
+    pure integer(i8) function bytes_r(a)
+      real(wp), intent(in) :: a(:,:)
+      bytes_r = int(storage_size(a)/8, i8)*size(a, kind=i8)
+    end function bytes_r
+    pure integer(i8) function bytes_1(a)
+      real(wp), intent(in) :: a(:)
+      bytes_1 = int(storage_size(a)/8, i8)*size(a, kind=i8)
+    end function bytes_1
   end function particles_memory_bytes
+
+  !> The four corners of particle ip's domain for basis `basis`, counter-clockwise [m]: the
+  !! shared CPDI2 corners; the CPDI1 parallelogram x -+ r1 -+ r2 with r = F r0; otherwise
+  !! (linear, uGIMP) the axis-aligned square x -+ half. The one answer to "where is this
+  !! particle's material" (wall gaps, output, the basis weights).
+  pure function particle_corners(p, ip, basis) result(xq)
+    type(particles_t), intent(in) :: p        !! particles
+    integer, intent(in) :: ip                 !! particle
+    integer, intent(in) :: basis              !! BASIS_* code
+    real(wp) :: xq(2, 4)
+    real(wp) :: r1(2), r2(2)
+    if (basis == BASIS_CPDI2) then
+      xq(:, 1) = p%xc(:, p%corner(1, ip))
+      xq(:, 2) = p%xc(:, p%corner(2, ip))
+      xq(:, 3) = p%xc(:, p%corner(3, ip))
+      xq(:, 4) = p%xc(:, p%corner(4, ip))
+      return
+    end if
+    if (basis == BASIS_CPDI1) then
+      r1 = matmul(p%F(:, :, ip), p%r10(:, ip))
+      r2 = matmul(p%F(:, :, ip), p%r20(:, ip))
+    else
+      r1 = [p%half(1, ip), 0.0_wp]
+      r2 = [0.0_wp, p%half(2, ip)]
+    end if
+    xq(:, 1) = p%x(:, ip) - r1 - r2
+    xq(:, 2) = p%x(:, ip) + r1 - r2
+    xq(:, 3) = p%x(:, ip) + r1 + r2
+    xq(:, 4) = p%x(:, ip) - r1 + r2
+  end function particle_corners
+
+  !> Write every particle array to the open unformatted stream unit u (a checkpoint record:
+  !! the counts, then the arrays).
+  subroutine particles_write(p, u, stat, errmsg)
+    type(particles_t), intent(in) :: p        !! particles
+    integer, intent(in) :: u                  !! unit, open for unformatted stream output
+    integer, intent(out) :: stat              !! 0 or the iostat of the failed write
+    character(len=*), intent(inout) :: errmsg !! the iomsg on failure
+    write(u, iostat=stat, iomsg=errmsg) p%np, p%nc
+    if (stat == 0) write(u, iostat=stat, iomsg=errmsg) p%x, p%v, p%mass, p%vol0, p%vol, p%F, &
+      p%stress, p%eqps, p%wplastic, p%r10, p%r20, p%half, p%corner, p%xc, p%mat, p%body
+  end subroutine particles_write
+
+  !> Read a record of particles_write into p, which must hold as many particles and corners
+  !! (stat = -1 when the counts differ; p is then unchanged).
+  subroutine particles_read(p, u, stat, errmsg)
+    type(particles_t), intent(inout) :: p     !! particles, allocated to the stored counts
+    integer, intent(in) :: u                  !! unit, open for unformatted stream input
+    integer, intent(out) :: stat              !! 0, -1 (other counts) or the iostat of the read
+    character(len=*), intent(inout) :: errmsg !! the iomsg on failure
+    integer :: np, nc
+    read(u, iostat=stat, iomsg=errmsg) np, nc
+    if (stat /= 0) return
+    if (np /= p%np .or. nc /= p%nc) then
+      stat = -1
+      return
+    end if
+    read(u, iostat=stat, iomsg=errmsg) p%x, p%v, p%mass, p%vol0, p%vol, p%F, p%stress, p%eqps, &
+      p%wplastic, p%r10, p%r20, p%half, p%corner, p%xc, p%mat, p%body
+  end subroutine particles_read
 end module mpm_particles

@@ -3,22 +3,24 @@
 ! SPDX-License-Identifier: MIT
 !
 ! Layout (unformatted stream, native byte order): magic 'TUBEMPM-CKPT', format version, the
-! resolved input text (length + characters), sizes (np, nc, nwall, nx, ny), time, step, dt,
-! vmax, energies and their accumulators, grid placement, the wall states, every particle array,
+! resolved input text (length + characters), then the records each type writes itself: the grid
+! placement (mpm_grid), the run's diagnostics (mpm_state: growths, extremes), the state
+! (mpm_state: time and energies, then the walls (mpm_walls) and the particles (mpm_particles)),
 ! then the output positions (history rows and last row time, snapshot times and sizes, the next
-! snapshot time) and a trailing magic. It is written to `checkpoint.tmp`, flushed, closed and
-! renamed to `checkpoint.bin`, so a crash while writing leaves the previous checkpoint intact.
+! snapshot time) and a trailing magic. This module lists no field of those types. It is written
+! to `checkpoint.tmp`, flushed, closed and renamed to `checkpoint.bin`, so a crash while writing
+! leaves the previous checkpoint intact.
 module mpm_restart
   use mpm_kinds, only: wp, i8
-  use mpm_solver, only: sim_t
-  use mpm_grid, only: grid_grow
+  use mpm_state, only: sim_t, state_write, state_read, diag_write, diag_read
+  use mpm_grid, only: grid_write_placement, grid_read_placement
   use mpm_sys, only: sys_rename
   implicit none
   private
   public :: checkpoint_write, checkpoint_read, ckpt_extra_t
 
   character(len=12), parameter :: magic = 'TUBEMPM-CKPT'
-  integer, parameter :: format_version = 2
+  integer, parameter :: format_version = 3
 
   !> What the driver needs besides the simulation state to continue its outputs.
   type :: ckpt_extra_t
@@ -45,6 +47,7 @@ contains
     integer :: u, k
     character(len=512) :: msg
     character(len=:), allocatable :: tmp, fin
+    msg = ''
     tmp = dir//'/checkpoint.tmp'
     fin = dir//'/checkpoint.bin'
     errmsg = ''
@@ -55,17 +58,9 @@ contains
       return
     end if
     write(u, iostat=stat, iomsg=msg) magic, format_version, len(input_text), input_text
-    if (stat == 0) write(u, iostat=stat, iomsg=msg) s%p%np, s%p%nc, s%nwall, s%g%nx, s%g%ny, &
-      s%g%origin, s%grown, s%t, s%step, s%dt, s%vmax, s%e_kin, s%e_strain, s%e_plastic, &
-      s%e_external, s%e_damped, s%e0, s%w_gravity, s%energy_error, s%bal_max, s%ext_max, &
-      s%jmin_seen, s%area_dev
-    do k = 1, s%nwall
-      if (stat == 0) write(u, iostat=stat, iomsg=msg) s%walls(k)%point, s%walls(k)%impulse, &
-        s%walls(k)%force, s%walls(k)%work, s%walls(k)%impulse_acc
-    end do
-    if (stat == 0) write(u, iostat=stat, iomsg=msg) s%p%x, s%p%v, s%p%mass, s%p%vol0, s%p%vol, &
-      s%p%F, s%p%stress, s%p%eqps, s%p%wplastic, s%p%r10, s%p%r20, s%p%half, s%p%corner, &
-      s%p%xc, s%p%mat, s%p%body
+    if (stat == 0) call grid_write_placement(s%g, u, stat, msg)
+    if (stat == 0) call diag_write(s%diag, u, stat, msg)
+    if (stat == 0) call state_write(s%state_t, u, stat, msg)
     if (stat == 0) write(u, iostat=stat, iomsg=msg) ex%history_rows, ex%history_next, &
       ex%history_last, ex%snapshot_next, size(ex%snap_times), ex%snap_times, ex%snap_np, &
       ex%snap_nc, ex%wall_seconds, magic
@@ -92,12 +87,13 @@ contains
     type(ckpt_extra_t), intent(out) :: ex        !! output positions
     integer, intent(out) :: stat                 !! 0; 2 mismatch; 3 I/O failure
     character(len=:), allocatable, intent(out) :: errmsg  !! what is wrong
-    integer :: u, k, version, nlen, np, nc, nwall, nx, ny, nsnap, ios
+    integer :: u, k, version, nlen, nsnap, ios
     character(len=12) :: m1, m2
     character(len=:), allocatable :: stored
     character(len=512) :: msg
     character(len=:), allocatable :: fin
-    real(wp) :: origin(2)
+    msg = ''
+    m2 = ''
     fin = dir//'/checkpoint.bin'
     errmsg = ''
     open(newunit=u, file=fin, access='stream', form='unformatted', status='old', &
@@ -130,27 +126,16 @@ contains
       close(u, iostat=ios)
       return
     end if
-    read(u, iostat=ios, iomsg=msg) np, nc, nwall, nx, ny, origin, s%grown, s%t, s%step, s%dt, &
-      s%vmax, s%e_kin, s%e_strain, s%e_plastic, s%e_external, s%e_damped, s%e0, s%w_gravity, &
-      s%energy_error, s%bal_max, s%ext_max, s%jmin_seen, s%area_dev
-    if (ios /= 0 .or. np /= s%p%np .or. nc /= s%p%nc .or. nwall /= s%nwall) then
+    call grid_read_placement(s%g, u, s%nwall, ios, msg)
+    if (ios == 0) call diag_read(s%diag, u, ios, msg)
+    if (ios == 0) call state_read(s%state_t, u, ios, msg)
+    if (ios == -1) then
       stat = 2
       errmsg = fin//': the particle, corner or wall counts differ from the input''s; '// &
                'the checkpoint belongs to another case'
       close(u, iostat=ios)
       return
     end if
-    ! place the grid as it was (it may have grown)
-    call grid_grow(s%g, [nint((s%g%origin(1) - origin(1))/s%g%h), &
-                         nint((s%g%origin(2) - origin(2))/s%g%h), 0, 0], s%nwall)
-    call grid_grow(s%g, [0, 0, nx - s%g%nx, ny - s%g%ny], s%nwall)
-    do k = 1, nwall
-      read(u, iostat=ios, iomsg=msg) s%walls(k)%point, s%walls(k)%impulse, s%walls(k)%force, &
-        s%walls(k)%work, s%walls(k)%impulse_acc
-    end do
-    read(u, iostat=ios, iomsg=msg) s%p%x, s%p%v, s%p%mass, s%p%vol0, s%p%vol, s%p%F, &
-      s%p%stress, s%p%eqps, s%p%wplastic, s%p%r10, s%p%r20, s%p%half, s%p%corner, s%p%xc, &
-      s%p%mat, s%p%body
     if (ios == 0) read(u, iostat=ios, iomsg=msg) ex%history_rows, ex%history_next, &
       ex%history_last, ex%snapshot_next, nsnap
     if (ios == 0 .and. nsnap >= 0) then

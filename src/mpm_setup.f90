@@ -11,9 +11,10 @@ module mpm_setup
   use mpm_particles, only: particles_allocate, ring_counts, ring_fill, rect_counts, rect_fill, &
                            particles_memory_bytes
   use mpm_grid, only: grid_init, grid_memory_bytes
+  use mpm_tiles, only: tiles_init, tiles_memory_bytes
   use mpm_walls, only: wall_t, wall_travel
   use mpm_material, only: material_new, material_wave_speed
-  use mpm_solver, only: sim_t, solver_stable_dt, solver_init_energy, solver_wall_point
+  use mpm_solver, only: sim_t, solver_stable_dt, solver_init_energy
   use mpm_errors, only: append_msg
   use mpm_strings, only: itoa, rtoa
   implicit none
@@ -41,19 +42,19 @@ contains
     type(sim_t), intent(out) :: s          !! the simulation at t = 0
     integer, intent(out) :: stat           !! 0 or EXIT_INPUT
     character(len=:), allocatable, intent(out) :: errmsg  !! what is inconsistent
-    integer :: ib, im, k, np, nc, npb, ncb, nk, nmirror, sector_id
+    integer :: ib, im, k, np, nc, npb, ncb, nk, sector_id
     real(wp) :: lo(2), hi(2), anchor(2), rho, margin
     type(wall_t), allocatable :: walls(:)
     stat = 0
     errmsg = ''
     ! materials, with the density scaled for quasi-static runs
-    allocate(s%mats(size(cfg%materials)))
+    allocate(s%prm%mats(size(cfg%materials)))
     do im = 1, size(cfg%materials)
       associate (m => cfg%materials(im))
-        s%mats(im) = material_new(m%model_id, m%rate_law_id, m%E, m%nu, &
+        s%prm%mats(im) = material_new(m%model_id, m%rate_law_id, m%E, m%nu, &
                                   m%rho*cfg%solver%mass_scale, m%sigma_y, m%hardening, &
                                   m%cs_d, m%cs_q)
-        s%c_max = max(s%c_max, material_wave_speed(s%mats(im)))
+        s%prm%c_max = max(s%prm%c_max, material_wave_speed(s%prm%mats(im)))
       end associate
     end do
     ! bodies: one sector kind for all rings (outputs are scaled to the full ring)
@@ -101,6 +102,50 @@ contains
       end associate
     end do
     ! walls: the input's, then the mirror planes of the sector (if not given already)
+    call setup_walls(cfg, sector_id, walls)
+    call move_alloc(walls, s%walls)
+    s%nwall = size(s%walls)
+    do k = 1, s%nwall
+      s%walls(k)%point = s%walls(k)%point0
+    end do
+    ! solver parameters
+    s%prm%basis = cfg%solver%basis_id
+    s%prm%scheme = cfg%solver%scheme_id
+    s%prm%plane = cfg%solver%plane_id
+    s%prm%flip = cfg%solver%flip
+    s%prm%damping = cfg%solver%damping
+    s%prm%deterministic = cfg%solver%deterministic
+    s%prm%cfl = cfg%run%cfl
+    s%prm%dt_fixed = cfg%run%dt
+    s%prm%t_end = cfg%run%t_end
+    s%prm%gravity = cfg%run%gravity
+    ! grid: given bounds, or the bodies' extent plus two cells (it grows when material leaves)
+    if (cfg%grid%fitted) then
+      lo = minval(s%p%xc, dim=2)
+      hi = maxval(s%p%xc, dim=2)
+      margin = 2.0_wp*cfg%grid%h
+      if (s%prm%basis /= BASIS_LINEAR) margin = margin + maxval(s%p%half)
+      lo = lo - margin
+      hi = hi + margin
+      anchor = cfg%bodies(1)%center
+      if (sector_id /= SECTOR_FULL) anchor = first_sector_center(cfg)
+      call grid_init(s%g, lo, hi, cfg%grid%h, anchor, s%nwall)
+      s%g%fixed = .false.
+    else
+      call grid_init(s%g, cfg%grid%lower, cfg%grid%upper, cfg%grid%h, cfg%grid%lower, s%nwall)
+      s%g%fixed = .true.
+    end if
+    call tiles_init(s%tiles, s%g)
+    call solver_init_energy(s)
+  end subroutine setup_sim
+
+  !> The walls of the case: the input's, then the mirror planes of a half or quarter ring.
+  subroutine setup_walls(cfg, sector_id, walls)
+    type(config_t), intent(in) :: cfg      !! the case
+    integer, intent(in) :: sector_id       !! SECTOR_* code of the ring bodies
+    type(wall_t), allocatable, intent(out) :: walls(:)  !! the walls, at t = 0
+    integer :: k, nmirror
+    real(wp) :: anchor(2)
     nmirror = 0
     if (sector_id == SECTOR_HALF) nmirror = 1
     if (sector_id == SECTOR_QUARTER) nmirror = 2
@@ -133,40 +178,7 @@ contains
         walls(k + 2)%mirror = .true.
       end if
     end if
-    call move_alloc(walls, s%walls)
-    s%nwall = size(s%walls)
-    do k = 1, s%nwall
-      s%walls(k)%point = s%walls(k)%point0
-    end do
-    ! solver parameters
-    s%basis = cfg%solver%basis_id
-    s%scheme = cfg%solver%scheme_id
-    s%plane = cfg%solver%plane_id
-    s%flip = cfg%solver%flip
-    s%damping = cfg%solver%damping
-    s%deterministic = cfg%solver%deterministic
-    s%cfl = cfg%run%cfl
-    s%dt_fixed = cfg%run%dt
-    s%t_end = cfg%run%t_end
-    s%gravity = cfg%run%gravity
-    ! grid: given bounds, or the bodies' extent plus two cells (it grows when material leaves)
-    if (cfg%grid%fitted) then
-      lo = minval(s%p%xc, dim=2)
-      hi = maxval(s%p%xc, dim=2)
-      margin = 2.0_wp*cfg%grid%h
-      if (s%basis /= BASIS_LINEAR) margin = margin + maxval(s%p%half)
-      lo = lo - margin
-      hi = hi + margin
-      anchor = cfg%bodies(1)%center
-      if (sector_id /= SECTOR_FULL) anchor = first_sector_center(cfg)
-      call grid_init(s%g, lo, hi, cfg%grid%h, anchor, s%nwall)
-      s%g%fixed = .false.
-    else
-      call grid_init(s%g, cfg%grid%lower, cfg%grid%upper, cfg%grid%h, cfg%grid%lower, s%nwall)
-      s%g%fixed = .true.
-    end if
-    call solver_init_energy(s)
-  end subroutine setup_sim
+  end subroutine setup_walls
 
   !> Centre of the first ring body modelled as a sector [m].
   pure function first_sector_center(cfg) result(c)
@@ -215,8 +227,8 @@ contains
     warnings = ''
     write(line, '(a)') 'case '''//trim(cfg%run%title)//''' from '//trim(cfg%file)
     call append_msg(report, line)
-    write(line, '(a,a,a,a,a,a,a,l1)') 'solver: basis ', trim(basis_names(s%basis)), &
-      ', scheme ', trim(scheme_names(s%scheme)), ', plane ', trim(plane_names(s%plane)), &
+    write(line, '(a,a,a,a,a,a,a,l1)') 'solver: basis ', trim(basis_names(s%prm%basis)), &
+      ', scheme ', trim(scheme_names(s%prm%scheme)), ', plane ', trim(plane_names(s%prm%plane)), &
       ', deterministic ', cfg%solver%deterministic
     call append_msg(report, line)
     do ib = 1, size(cfg%bodies)
@@ -250,17 +262,17 @@ contains
     call append_msg(report, line)
     dt_stable = solver_stable_dt(s)
     dt = dt_stable
-    if (s%dt_fixed > 0.0_wp) dt = s%dt_fixed
-    steps = ceiling(s%t_end/dt, i8)
+    if (s%prm%dt_fixed > 0.0_wp) dt = s%prm%dt_fixed
+    steps = ceiling(s%prm%t_end/dt, i8)
     write(line, '(a,es11.4,a,es11.4,a,f5.3,a,es10.3,a)') 'time step: stable limit ', &
-      s%g%h/(s%c_max + s%vmax), ' s (cfl = 1), used ', dt, ' s (cfl ', &
-      dt*(s%c_max + s%vmax)/s%g%h, '), wave speed ', s%c_max, ' m/s'
+      s%g%h/(s%prm%c_max + s%vmax), ' s (cfl = 1), used ', dt, ' s (cfl ', &
+      dt*(s%prm%c_max + s%vmax)/s%g%h, '), wave speed ', s%prm%c_max, ' m/s'
     call append_msg(report, line)
     write(line, '(a,es11.4,a,i0,a)') 'steps: about ', real(steps, wp), ' to t_end (', steps, &
       ' at the initial speeds)'
     call append_msg(report, line)
-    mem = particles_memory_bytes(s%p%np, s%p%nc) + grid_memory_bytes(s%g, s%nwall) &
-          + int(s%p%np, i8)*8_i8*27_i8
+    mem = particles_memory_bytes(s%p) + grid_memory_bytes(s%g, s%nwall) &
+          + tiles_memory_bytes(s%tiles) + int(s%p%np, i8)*8_i8*27_i8
     write(line, '(a,f10.2,a)') 'memory estimate: ', real(mem, wp)/1048576.0_wp, ' MiB'
     call append_msg(report, line)
     write(line, '(a,es11.4,a)') 'work estimate: ', real(steps, wp)*real(s%p%np, wp), &
@@ -327,9 +339,10 @@ contains
         end do
       end associate
     end do
-    if (s%dt_fixed > 0.0_wp .and. s%dt_fixed > 0.3_wp*s%g%h/(s%c_max + s%vmax)) then
-      write(line, '(a,es10.3,a,f5.2,a)') 'dt = ', s%dt_fixed, ' s is cfl ', &
-        s%dt_fixed*(s%c_max + s%vmax)/s%g%h, ' of the grid limit; above 0.3 runs may go unstable'
+    if (s%prm%dt_fixed > 0.0_wp .and. s%prm%dt_fixed > 0.3_wp*s%g%h/(s%prm%c_max + s%vmax)) then
+      write(line, '(a,es10.3,a,f5.2,a)') 'dt = ', s%prm%dt_fixed, ' s is cfl ', &
+        s%prm%dt_fixed*(s%prm%c_max + s%vmax)/s%g%h, &
+        ' of the grid limit; above 0.3 runs may go unstable'
       call append_msg(warnings, line)
     end if
 
@@ -349,34 +362,36 @@ contains
         'n_thick = 2) and the force noisy (docs/stability.md). Use n_thick >= 2 t/h'
       call append_msg(warnings, line)
     end if
-    if (ppc < 1.5_wp .and. s%scheme /= SCHEME_USL .and. s%basis /= BASIS_UGIMP .and. &
-        s%flip > 0.99_wp) then
+    if (ppc < 1.5_wp .and. s%prm%scheme /= SCHEME_USL .and. s%prm%basis /= BASIS_UGIMP .and. &
+        s%prm%flip > 0.99_wp) then
       write(line, '(a,f5.2,a)') 'with ', ppc, ' particle(s) per cell through the wall, '// &
         'FLIP with this basis and scheme gained energy slowly on the impact scene (5 % '// &
         'within 0.1-0.4 ms, exit 4) at cfl above 0.34 (cpdi2/musl), and at every cfl with '// &
         'cpdi2/usf (docs/stability.md). Use n_thick >= 2 t/h'
       call append_msg(warnings, line)
     end if
-    ratio = dt*(s%c_max + s%vmax)/s%g%h                    ! the cfl in use
-    write(flip_text, '(f6.4)') s%flip
-    if (cfl_stable(s%scheme, s%basis) <= 0.0_wp) then
-      call append_msg(warnings, 'basis '''//trim(basis_names(s%basis))//''' with scheme '''// &
-        trim(scheme_names(s%scheme))//''' failed on the impact scene at every cfl tried '// &
+    ratio = dt*(s%prm%c_max + s%vmax)/s%g%h                    ! the cfl in use
+    write(flip_text, '(f6.4)') s%prm%flip
+    if (cfl_stable(s%prm%scheme, s%prm%basis) <= 0.0_wp) then
+      call append_msg(warnings, 'basis '''//trim(basis_names(s%prm%basis))//''' with scheme '''// &
+        trim(scheme_names(s%prm%scheme))//''' failed on the impact scene at every cfl tried '// &
         '(down to 0.125) at this particle density: energy growth, exit 4 (docs/stability.md). '// &
         'Use scheme = ''musl'' (and n_thick >= 2 t/h)')
-    else if (ratio > cfl_stable(s%scheme, s%basis)*(1.0_wp + 1.0e-9_wp)) then
+    else if (ratio > cfl_stable(s%prm%scheme, s%prm%basis)*(1.0_wp + 1.0e-9_wp)) then
       call append_msg(warnings, 'cfl '//rtoa(ratio)//' is above '// &
-        rtoa(cfl_stable(s%scheme, s%basis))//', the largest stable cfl the stability study '// &
-        'found for basis '''//trim(basis_names(s%basis))//''' with scheme '''// &
-        trim(scheme_names(s%scheme))//''' (impact scene, docs/stability.md): expect energy '// &
+        rtoa(cfl_stable(s%prm%scheme, s%prm%basis))// &
+        ', the largest stable cfl the stability study '// &
+        'found for basis '''//trim(basis_names(s%prm%basis))//''' with scheme '''// &
+        trim(scheme_names(s%prm%scheme))//''' (impact scene, docs/stability.md): expect energy '// &
         'growth and exit 4. Use cfl 0.2')
     end if
-    if (s%scheme == SCHEME_USL) call append_msg(warnings, 'scheme ''usl'' loses 5 to 8 % of '// &
+    if (s%prm%scheme == SCHEME_USL) call append_msg(warnings, &
+      'scheme ''usl'' loses 5 to 8 % of '// &
       'the energy in an impact at any cfl (docs/stability.md). Use scheme = ''musl''')
-    if (s%basis == BASIS_LINEAR) call append_msg(warnings, 'basis ''linear'': particles '// &
+    if (s%prm%basis == BASIS_LINEAR) call append_msg(warnings, 'basis ''linear'': particles '// &
       'crossing cell boundaries make the wall force noisy (RMS 0.5 of the crush plateau, 2 to '// &
       '9 times cpdi2; docs/stability.md). Use basis = ''cpdi2'' for forces')
-    if (s%flip < flip_trusted) call append_msg(warnings, 'flip = '//trim(adjustl(flip_text))// &
+    if (s%prm%flip < flip_trusted) call append_msg(warnings, 'flip = '//trim(adjustl(flip_text))// &
       ': the PIC part damps every step: an elastic impact lost 26 % of its energy at flip = '// &
       '0.999, 49 % at 0.99 and 98 % at 0, against 8 % at flip = 1 (docs/stability.md). '// &
       'Use flip = 1 and smooth the force curve afterwards if it is too noisy')
@@ -385,7 +400,7 @@ contains
     delta = 0.0_wp
     do k = 1, s%nwall
       if (s%walls(k)%mirror) cycle
-      travel = wall_travel(s%walls(k), s%t_end)
+      travel = wall_travel(s%walls(k), s%prm%t_end)
       if (.not. travel > 0.0_wp) cycle
       do m = 1, s%nwall
         if (s%walls(m)%mirror .and. abs(dot_product(s%walls(m)%normal, s%walls(k)%normal)) &
@@ -396,7 +411,7 @@ contains
     do ib = 1, size(cfg%bodies)
       associate (b => cfg%bodies(ib))
         if (b%shape_id /= SHAPE_RING) cycle
-        if (s%basis /= BASIS_CPDI2 .and. s%basis /= BASIS_CPDI1) cycle
+        if (s%prm%basis /= BASIS_CPDI2 .and. s%prm%basis /= BASIS_CPDI1) cycle
         ratio = delta/(2.0_wp*b%r_outer)
         if (ratio > delta_fold) then
           write(line, '(a,i0,a,f5.2,a)') 'body ', ib, ': the platens approach to delta/D = ', &

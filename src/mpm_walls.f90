@@ -12,7 +12,8 @@ module mpm_walls
                            CONTACT_SLIP
   implicit none
   private
-  public :: wall_t, wall_factor, wall_travel, wall_velocity, wall_constrain_node
+  public :: wall_t, wall_factor, wall_travel, wall_velocity, wall_constrain_node, &
+            walls_write_state, walls_read_state
 
   !> A rigid plane with prescribed motion.
   type :: wall_t
@@ -146,4 +147,39 @@ contains
     dp = mass*(vrel + vwall - vel)
     vel = vrel + vwall
   end subroutine wall_constrain_node
+
+  !> Write the evolving part of each wall (point, impulse, force, work, impulse sum) to the
+  !! open unformatted stream unit u (a checkpoint record); the prescribed motion comes from
+  !! the input.
+  subroutine walls_write_state(walls, u, stat, errmsg)
+    type(wall_t), intent(in) :: walls(:)      !! the walls
+    integer, intent(in) :: u                  !! unit, open for unformatted stream output
+    integer, intent(out) :: stat              !! 0 or the iostat of the failed write
+    character(len=*), intent(inout) :: errmsg !! the iomsg on failure
+    integer :: k
+    write(u, iostat=stat, iomsg=errmsg) size(walls)
+    do k = 1, size(walls)
+      if (stat == 0) write(u, iostat=stat, iomsg=errmsg) walls(k)%point, walls(k)%impulse, &
+        walls(k)%force, walls(k)%work, walls(k)%impulse_acc
+    end do
+  end subroutine walls_write_state
+
+  !> Read a record of walls_write_state into walls (stat = -1 when the wall count differs).
+  subroutine walls_read_state(walls, u, stat, errmsg)
+    type(wall_t), intent(inout) :: walls(:)   !! the walls, set up from the same input
+    integer, intent(in) :: u                  !! unit, open for unformatted stream input
+    integer, intent(out) :: stat              !! 0, -1 (another count) or the iostat
+    character(len=*), intent(inout) :: errmsg !! the iomsg on failure
+    integer :: k, n
+    read(u, iostat=stat, iomsg=errmsg) n
+    if (stat /= 0) return
+    if (n /= size(walls)) then
+      stat = -1
+      return
+    end if
+    do k = 1, n
+      if (stat == 0) read(u, iostat=stat, iomsg=errmsg) walls(k)%point, walls(k)%impulse, &
+        walls(k)%force, walls(k)%work, walls(k)%impulse_acc
+    end do
+  end subroutine walls_read_state
 end module mpm_walls

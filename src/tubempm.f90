@@ -31,6 +31,27 @@ program tubempm
   type(config_t) :: cfg
   type(sim_t) :: s
 
+  !> The outputs of a run and the bookkeeping of its loop.
+  type :: run_t
+    character(len=:), allocatable :: dir   !! output folder
+    character(len=:), allocatable :: input_text  !! the resolved input (input.nml)
+    logical :: quiet = .false.             !! no progress line
+    logical :: tty = .false.               !! standard output is a terminal
+    type(history_t) :: hist                !! history.csv
+    type(snapfile_t) :: snaps              !! particles.h5
+    type(summary_t) :: sm                  !! summary.nml entries of the driver
+    real(wp) :: next_snap = 0.0_wp         !! time of the next snapshot [s]
+    type(particles_t) :: good              !! last good particles (crash_<step>.h5)
+    real(wp) :: t_good = 0.0_wp, dt_good = 0.0_wp  !! their time and time step [s]
+    integer(i8) :: step_good = 0_i8        !! their step
+    integer(i8) :: c0 = 0_i8, crate = 1_i8 !! clock at the start, clock rate
+    real(wp) :: seconds0 = 0.0_wp          !! wall-clock time used before a restart [s]
+    real(wp) :: elapsed = 0.0_wp           !! wall-clock time of this run so far [s]
+    real(wp) :: last_progress = 0.0_wp     !! elapsed at the last progress line [s]
+    real(wp) :: last_ckpt = 0.0_wp         !! elapsed at the last checkpoint [s]
+  end type run_t
+  integer, parameter :: backup_every = 50  !! steps between copies of the last good state
+
   ! command line
   check_only = .false.
   quiet = .false.
@@ -165,169 +186,213 @@ contains
     end do
   end function probe_particles
 
-  !> The time loop with outputs, progress, checkpoints, failure and signal handling.
+  !> The run: open the outputs (or continue them from the checkpoint), loop over the steps,
+  !! close the outputs. Every exit but success goes through fatal.
   subroutine run_case(cfg, s, quiet, restart)
     type(config_t), intent(inout) :: cfg
     type(sim_t), intent(inout) :: s
     logical, intent(in) :: quiet, restart
-    character(len=:), allocatable :: dir, msg, input_text
-    type(history_t) :: hist
-    type(snapfile_t) :: snaps
-    type(summary_t) :: sm
-    type(particles_t) :: good
-    type(ckpt_extra_t) :: ex
-    real(wp) :: t_good, dt_good, next_snap, last_progress, elapsed, last_ckpt, seconds0
-    integer(i8) :: step_good, c0, c1, crate
+    type(run_t) :: r
     integer :: st, sig
-    logical :: tty
-    integer, parameter :: backup_every = 50
-    integer, allocatable :: probes(:)
-
-    dir = trim(cfg%run%output_dir)
-    seconds0 = 0.0_wp
-    probes = probe_particles(cfg, s)         ! nearest particles at t = 0 (before a restart)
-    if (restart) then
-      input_text = read_text(dir//'/input.nml')
-      call checkpoint_read(dir, input_text, s, ex, st, msg)
-      if (st == 2) call fatal('restart', msg, EXIT_INPUT)
-      if (st /= 0) call fatal('restart', msg, EXIT_IO)
-      seconds0 = ex%wall_seconds
-      call history_truncate(dir//'/history.csv', ex%history_rows, st, msg)
-      if (st /= 0) call fatal('restart', msg, EXIT_IO)
-      call history_open(hist, dir//'/history.csv', s, cfg%run%history_every, cfg%run%depth, &
-                        sector_factor(cfg), probes, st, msg, append=.true.)
-      if (st /= 0) call fatal('output', msg, EXIT_IO)
-      hist%rows = ex%history_rows
-      hist%next_time = ex%history_next
-      hist%last_time = ex%history_last
-      call snap_reopen(snaps, dir//'/particles.h5', ex%snap_times, ex%snap_np, ex%snap_nc, st, &
-                       msg)
-      if (st /= 0) call fatal('restart', msg, EXIT_IO)
-      next_snap = ex%snapshot_next
-      if (.not. quiet) write(output_unit, '(a)') 'restarting from the checkpoint at t = '// &
-        rtoa(s%t)//' s, step '//itoa(s%step)
-    else
-      call sys_mkdir_p(dir, st, msg)
-      if (st /= 0) call fatal('output', 'cannot create the output folder '//dir//': '//msg// &
-        '. Choose a writable &run output_dir', EXIT_IO)
-      call write_config(cfg, dir//'/input.nml', st, msg)
-      if (st /= 0) call fatal('output', msg, EXIT_IO)
-      input_text = read_text(dir//'/input.nml')
-      call history_open(hist, dir//'/history.csv', s, cfg%run%history_every, cfg%run%depth, &
-                        sector_factor(cfg), probes, st, msg)
-      if (st /= 0) call fatal('output', msg, EXIT_IO)
-      call snap_create(snaps, dir//'/particles.h5', input_text, st, msg)
-      if (st /= 0) call fatal('output', msg//' ('//dir//'/particles.h5)', EXIT_IO)
-      call history_write(hist, s, .true., st, msg)
-      if (st /= 0) call fatal('output', msg, EXIT_IO)
-      call snap_write(snaps, s%p, s%basis, s%t, s%step, s%dt, st, msg)
-      if (st /= 0) call fatal('output', msg, EXIT_IO)
-      call xdmf_write(snaps, dir//'/particles.xdmf', 'particles.h5', st, msg)
-      if (st /= 0) call fatal('output', msg, EXIT_IO)
-      next_snap = cfg%run%snapshot_every
-    end if
+    character(len=:), allocatable :: msg
+    r%quiet = quiet
+    ! 1. outputs: new, or continued from the checkpoint
+    call open_outputs(cfg, s, restart, r)
+    r%sm%scene = scene_of(cfg)             ! the scene rule --check advises by
     if (.not. sys_install_signals()) call warn('run', 'could not install signal handlers')
-    sm%scene = scene_of(cfg)               ! the scene rule --check advises by
-    sm%threads = 1
-    !$ sm%threads = omp_get_max_threads()
-    good = s%p
-    t_good = s%t
-    dt_good = s%dt
-    step_good = s%step
-    tty = sys_stdout_isatty()
-    call system_clock(c0, crate)
-    last_progress = 0.0_wp
-    last_ckpt = 0.0_wp
+    call keep_good_state(s, r)
+    call system_clock(r%c0, r%crate)
+    ! 2. the time loop
     sig = 0
-
-    do while (s%t < s%t_end)
+    do while (s%t < s%prm%t_end)
       call solver_step(s, st, msg)
-      if (st /= 0) then
-        call system_clock(c1)
-        sm%wall_seconds = seconds0 + real(c1 - c0, wp)/real(crate, wp)
-        call on_failure(st, msg, dir, input_text, s, good, t_good, dt_good, step_good, snaps, &
-                        hist, sm)
-      end if
-      call history_write(hist, s, s%t >= s%t_end, st, msg)
-      if (st /= 0) call fatal('output', msg, EXIT_IO)
-      if (cfg%run%snapshot_every > 0.0_wp .and. s%t >= next_snap*(1.0_wp - 1.0e-12_wp) &
-          .and. s%t < s%t_end) then
-        call snap_write(snaps, s%p, s%basis, s%t, s%step, s%dt, st, msg)
-        if (st /= 0) call fatal('output', msg, EXIT_IO)
-        call xdmf_write(snaps, dir//'/particles.xdmf', 'particles.h5', st, msg)
-        if (st /= 0) call fatal('output', msg, EXIT_IO)
-        do while (next_snap <= s%t*(1.0_wp + 1.0e-12_wp))
-          next_snap = next_snap + cfg%run%snapshot_every
-        end do
-      end if
-      if (mod(s%step, int(backup_every, i8)) == 0_i8) then
-        good = s%p
-        t_good = s%t
-        dt_good = s%dt
-        step_good = s%step
-      end if
-      call system_clock(c1)
-      elapsed = real(c1 - c0, wp)/real(crate, wp)
-      if (.not. quiet .and. (elapsed - last_progress > merge(0.5_wp, 10.0_wp, tty))) then
-        call progress(s, elapsed, tty)
-        last_progress = elapsed
-      end if
+      if (st /= 0) call on_failure(st, msg, s, r)
+      call write_outputs(cfg, s, r)
+      if (mod(s%step, int(backup_every, i8)) == 0_i8) call keep_good_state(s, r)
+      call show_progress(s, r)
       sig = sys_signal_received()
       if (sig /= 0 .or. (cfg%run%checkpoint_every > 0.0_wp .and. &
-                         elapsed - last_ckpt >= cfg%run%checkpoint_every)) then
-        ! checkpoint with the output positions; an I/O failure here stops the run (exit 3)
-        ex%history_rows = hist%rows
-        ex%history_next = hist%next_time
-        ex%history_last = hist%last_time
-        ex%snapshot_next = next_snap
-        ex%snap_times = snaps%times
-        ex%snap_np = snaps%nps
-        ex%snap_nc = snaps%ncs
-        ex%wall_seconds = seconds0 + elapsed
-        call checkpoint_write(dir, input_text, s, ex, st, msg)
-        if (st /= 0) call fatal('checkpoint', msg, EXIT_IO)
-        last_ckpt = elapsed
+                         r%elapsed - r%last_ckpt >= cfg%run%checkpoint_every)) then
+        call write_checkpoint(s, r)
       end if
       if (sig /= 0) then
-        sm%status = 'interrupted'
-        sm%message = 'stopped by signal '//itoa(sig)//' at t = '//rtoa(s%t)//' s, step '// &
-                     itoa(s%step)//'; continue with: tubempm --restart '//dir
+        r%sm%status = 'interrupted'
+        r%sm%message = 'stopped by signal '//itoa(sig)//' at t = '//rtoa(s%t)//' s, step '// &
+                       itoa(s%step)//'; continue with: tubempm --restart '//r%dir
         exit
       end if
     end do
-    call system_clock(c1)
-    sm%wall_seconds = seconds0 + real(c1 - c0, wp)/real(crate, wp)
-    if (.not. quiet .and. tty) write(output_unit, '(a)') ''
-    if (sig == 0) then
-      call snap_write(snaps, s%p, s%basis, s%t, s%step, s%dt, st, msg)
+    ! 3. close the outputs, summary, end-of-run report
+    call close_outputs(s, r, final_snapshot=sig == 0)
+    if (sig /= 0) call fatal('run', trim(r%sm%message)//'; a checkpoint is in '//r%dir// &
+      '/checkpoint.bin and the outputs are complete up to that time', 128 + sig)   ! as shells report it
+  end subroutine run_case
+
+  !> Open the outputs of a new run (folder, input.nml, history, particles.h5 with the first
+  !! snapshot), or reopen them from the checkpoint of a run to continue (restart).
+  subroutine open_outputs(cfg, s, restart, r)
+    type(config_t), intent(in) :: cfg
+    type(sim_t), intent(inout) :: s
+    logical, intent(in) :: restart
+    type(run_t), intent(inout) :: r
+    type(ckpt_extra_t) :: ex
+    integer, allocatable :: probes(:)
+    character(len=:), allocatable :: msg
+    integer :: st
+    r%dir = trim(cfg%run%output_dir)
+    r%seconds0 = 0.0_wp
+    r%tty = sys_stdout_isatty()
+    r%sm%threads = 1
+    !$ r%sm%threads = omp_get_max_threads()
+    probes = probe_particles(cfg, s)         ! nearest particles at t = 0 (before a restart)
+    if (restart) then
+      r%input_text = read_text(r%dir//'/input.nml')
+      call checkpoint_read(r%dir, r%input_text, s, ex, st, msg)
+      if (st == 2) call fatal('restart', msg, EXIT_INPUT)
+      if (st /= 0) call fatal('restart', msg, EXIT_IO)
+      r%seconds0 = ex%wall_seconds
+      call history_truncate(r%dir//'/history.csv', ex%history_rows, st, msg)
+      if (st /= 0) call fatal('restart', msg, EXIT_IO)
+      call history_open(r%hist, r%dir//'/history.csv', s, cfg%run%history_every, &
+                        cfg%run%depth, sector_factor(cfg), probes, st, msg, append=.true.)
       if (st /= 0) call fatal('output', msg, EXIT_IO)
-      call xdmf_write(snaps, dir//'/particles.xdmf', 'particles.h5', st, msg)
+      r%hist%rows = ex%history_rows
+      r%hist%next_time = ex%history_next
+      r%hist%last_time = ex%history_last
+      call snap_reopen(r%snaps, r%dir//'/particles.h5', ex%snap_times, ex%snap_np, ex%snap_nc, &
+                       st, msg)
+      if (st /= 0) call fatal('restart', msg, EXIT_IO)
+      r%next_snap = ex%snapshot_next
+      if (.not. r%quiet) write(output_unit, '(a)') 'restarting from the checkpoint at t = '// &
+        rtoa(s%t)//' s, step '//itoa(s%step)
+    else
+      call sys_mkdir_p(r%dir, st, msg)
+      if (st /= 0) call fatal('output', 'cannot create the output folder '//r%dir//': '//msg// &
+        '. Choose a writable &run output_dir', EXIT_IO)
+      call write_config(cfg, r%dir//'/input.nml', st, msg)
       if (st /= 0) call fatal('output', msg, EXIT_IO)
+      r%input_text = read_text(r%dir//'/input.nml')
+      call history_open(r%hist, r%dir//'/history.csv', s, cfg%run%history_every, &
+                        cfg%run%depth, sector_factor(cfg), probes, st, msg)
+      if (st /= 0) call fatal('output', msg, EXIT_IO)
+      call snap_create(r%snaps, r%dir//'/particles.h5', r%input_text, st, msg)
+      if (st /= 0) call fatal('output', msg//' ('//r%dir//'/particles.h5)', EXIT_IO)
+      call history_write(r%hist, s, .true., st, msg)
+      if (st /= 0) call fatal('output', msg, EXIT_IO)
+      call write_snapshot(s, r)
+      r%next_snap = cfg%run%snapshot_every
     end if
-    call snap_close(snaps, st, msg)
+  end subroutine open_outputs
+
+  !> After a step: the history row when due, the snapshot when due.
+  subroutine write_outputs(cfg, s, r)
+    type(config_t), intent(in) :: cfg
+    type(sim_t), intent(inout) :: s
+    type(run_t), intent(inout) :: r
+    character(len=:), allocatable :: msg
+    integer :: st
+    call history_write(r%hist, s, s%t >= s%prm%t_end, st, msg)
     if (st /= 0) call fatal('output', msg, EXIT_IO)
-    call history_close(hist)
-    call write_summary(dir//'/summary.nml', s, sm, st, msg)
+    if (cfg%run%snapshot_every > 0.0_wp .and. s%t >= r%next_snap*(1.0_wp - 1.0e-12_wp) &
+        .and. s%t < s%prm%t_end) then
+      call write_snapshot(s, r)
+      do while (r%next_snap <= s%t*(1.0_wp + 1.0e-12_wp))
+        r%next_snap = r%next_snap + cfg%run%snapshot_every
+      end do
+    end if
+  end subroutine write_outputs
+
+  !> One snapshot into particles.h5, and the XDMF index rewritten.
+  subroutine write_snapshot(s, r)
+    type(sim_t), intent(in) :: s
+    type(run_t), intent(inout) :: r
+    character(len=:), allocatable :: msg
+    integer :: st
+    call snap_write(r%snaps, s%p, s%prm%basis, s%t, s%step, s%dt, st, msg)
+    if (st /= 0) call fatal('output', msg, EXIT_IO)
+    call xdmf_write(r%snaps, r%dir//'/particles.xdmf', 'particles.h5', st, msg)
+    if (st /= 0) call fatal('output', msg, EXIT_IO)
+  end subroutine write_snapshot
+
+  !> Keep a copy of the particles as the last good state (for crash_<step>.h5).
+  subroutine keep_good_state(s, r)
+    type(sim_t), intent(in) :: s
+    type(run_t), intent(inout) :: r
+    r%good = s%p
+    r%t_good = s%t
+    r%dt_good = s%dt
+    r%step_good = s%step
+  end subroutine keep_good_state
+
+  !> The progress line when due (in place on a terminal, every 10 s otherwise); the elapsed
+  !! wall-clock time.
+  subroutine show_progress(s, r)
+    type(sim_t), intent(in) :: s
+    type(run_t), intent(inout) :: r
+    integer(i8) :: c1
+    call system_clock(c1)
+    r%elapsed = real(c1 - r%c0, wp)/real(r%crate, wp)
+    if (.not. r%quiet .and. (r%elapsed - r%last_progress > merge(0.5_wp, 10.0_wp, r%tty))) then
+      call progress(s, r%elapsed, r%tty)
+      r%last_progress = r%elapsed
+    end if
+  end subroutine show_progress
+
+  !> Checkpoint with the output positions; an I/O failure here stops the run (exit 3).
+  subroutine write_checkpoint(s, r)
+    type(sim_t), intent(in) :: s
+    type(run_t), intent(inout) :: r
+    type(ckpt_extra_t) :: ex
+    character(len=:), allocatable :: msg
+    integer :: st
+    ex%history_rows = r%hist%rows
+    ex%history_next = r%hist%next_time
+    ex%history_last = r%hist%last_time
+    ex%snapshot_next = r%next_snap
+    ex%snap_times = r%snaps%times
+    ex%snap_np = r%snaps%nps
+    ex%snap_nc = r%snaps%ncs
+    ex%wall_seconds = r%seconds0 + r%elapsed
+    call checkpoint_write(r%dir, r%input_text, s, ex, st, msg)
+    if (st /= 0) call fatal('checkpoint', msg, EXIT_IO)
+    r%last_ckpt = r%elapsed
+  end subroutine write_checkpoint
+
+  !> Close the outputs: the last snapshot (unless interrupted), particles.h5, history.csv,
+  !! summary.nml; the end-of-run warning and report.
+  subroutine close_outputs(s, r, final_snapshot)
+    type(sim_t), intent(in) :: s
+    type(run_t), intent(inout) :: r
+    logical, intent(in) :: final_snapshot
+    character(len=:), allocatable :: msg
+    integer :: st
+    integer(i8) :: c1
+    call system_clock(c1)
+    r%sm%wall_seconds = r%seconds0 + real(c1 - r%c0, wp)/real(r%crate, wp)
+    if (.not. r%quiet .and. r%tty) write(output_unit, '(a)') ''
+    if (final_snapshot) call write_snapshot(s, r)
+    call snap_close(r%snaps, st, msg)
+    if (st /= 0) call fatal('output', msg, EXIT_IO)
+    call history_close(r%hist)
+    call write_summary(r%dir//'/summary.nml', s, r%sm, st, msg)
     if (st /= 0) call fatal('output', msg, EXIT_IO)
     ! (relative to the growth check's scale, so that the tiny work of a crush's first steps
     ! does not count)
-    if (s%bal_max > 0.05_wp*max(s%e0, s%ext_max, s%e_floor)) call warn('run', 'energy error '// &
+    if (s%bal_max > 0.05_wp*max(s%e0, s%ext_max, s%prm%e_floor)) call warn('run', &
+      'energy error '// &
       rtoa(100.0_wp*s%energy_error)//' % is above 5 %: the energy balance does not close, so '// &
       'forces and energies are not to be trusted (docs/stability.md: USL, PIC blending and '// &
       'coarse walls lose energy). Use scheme = ''musl'', flip = 1 and a finer grid')
-    if (.not. quiet) then
+    if (.not. r%quiet) then
       write(output_unit, '(a,i0,a,i0,a,f10.2,a)') 'done: ', s%step, ' steps, ', s%p%np, &
-        ' particles, ', sm%wall_seconds, ' s'
+        ' particles, ', r%sm%wall_seconds, ' s'
       write(output_unit, '(a,es10.3,a,es10.3,a,es10.3)') 'runtime ratio (simulated/wall) ', &
-        s%t/max(sm%wall_seconds, 1.0e-9_wp), ', particle-steps per second ', &
-        real(s%p%np, wp)*real(s%step, wp)/max(sm%wall_seconds, 1.0e-9_wp), &
+        s%t/max(r%sm%wall_seconds, 1.0e-9_wp), ', particle-steps per second ', &
+        real(s%p%np, wp)*real(s%step, wp)/max(r%sm%wall_seconds, 1.0e-9_wp), &
         ', energy error ', s%energy_error
-      write(output_unit, '(a)') 'outputs in '//dir
+      write(output_unit, '(a)') 'outputs in '//r%dir
     end if
-    if (sig /= 0) call fatal('run', trim(sm%message)//'; a checkpoint is in '//dir// &
-      '/checkpoint.bin and the outputs are complete up to that time', 128 + sig)
-
-  end subroutine run_case
+  end subroutine close_outputs
 
   !> Keep the header and the first `rows` rows of a history file (restart).
   subroutine history_truncate(path, rows, stat, errmsg)
@@ -357,12 +422,6 @@ contains
     if (stat /= 0) errmsg = 'cannot rewrite '//path//': '//trim(msg)
   end subroutine history_truncate
 
-  subroutine write_err(text)
-    character(len=*), intent(in) :: text
-    write(error_unit, '(a)') text
-    flush(error_unit)
-  end subroutine write_err
-
   !> One progress line: in place on a terminal, a new line otherwise.
   subroutine progress(s, elapsed, tty)
     type(sim_t), intent(in) :: s
@@ -370,7 +429,7 @@ contains
     logical, intent(in) :: tty
     real(wp) :: frac, eta
     character(len=160) :: line
-    frac = s%t/s%t_end
+    frac = s%t/s%prm%t_end
     eta = elapsed*(1.0_wp - frac)/max(frac, 1.0e-12_wp)
     write(line, '(f6.2,a,es10.3,a,i0,a,f9.1,a,f9.1,a)') 100.0_wp*frac, ' %  t = ', s%t, &
       ' s  step ', s%step, '  ', real(s%step, wp)/max(elapsed, 1.0e-9_wp), &
@@ -384,32 +443,30 @@ contains
   end subroutine progress
 
   !> Numerical failure: save the last good state, close the outputs, write the summary, stop.
-  subroutine on_failure(code, what, dir, input_text, s, good, t_good, dt_good, step_good, &
-                        snaps, hist, sm)
+  subroutine on_failure(code, what, s, r)
     integer, intent(in) :: code
-    character(len=*), intent(in) :: what, dir, input_text
+    character(len=*), intent(in) :: what
     type(sim_t), intent(in) :: s
-    type(particles_t), intent(in) :: good
-    real(wp), intent(in) :: t_good, dt_good
-    integer(i8), intent(in) :: step_good
-    type(snapfile_t), intent(inout) :: snaps
-    type(history_t), intent(inout) :: hist
-    type(summary_t), intent(inout) :: sm
+    type(run_t), intent(inout) :: r
     character(len=:), allocatable :: crash, m2
     type(snapfile_t) :: cf
     integer :: st2
-    crash = dir//'/crash_'//itoa(step_good)//'.h5'
-    call snap_create(cf, crash, input_text, st2, m2)
-    if (st2 == 0) call snap_write(cf, good, s%basis, t_good, step_good, dt_good, st2, m2)
+    integer(i8) :: c1
+    call system_clock(c1)
+    r%sm%wall_seconds = r%seconds0 + real(c1 - r%c0, wp)/real(r%crate, wp)
+    crash = r%dir//'/crash_'//itoa(r%step_good)//'.h5'
+    call snap_create(cf, crash, r%input_text, st2, m2)
+    if (st2 == 0) call snap_write(cf, r%good, s%prm%basis, r%t_good, r%step_good, r%dt_good, &
+                                  st2, m2)
     if (st2 == 0) call snap_close(cf, st2, m2)
     if (st2 /= 0) call warn('run', 'could not write the last good state: '//m2)
-    call snap_close(snaps, st2, m2)
-    call history_close(hist)
-    sm%status = 'unstable'
-    sm%message = what
-    call write_summary(dir//'/summary.nml', s, sm, st2, m2)
+    call snap_close(r%snaps, st2, m2)
+    call history_close(r%hist)
+    r%sm%status = 'unstable'
+    r%sm%message = what
+    call write_summary(r%dir//'/summary.nml', s, r%sm, st2, m2)
     call fatal('run', what//new_line('a')//'the last good state (step '// &
-      itoa(step_good)//', t = '//rtoa(t_good)//' s) is in '//crash// &
+      itoa(r%step_good)//', t = '//rtoa(r%t_good)//' s) is in '//crash// &
       '; history.csv holds every row up to the failure', code)
   end subroutine on_failure
 

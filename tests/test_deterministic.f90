@@ -74,8 +74,8 @@ contains
     call setup_sim(ring_case(basis, scheme, deterministic), s, stat, errmsg)
     call check(stat == 0, 'setup_sim: '//errmsg)
     if (stat /= 0) error stop 1
-    s%parallel_min = 0
-    s%colour_band = 100                    ! several bands of the deterministic sweep
+    s%prm%parallel_min = 0
+    s%prm%colour_band = 100                    ! several bands of the deterministic sweep
     do k = 1, nsteps
       call solver_step(s, stat, errmsg)
       if (stat /= 0) exit

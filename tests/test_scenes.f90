@@ -61,7 +61,7 @@ contains
     call load('elastic_quarter.nml', cfg, s)
     imp = 0.0_wp
     t0 = 0.5e-3_wp                        ! the platen has stopped; average over the hold
-    do while (s%t < s%t_end)
+    do while (s%t < s%prm%t_end)
       call step(s)
       if (s%t > t0) imp = imp + s%walls(1)%impulse
     end do
@@ -100,7 +100,7 @@ contains
     imp = 0.0_wp
     t_contact = -1.0_wp
     dt_contact = 0.0_wp
-    do while (s%t < s%t_end)
+    do while (s%t < s%prm%t_end)
       call step(s)
       imp = imp + s%walls(1)%impulse
       if (t_contact < 0.0_wp .and. abs(s%walls(1)%impulse(2)) > 0.0_wp) then
@@ -130,8 +130,8 @@ contains
     integer :: k
     call load(file, cfg, s)
     imp = 0.0_wp
-    tw = s%t_end/real(nwin, wp)
-    do while (s%t < s%t_end)
+    tw = s%prm%t_end/real(nwin, wp)
+    do while (s%t < s%prm%t_end)
       call step(s)
       k = min(nwin, 1 + int((s%t - 0.5_wp*s%dt)/tw))
       imp(:, k) = imp(:, k) + s%walls(1)%impulse
@@ -184,7 +184,7 @@ contains
     kmax = 0.0_wp
     bal = 0.0_wp
     wmax = 0.0_wp
-    do while (s%t < s%t_end)
+    do while (s%t < s%prm%t_end)
       call step(s)
       x = 2.0_wp*(-wall_travel(s%walls(1), s%t - 0.5_wp*s%dt))/D     ! mid-step delta/D
       if (x >= 0.1_wp .and. x < 0.3_wp) then

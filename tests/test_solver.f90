@@ -145,7 +145,7 @@ contains
           call random_number(r)
           s%p%v(:, ip) = r - 0.5_wp
         end do
-        s%dt_fixed = 1.0e-12_wp              ! a step too short to deform anything measurably
+        s%prm%dt_fixed = 1.0e-12_wp              ! a step too short to deform anything measurably
         m0 = sum(s%p%mass)
         p0 = momentum(s)
         call solver_step(s, stat, errmsg)
@@ -174,7 +174,7 @@ contains
     call must_setup(cfg, s)
     p0 = momentum(s)
     do k = 1, 100000
-      if (s%t >= s%t_end) exit
+      if (s%t >= s%prm%t_end) exit
       call solver_step(s, stat, errmsg)
       if (stat /= 0) exit
     end do
@@ -215,7 +215,7 @@ contains
     dt_contact = 0.0_wp
     in_contact = .false.
     do k = 1, 1000000
-      if (s%t >= s%t_end) exit
+      if (s%t >= s%prm%t_end) exit
       call solver_step(s, stat, errmsg)
       if (stat /= 0) exit
       if (abs(s%walls(1)%force(1)) > 0.0_wp .and. t_first < 0.0_wp) then
@@ -261,7 +261,7 @@ contains
     e0 = s%e0
     emax_err = 0.0_wp
     do k = 1, 1000000
-      if (s%t >= s%t_end) exit
+      if (s%t >= s%prm%t_end) exit
       call solver_step(s, stat, errmsg)
       if (stat /= 0) exit
       emax_err = max(emax_err, abs(s%e_kin + s%e_strain + s%e_plastic - e0)/e0)

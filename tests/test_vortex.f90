@@ -177,11 +177,11 @@ contains
       s%p%v(:, ip) = r*gt(0.0_wp, 1)*hr(r, 0)*[-sin(th), cos(th)]
     end do
     call solver_init_energy(s)
-    allocate(s%bacc(2, s%p%np))
+    allocate(s%prm%bacc(2, s%p%np))
     do k = 1, 10000000
-      if (s%t >= s%t_end) exit
+      if (s%t >= s%prm%t_end) exit
       do ip = 1, s%p%np
-        s%bacc(:, ip) = body_force(X0(:, ip), s%t)
+        s%prm%bacc(:, ip) = body_force(X0(:, ip), s%t)
       end do
       call solver_step(s, stat, errmsg)
       if (stat /= 0) exit

@@ -110,7 +110,7 @@ contains
       call step_or_stop()
     end do
     allocate(rate(reps), ratio(reps), cpu_rate(reps))
-    s%phase_time = 0.0_wp
+    s%diag%phase_time = 0.0_wp
     do rep = 1, reps
       t_sim0 = s%t
       t0 = clock_seconds()
@@ -124,10 +124,10 @@ contains
       cpu_rate(rep) = real(s%p%np, wp)*real(steps, wp)/(cpu1 - cpu0)
       ratio(rep) = (s%t - t_sim0)/(t1 - t0)
     end do
-    phase = s%phase_time/(real(s%p%np, wp)*real(steps, wp)*real(reps, wp))*1.0e9_wp
+    phase = s%diag%phase_time/(real(s%p%np, wp)*real(steps, wp)*real(reps, wp))*1.0e9_wp
     write(line, '(a,",",a,",",a,",",i0,",",i0,",",i0,",",i0,",",i0,",",i0,",",i0,' // &
           '5(",",es11.4),",",f7.4)') trim(arg(1)), trim(basis_names(basis)), &
-          trim(scheme_names(scheme)), det, threads, s%p%np, s%g%nn, s%nb, steps, reps, &
+          trim(scheme_names(scheme)), det, threads, s%p%np, s%g%nn, s%wk%nb, steps, reps, &
           median(rate), minval(rate), maxval(rate), median(cpu_rate), median(ratio), &
           real(count(s%p%eqps > 0.0_wp), wp)/real(s%p%np, wp)
     do k = 1, n_phases
