@@ -109,19 +109,25 @@ LEVEL ?= quick
 study: all
 	$(PYTHON) tools/study.py --level $(LEVEL)
 	$(PYTHON) plots/plot_study.py --level $(LEVEL)
+	$(PYTHON) tools/advice_tables.py --study
 	@$(MAKE) --no-print-directory all    # --check's advice table may have changed
 
 ## figures: regenerate the study's figures (docs/study/) from the committed table and curves,
-##          and --check's advice table (src/mpm_advice_table.inc, rebuilt when it changed)
+##          and --check's advice table (tools/advice_tables.py writes src/mpm_advice_table.inc;
+##          rebuilt when it changed)
 figures: deps
 	$(PYTHON) plots/plot_study.py --level full
+	$(PYTHON) tools/advice_tables.py --study
 	@$(MAKE) --no-print-directory all
 
 ## stability: the stability study of docs/stability.md (release build, one run at a time, one
 ##            thread): LEVEL=quick (default, < 10 min) or LEVEL=full; tables and figures in
-##            docs/stability/, runs in build/stability/ (reused when unchanged)
+##            docs/stability/, runs in build/stability/ (reused when unchanged); then --check's
+##            cfl limits (tools/advice_tables.py writes src/mpm_stability_table.inc)
 stability: all
 	$(PYTHON) tools/stability.py --level $(or $(LEVEL),quick)
+	$(PYTHON) tools/advice_tables.py --stability
+	@$(MAKE) --no-print-directory all    # --check's cfl limits may have changed
 
 ## check-namelists: bin/tubempm --check on every file in namelists/
 check-namelists: all

@@ -26,7 +26,7 @@ module mpm_config
   use mpm_config_values, only: values_t, read_group, vreal, vvec, vtab, vint, vtext, vlog, &
                                set_int, chk_r, chk_i, chk_v, chk_e, chk_t, table_count, &
                                err_var, err_missing, warn_var, warn_group
-  use mpm_config_check, only: cross_checks
+  use mpm_config_check, only: cross_checks, advice_checks
   use mpm_config_echo, only: write_config, write_config_unit
   implicit none
   private
@@ -41,32 +41,38 @@ contains
   !! file, the line (where there is one), the group, the variable, the value and what is allowed.
   !! Numbers too large for a double (1e400) are read as Infinity and reported, also when
   !! floating-point overflow traps are on (they are held off while the file is read).
-  subroutine read_config(path, cfg, stat, errmsg, warnings)
+  !! The optional advice receives the warnings that mpm_advice's advice_check repeats in full
+  !! once the set-up is built (thin walls; `tubempm` prints those once); without it they are
+  !! part of warnings.
+  subroutine read_config(path, cfg, stat, errmsg, warnings, advice)
     character(len=*), intent(in) :: path                   !! namelist file
     type(config_t), intent(out) :: cfg                     !! the case (undefined when stat /= 0)
     integer, intent(out) :: stat                           !! 0 ok, else EXIT_INPUT or EXIT_IO
     character(len=:), allocatable, intent(out) :: errmsg   !! all problems, one per line
     character(len=:), allocatable, intent(out), optional :: warnings !! advice, one per line
+    character(len=:), allocatable, intent(out), optional :: advice   !! see above
     logical :: halting, flag
-    character(len=:), allocatable :: advice
+    character(len=:), allocatable :: warn, adv
     call ieee_get_halting_mode(ieee_overflow, halting)
     call ieee_get_flag(ieee_overflow, flag)
     call ieee_set_halting_mode(ieee_overflow, .false.)
-    call read_config_all(path, cfg, stat, errmsg, advice)
+    call read_config_all(path, cfg, stat, errmsg, warn, adv, present(advice))
     call ieee_set_flag(ieee_overflow, flag)
     call ieee_set_halting_mode(ieee_overflow, halting)
-    if (present(warnings)) call move_alloc(advice, warnings)
+    if (present(warnings)) call move_alloc(warn, warnings)
+    if (present(advice)) call move_alloc(adv, advice)
   end subroutine read_config
 
   !> read_config without the floating-point mode handling.
-  subroutine read_config_all(path, cfg, stat, errmsg, warnings)
+  subroutine read_config_all(path, cfg, stat, errmsg, warnings, advice, split)
     character(len=*), intent(in) :: path
     type(config_t), intent(out) :: cfg
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    character(len=:), allocatable, intent(out) :: warnings
+    character(len=:), allocatable, intent(out) :: warnings, advice
+    logical, intent(in) :: split            !! advice apart from warnings
     type(reader_t) :: rd
-    integer :: u, ios, ios2, io, k
+    integer :: u, ios, ios2, io, k, n_warn
     integer :: n_of(n_groups), first_of(n_groups)
     integer, allocatable :: occ_mat(:), occ_body(:)
     character(len=512) :: iomsg, iomsg2
@@ -74,6 +80,7 @@ contains
     stat = 0
     errmsg = ''
     warnings = ''
+    advice = ''
     cfg%file = path
     rd%file = trim(path)
     allocate(rd%err(8), rd%warn(8), rd%occ(8), rd%lines(64))
@@ -121,12 +128,19 @@ contains
     end do
 
     call cross_checks(rd, cfg, first_of, occ_mat, occ_body)
+    n_warn = rd%n_warn
+    call advice_checks(rd, cfg, first_of, occ_body)
 
     if (rd%n_err > 0) then
       stat = EXIT_INPUT
       errmsg = join_msgs(rd%err, rd%n_err)
     end if
-    warnings = join_msgs(rd%warn, rd%n_warn)
+    if (split) then
+      warnings = join_msgs(rd%warn(1:n_warn), n_warn)
+      advice = join_msgs(rd%warn(n_warn+1:rd%n_warn), rd%n_warn - n_warn)
+    else
+      warnings = join_msgs(rd%warn, rd%n_warn)
+    end if
   end subroutine read_config_all
 
   !> Open the input file for reading, with a message that says what to do when it cannot be.

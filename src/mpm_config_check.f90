@@ -1,5 +1,5 @@
 !> The checks of the input that span groups: defaults that depend on other groups, material
-!! references, the given grid bounds, the fixed time step, and the thin-wall advice.
+!! references, the given grid bounds, the fixed time step; and the reader's thin-wall advice.
 ! SPDX-License-Identifier: MIT
 module mpm_config_check
   use mpm_kinds, only: wp
@@ -10,9 +10,10 @@ module mpm_config_check
   use mpm_config_table, only: n_groups
   use mpm_config_lexer, only: reader_t
   use mpm_config_values, only: err_var, warn_var
+  use mpm_advice, only: wall_too_thin
   implicit none
   private
-  public :: cross_checks, body_box
+  public :: cross_checks, advice_checks, body_box
 
 contains
 
@@ -140,19 +141,27 @@ contains
       end if
     end if
 
-    ! advice: thin walls need cells smaller than the wall thickness
-    if (io_grid > 0) then
-      if (rd%occ(io_grid)%ok) then
-        do k = 1, size(cfg%bodies)
-          if (.not. rd%occ(occ_body(k))%ok .or. cfg%bodies(k)%shape_id /= SHAPE_RING) cycle
-          thick = cfg%bodies(k)%r_outer - cfg%bodies(k)%r_inner
-          if (cfg%grid%h >= thick) call warn_var(rd, io_grid, 'h', 'not smaller than the '// &
-            'wall thickness '//fmt_short(thick)//' m of &body #'//itoa(k)//': both faces '// &
-            'of the wall share grid nodes and the wall bends wrongly (use h < thickness)')
-        end do
-      end if
-    end if
   end subroutine cross_checks
+
+  !> Advice that the set-up's advice (mpm_advice, advice_check) gives again in full: thin walls
+  !! need cells smaller than the wall thickness.
+  subroutine advice_checks(rd, cfg, first_of, occ_body)
+    type(reader_t), intent(inout) :: rd
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: first_of(n_groups), occ_body(:)
+    integer :: k, io_grid
+    real(wp) :: thick
+    io_grid = first_of(3)
+    if (io_grid == 0) return
+    if (.not. rd%occ(io_grid)%ok) return
+    do k = 1, size(cfg%bodies)
+      if (.not. rd%occ(occ_body(k))%ok .or. cfg%bodies(k)%shape_id /= SHAPE_RING) cycle
+      thick = cfg%bodies(k)%r_outer - cfg%bodies(k)%r_inner
+      if (wall_too_thin(cfg%grid%h, thick)) call warn_var(rd, io_grid, 'h', 'not smaller '// &
+        'than the wall thickness '//fmt_short(thick)//' m of &body #'//itoa(k)//': both '// &
+        'faces of the wall share grid nodes and the wall bends wrongly (use h < thickness)')
+    end do
+  end subroutine advice_checks
 
   !> Bounding box of the material of a body (ring sector convention of mpm_particles:
   !! half = the side x >= centre, quarter = x >= centre and y >= centre).

@@ -31,6 +31,7 @@ module mpm_config_lexer
     integer :: line = 0
     integer :: kind = tk_word
     logical :: comma_comment = .false.   ! followed by ", ! comment" at the end of its line
+    integer :: commas = 0                ! commas between the previous token and this one
   end type token_t
 
   !> `name = value ...` inside a group (or stray text when stray is true).
@@ -53,6 +54,7 @@ module mpm_config_lexer
     logical :: read_ok = .false.             ! the namelist read succeeded
     logical :: ok = .true.                   ! read and validated without error
     integer :: n_tok = 0, n_asg = 0
+    integer :: commas = 0                    ! commas since the last token
     type(token_t), allocatable :: tok(:)
     type(assign_t), allocatable :: asg(:)
   end type occ_t
@@ -197,6 +199,7 @@ contains
           exit
         case (',')
           comma_pending = .true.
+          rd%occ(cur)%commas = rd%occ(cur)%commas + 1
           ic = ic + 1
         case ('/')
           rd%occ(cur)%closed = .true.
@@ -305,6 +308,8 @@ contains
     o%tok(o%n_tok)%text = text
     o%tok(o%n_tok)%line = line
     o%tok(o%n_tok)%kind = kind
+    o%tok(o%n_tok)%commas = o%commas
+    o%commas = 0
   end subroutine push_token
 
   !> Group the tokens of an occurrence into `name = values` (and stray text).

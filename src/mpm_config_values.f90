@@ -89,6 +89,7 @@ contains
         end if
         do it = o%asg(ia)%t1, o%asg(ia)%t2
           t = o%tok(it)%text
+          pos = pos + nulls(o%tok(it)%commas, it == o%asg(ia)%t1)
           if (o%tok(it)%kind == tk_string .or. index('ce', specs(k)%kind) > 0) then
             v%c(k) = t
             if (o%tok(it)%kind == tk_string) v%c(k) = unquote(t)
@@ -202,6 +203,7 @@ contains
     count = 0
     do it = rd%occ(io)%asg(ia)%t1, rd%occ(io)%asg(ia)%t2
       t = rd%occ(io)%tok(it)%text
+      count = count + nulls(rd%occ(io)%tok(it)%commas, it == rd%occ(io)%asg(ia)%t1)
       if (it < rd%occ(io)%asg(ia)%t2 .and. rd%occ(io)%tok(it)%comma_comment) then
         call add_err(rd, rd%occ(io)%tok(it)%line, head//'a comment follows the comma after '''// &
           t//''' while the values go on on the next line (gfortran cannot read that); '// &
@@ -217,8 +219,7 @@ contains
           kind_text(kind)//'; allowed: '//allowed_text(rd%occ(io)%group, name))
         return
       end if
-      if (kind == 'c' .and. .not. strict .and. index('0123456789', t(1:1)) > 0 .and. &
-          index(t, '*') == 0) then
+      if (kind == 'c' .and. .not. strict .and. bare_text(rd, io, it)) then
         count = count + 1
         cycle
       else if (kind == 'c') then
@@ -261,6 +262,33 @@ contains
         ' allowed); allowed: '//allowed_text(rd%occ(io)%group, name))
     end if
   end subroutine check_values
+
+  !> Null values before a value token that follows `commas` commas: each comma after '=' is
+  !! one (`x = , 2`), and each comma but the first between two values (`x = 1, , 3`).
+  pure integer function nulls(commas, first)
+    integer, intent(in) :: commas
+    logical, intent(in) :: first     !! the first value token of the assignment
+    if (first) then
+      nulls = commas
+    else
+      nulls = max(commas - 1, 0)
+    end if
+  end function nulls
+
+  !> Whether gfortran's namelist reader takes word token it as a text value without quotes:
+  !! it starts with a digit, has no repeat count, and no '!' or quote follows it directly
+  !! (those the reader would take into the text, and then fail).
+  logical function bare_text(rd, io, it)
+    type(reader_t), intent(in) :: rd
+    integer, intent(in) :: io, it
+    character(len=:), allocatable :: t
+    integer :: il
+    t = rd%occ(io)%tok(it)%text
+    il = rd%occ(io)%tok(it)%line
+    bare_text = index('0123456789', t(1:1)) > 0 .and. index(t, '*') == 0
+    if (bare_text) bare_text = index(rd%lines(il)%s, t//'!') == 0 .and. &
+      index(rd%lines(il)%s, t//'''') == 0 .and. index(rd%lines(il)%s, t//'"') == 0
+  end function bare_text
 
   !> ' (is a ''='' missing after x?)' when word t is a variable name of the group.
   pure function missing_equals(t, group) result(s)
