@@ -20,19 +20,19 @@ module mpm_config
   use mpm_config_types, only: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, &
                               body_cfg_t, wall_cfg_t, probe_cfg_t, unset_real, iunset
   use mpm_config_text, only: itoa, quote, fmt_real, fmt_short, fmt_vec, fmt_list
-  use mpm_config_table, only: n_groups, group_id
+  use mpm_config_table, only: n_groups, group_names, group_id
   use mpm_config_lexer, only: reader_t, load_lines, has_content, scan_source, check_groups, &
-                              join_msgs
+                              join_msgs, open_occ
   use mpm_config_values, only: values_t, read_group, vreal, vvec, vtab, vint, vtext, vlog, &
                                set_int, chk_r, chk_i, chk_v, chk_e, chk_t, table_count, &
                                err_var, err_missing, warn_var, warn_group
   use mpm_config_check, only: cross_checks, advice_checks
-  use mpm_config_echo, only: write_config, write_config_unit
+  use mpm_config_echo, only: write_config, write_config_unit, config_values
   implicit none
   private
   public :: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, body_cfg_t, &
             wall_cfg_t, probe_cfg_t
-  public :: read_config, write_config, write_config_unit, default_config
+  public :: read_config, config_resolve, write_config, write_config_unit, default_config
   public :: unset_real
 
 contains
@@ -72,7 +72,9 @@ contains
     character(len=:), allocatable, intent(out) :: warnings, advice
     logical, intent(in) :: split            !! advice apart from warnings
     type(reader_t) :: rd
-    integer :: u, ios, ios2, io, k, n_warn
+    integer :: u, ios, ios2, io, k, ig, n_warn
+    type(values_t), allocatable :: v
+    logical :: ok
     integer :: n_of(n_groups), first_of(n_groups)
     integer, allocatable :: occ_mat(:), occ_body(:)
     character(len=512) :: iomsg, iomsg2
@@ -100,6 +102,7 @@ contains
       return
     end if
 
+    allocate(v)
     call scan_source(rd)
     call check_groups(rd, n_of, first_of)
     allocate(cfg%materials(n_of(4)), cfg%bodies(n_of(5)), cfg%walls(n_of(6)), &
@@ -107,24 +110,12 @@ contains
     allocate(occ_mat(n_of(4)), occ_body(n_of(5)))
     do io = 1, rd%n_occ
       k = rd%occ(io)%index
-      select case (group_id(rd%occ(io)%group))
-      case (1)
-        if (k == 1) call read_run(rd, io, cfg%run)
-      case (2)
-        if (k == 1) call read_solver(rd, io, cfg%solver)
-      case (3)
-        if (k == 1) call read_grid(rd, io, cfg%grid)
-      case (4)
-        occ_mat(k) = io
-        call read_material(rd, io, cfg%materials(k))
-      case (5)
-        occ_body(k) = io
-        call read_body(rd, io, cfg%bodies(k))
-      case (6)
-        call read_wall(rd, io, cfg%walls(k))
-      case (7)
-        call read_probe(rd, io, cfg%probes(k))
-      end select
+      ig = group_id(rd%occ(io)%group)
+      if (ig == 4) occ_mat(k) = io
+      if (ig == 5) occ_body(k) = io
+      if (ig == 0 .or. (ig <= 3 .and. k > 1)) cycle     ! reported by check_groups
+      call read_group(rd, io, v, ok)
+      if (ok) call check_group(rd, io, ig, k, v, cfg)
     end do
 
     call cross_checks(rd, cfg, first_of, occ_mat, occ_body)
@@ -171,18 +162,96 @@ contains
     stat = 0
   end subroutine open_input
 
+  !> Validate a case built in code (tests, bench, tools) with the rules and messages of the
+  !! input file, and resolve it as read_config would: names from codes or codes from names,
+  !! defaults that depend on other groups, material references. Each group is taken into the
+  !! table's value store as the echo writes it; required values still at their type defaults,
+  !! and values that do not apply (ring variables of a rectangle, bounds of a fitted grid,
+  !! motion table entries beyond n_motion), count as not given. Messages name the group as
+  !! `&material #1` with cfg%file (or 'config') in place of the file.
+  subroutine config_resolve(cfg, stat, errmsg, warnings)
+    type(config_t), intent(inout) :: cfg                   !! in: as built; out: resolved
+    integer, intent(out) :: stat                           !! 0 ok, else EXIT_INPUT
+    character(len=:), allocatable, intent(out) :: errmsg   !! all problems, one per line
+    character(len=:), allocatable, intent(out), optional :: warnings !! advice, one per line
+    type(reader_t) :: rd
+    type(config_t) :: out
+    integer :: ig, k, io, n(n_groups), first_of(n_groups)
+    integer, allocatable :: occ_mat(:), occ_body(:)
+    type(values_t), allocatable :: v
+    stat = 0
+    errmsg = ''
+    rd%file = trim(cfg%file)
+    if (len(rd%file) == 0) rd%file = 'config'
+    out%file = cfg%file
+    allocate(rd%err(8), rd%warn(8), rd%occ(8), rd%lines(1), v)
+    n = [1, 1, 1, size(cfg%materials), size(cfg%bodies), count(.not. cfg%walls%mirror), &
+         size(cfg%probes)]
+    allocate(out%materials(n(4)), out%bodies(n(5)), out%walls(n(6)), out%probes(n(7)), &
+             occ_mat(n(4)), occ_body(n(5)))
+    first_of = 0
+    do ig = 1, n_groups
+      do k = 1, n(ig)
+        call open_occ(rd, trim(group_names(ig)), 0)
+        io = rd%n_occ
+        if (k == 1) first_of(ig) = io
+        if (ig == 4) occ_mat(k) = io
+        if (ig == 5) occ_body(k) = io
+        call config_values(cfg, ig, k, v)
+        rd%occ(io)%read_ok = .true.
+        call check_group(rd, io, ig, k, v, out)
+      end do
+    end do
+    call cross_checks(rd, out, first_of, occ_mat, occ_body)
+    call advice_checks(rd, out, first_of, occ_body)
+    if (rd%n_err > 0) then
+      stat = EXIT_INPUT
+      errmsg = join_msgs(rd%err, rd%n_err)
+    else
+      call move_alloc(out%materials, cfg%materials)
+      call move_alloc(out%bodies, cfg%bodies)
+      call move_alloc(out%walls, cfg%walls)
+      call move_alloc(out%probes, cfg%probes)
+      cfg%run = out%run
+      cfg%solver = out%solver
+      cfg%grid = out%grid
+    end if
+    if (present(warnings)) warnings = join_msgs(rd%warn, rd%n_warn)
+  end subroutine config_resolve
+
+  !> Validate the values of the k-th occurrence of group ig into cfg.
+  subroutine check_group(rd, io, ig, k, v, cfg)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io, ig, k
+    type(values_t), intent(inout) :: v
+    type(config_t), intent(inout) :: cfg
+    select case (ig)
+    case (1)
+      call check_run(rd, io, v, cfg%run)
+    case (2)
+      call check_solver(rd, io, v, cfg%solver)
+    case (3)
+      call check_grid(rd, io, v, cfg%grid)
+    case (4)
+      call check_material(rd, io, v, cfg%materials(k))
+    case (5)
+      call check_body(rd, io, v, cfg%bodies(k))
+    case (6)
+      call check_wall(rd, io, v, cfg%walls(k))
+    case (7)
+      call check_probe(rd, io, v, cfg%probes(k))
+    end select
+  end subroutine check_group
+
   ! ------------------------------------------------------------------------ the groups
 
   !> &run
-  subroutine read_run(rd, io, r)
+  subroutine check_run(rd, io, v, r)
     type(reader_t), intent(inout) :: rd
     integer, intent(in) :: io
+    type(values_t), intent(inout) :: v
     type(run_cfg_t), intent(inout) :: r
-    type(values_t) :: v
     integer :: n0
-    logical :: ok
-    call read_group(rd, io, v, ok)
-    if (.not. ok) return
     n0 = rd%n_err
     if (chk_t(rd, io, v, 'title')) r%title = trim(adjustl(vtext(v, 'title')))
     if (chk_t(rd, io, v, 'output_dir')) r%output_dir = trim(adjustl(vtext(v, 'output_dir')))
@@ -200,18 +269,15 @@ contains
     if (chk_v(rd, io, v, 'gravity') == 2) r%gravity = vvec(v, 'gravity')
     if (chk_i(rd, io, v, 'threads')) r%threads = vint(v, 'threads')
     rd%occ(io)%ok = rd%n_err == n0
-  end subroutine read_run
+  end subroutine check_run
 
   !> &solver
-  subroutine read_solver(rd, io, s)
+  subroutine check_solver(rd, io, v, s)
     type(reader_t), intent(inout) :: rd
     integer, intent(in) :: io
+    type(values_t), intent(inout) :: v
     type(solver_cfg_t), intent(inout) :: s
-    type(values_t) :: v
     integer :: n0, id
-    logical :: ok
-    call read_group(rd, io, v, ok)
-    if (.not. ok) return
     n0 = rd%n_err
     id = chk_e(rd, io, v, 'basis')
     if (id > 0) then
@@ -233,19 +299,16 @@ contains
     if (chk_r(rd, io, v, 'damping')) s%damping = vreal(v, 'damping')
     s%deterministic = vlog(v, 'deterministic')
     rd%occ(io)%ok = rd%n_err == n0
-  end subroutine read_solver
+  end subroutine check_solver
 
   !> &grid
-  subroutine read_grid(rd, io, g)
+  subroutine check_grid(rd, io, v, g)
     type(reader_t), intent(inout) :: rd
     integer, intent(in) :: io
+    type(values_t), intent(inout) :: v
     type(grid_cfg_t), intent(inout) :: g
-    type(values_t) :: v
     integer :: n0, nl, nu
-    logical :: ok
     real(wp) :: lower(2), upper(2)
-    call read_group(rd, io, v, ok)
-    if (.not. ok) return
     n0 = rd%n_err
     if (chk_r(rd, io, v, 'h')) g%h = vreal(v, 'h')
     nl = chk_v(rd, io, v, 'lower')
@@ -268,18 +331,15 @@ contains
       call err_var(rd, io, 'upper', fmt_vec(upper), 'given without lower')
     end if
     rd%occ(io)%ok = rd%n_err == n0
-  end subroutine read_grid
+  end subroutine check_grid
 
   !> &material
-  subroutine read_material(rd, io, m)
+  subroutine check_material(rd, io, v, m)
     type(reader_t), intent(inout) :: rd
     integer, intent(in) :: io
+    type(values_t), intent(inout) :: v
     type(material_cfg_t), intent(inout) :: m
-    type(values_t) :: v
     integer :: n0, id
-    logical :: ok
-    call read_group(rd, io, v, ok)
-    if (.not. ok) return
     n0 = rd%n_err
     if (len_trim(vtext(v, 'name')) == 0) then
       call err_missing(rd, io, 'name')
@@ -310,18 +370,15 @@ contains
     if (chk_r(rd, io, v, 'cs_d')) m%cs_d = vreal(v, 'cs_d')
     if (chk_r(rd, io, v, 'cs_q')) m%cs_q = vreal(v, 'cs_q')
     rd%occ(io)%ok = rd%n_err == n0
-  end subroutine read_material
+  end subroutine check_material
 
   !> &body
-  subroutine read_body(rd, io, b)
+  subroutine check_body(rd, io, v, b)
     type(reader_t), intent(inout) :: rd
     integer, intent(in) :: io
+    type(values_t), intent(inout) :: v
     type(body_cfg_t), intent(inout) :: b
-    type(values_t) :: v
     integer :: n0, id
-    logical :: ok
-    call read_group(rd, io, v, ok)
-    if (.not. ok) return
     n0 = rd%n_err
     id = chk_e(rd, io, v, 'shape')
     if (id > 0) then
@@ -339,7 +396,7 @@ contains
       call read_rect(rd, io, v, b)
     end if
     rd%occ(io)%ok = rd%n_err == n0
-  end subroutine read_body
+  end subroutine check_body
 
   !> The variables of a ring body.
   subroutine read_ring(rd, io, v, b)
@@ -409,16 +466,13 @@ contains
   end subroutine read_rect
 
   !> &wall
-  subroutine read_wall(rd, io, w)
+  subroutine check_wall(rd, io, v, w)
     type(reader_t), intent(inout) :: rd
     integer, intent(in) :: io
+    type(values_t), intent(inout) :: v
     type(wall_cfg_t), intent(inout) :: w
-    type(values_t) :: v
     integer :: n0, id
-    logical :: ok
     real(wp) :: normal(2), friction, length
-    call read_group(rd, io, v, ok)
-    if (.not. ok) return
     n0 = rd%n_err
     if (chk_v(rd, io, v, 'point') == 2) w%point = vvec(v, 'point')
     normal = vvec(v, 'normal')
@@ -451,7 +505,7 @@ contains
     if (chk_r(rd, io, v, 'ramp')) w%ramp = vreal(v, 'ramp')
     call read_motion(rd, io, v, w)
     rd%occ(io)%ok = rd%n_err == n0
-  end subroutine read_wall
+  end subroutine check_wall
 
   !> The motion table of a wall: the entries given are the leading non-sentinel ones.
   subroutine read_motion(rd, io, v, w)
@@ -500,19 +554,16 @@ contains
   end subroutine read_motion
 
   !> &probe
-  subroutine read_probe(rd, io, p)
+  subroutine check_probe(rd, io, v, p)
     type(reader_t), intent(inout) :: rd
     integer, intent(in) :: io
+    type(values_t), intent(inout) :: v
     type(probe_cfg_t), intent(inout) :: p
-    type(values_t) :: v
     integer :: n0
-    logical :: ok
-    call read_group(rd, io, v, ok)
-    if (.not. ok) return
     n0 = rd%n_err
     if (chk_v(rd, io, v, 'point') == 2) p%point = vvec(v, 'point')
     rd%occ(io)%ok = rd%n_err == n0
-  end subroutine read_probe
+  end subroutine check_probe
 
   !> A case with one group of each kind and every default; the required numbers are left
   !! unset (written as comments by write_config). For `tubempm --defaults`.

@@ -9,7 +9,9 @@
 ! comment line that names them.
 module mpm_config_echo
   use mpm_kinds, only: wp
-  use mpm_constants, only: EXIT_IO, max_table, SHAPE_RECT
+  use mpm_constants, only: EXIT_IO, max_table, SHAPE_RECT, basis_names, scheme_names, &
+                           plane_names, model_names, rate_law_names, shape_names, sector_names, &
+                           contact_names
   use mpm_config_types, only: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, &
                               body_cfg_t, wall_cfg_t, probe_cfg_t, unset_real
   use mpm_config_text, only: itoa, quote, fmt_real, fill, fmt_vec, fmt_logical, finite
@@ -17,7 +19,7 @@ module mpm_config_echo
   use mpm_config_values, only: values_t
   implicit none
   private
-  public :: write_config, write_config_unit
+  public :: write_config, write_config_unit, config_values
 
   !> Accumulates formatted output and the first write error.
   type :: writer_t
@@ -97,7 +99,7 @@ contains
     if (allocated(cfg%walls)) then
       do k = 1, size(cfg%walls)
         if (cfg%walls(k)%mirror) cycle
-        call pack_wall(cfg%walls(k), e)
+        call pack_wall(cfg%walls, k, e)
         call write_group(w, e, k)
       end do
     end if
@@ -116,6 +118,59 @@ contains
   end subroutine write_config_unit
 
   ! ------------------------------------------------------------ config_t into the value store
+
+  !> The k-th occurrence of group ig of cfg (walls: the k-th that is not a mirror plane) as
+  !! the reader would have read it: values that are not set or do not apply hold the table's
+  !! starting values (for config_resolve).
+  subroutine config_values(cfg, ig, k, v)
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: ig, k
+    type(values_t), intent(inout) :: v
+    type(echo_t), allocatable :: e
+    integer, allocatable :: idx(:)
+    integer :: j, r
+    allocate(e)
+    select case (ig)
+    case (1)
+      call pack_run(cfg%run, e)
+    case (2)
+      call pack_solver(cfg%solver, e)
+    case (3)
+      call pack_grid(cfg%grid, e)
+    case (4)
+      call pack_material(cfg%materials(k), e)
+    case (5)
+      call pack_body(cfg%bodies(k), e)
+    case (6)
+      call pack_wall(pack(cfg%walls, .not. cfg%walls%mirror), k, e)
+    case (7)
+      call pack_probe(cfg%probes(k), e)
+    end select
+    idx = group_specs(e%v%group)
+    do j = 1, size(idx)
+      r = idx(j)
+      associate (sp => specs(r))
+        if (e%hide(r) .or. not_set(e%v, r)) then
+          e%v%r(:, r) = sp%r0
+          e%v%i(r) = sp%i0
+          e%v%c(r) = sp%c0
+          if (sp%c_blank) e%v%c(r) = ''
+        else if (sp%n == max_table) then
+          e%v%r(e%n_motion+1:, r) = sp%r0
+        end if
+      end associate
+    end do
+    v = e%v
+  end subroutine config_values
+
+  !> The name of code id in names, or text when id is not a code.
+  pure function enum_name(id, names, text) result(s)
+    integer, intent(in) :: id
+    character(len=*), intent(in) :: names(:), text
+    character(len=:), allocatable :: s
+    s = text
+    if (id >= 1 .and. id <= size(names)) s = trim(names(id))
+  end function enum_name
 
   subroutine start(e, group)
     type(echo_t), intent(inout) :: e
@@ -185,10 +240,10 @@ contains
     type(solver_cfg_t), intent(in) :: s
     type(echo_t), intent(inout) :: e
     call start(e, 'solver')
-    call put_c(e, 'basis', s%basis)
-    call put_c(e, 'scheme', s%scheme)
+    call put_c(e, 'basis', enum_name(s%basis_id, basis_names, s%basis))
+    call put_c(e, 'scheme', enum_name(s%scheme_id, scheme_names, s%scheme))
     call put_r(e, 'flip', [s%flip])
-    call put_c(e, 'plane', s%plane)
+    call put_c(e, 'plane', enum_name(s%plane_id, plane_names, s%plane))
     call put_r(e, 'mass_scale', [s%mass_scale])
     call put_r(e, 'damping', [s%damping])
     e%v%l(col(e, 'deterministic')) = s%deterministic
@@ -210,13 +265,13 @@ contains
     type(echo_t), intent(inout) :: e
     call start(e, 'material')
     call put_c(e, 'name', m%name)
-    call put_c(e, 'model', m%model)
+    call put_c(e, 'model', enum_name(m%model_id, model_names, m%model))
     call put_r(e, 'E', [m%E])
     call put_r(e, 'nu', [m%nu])
     call put_r(e, 'rho', [m%rho])
     call put_r(e, 'sigma_y', [m%sigma_y])
     call put_r(e, 'hardening', [m%hardening])
-    call put_c(e, 'rate_law', m%rate_law)
+    call put_c(e, 'rate_law', enum_name(m%rate_law_id, rate_law_names, m%rate_law))
     call put_r(e, 'cs_d', [m%cs_d])
     call put_r(e, 'cs_q', [m%cs_q])
   end subroutine pack_material
@@ -225,14 +280,14 @@ contains
     type(body_cfg_t), intent(in) :: b
     type(echo_t), intent(inout) :: e
     call start(e, 'body')
-    call put_c(e, 'shape', b%shape)
+    call put_c(e, 'shape', enum_name(b%shape_id, shape_names, b%shape))
     call put_c(e, 'material', b%material)
     call put_r(e, 'center', b%center)
     call put_r(e, 'r_inner', [b%r_inner])
     call put_r(e, 'r_outer', [b%r_outer])
     call put_i(e, 'n_thick', b%n_thick)
     call put_i(e, 'n_circ', b%n_circ)
-    call put_c(e, 'sector', b%sector)
+    call put_c(e, 'sector', enum_name(b%sector_id, sector_names, b%sector))
     call put_r(e, 'size', b%size)
     call put_i(e, 'n_x', b%n_x)
     call put_i(e, 'n_y', b%n_y)
@@ -244,20 +299,23 @@ contains
     end if
   end subroutine pack_body
 
-  subroutine pack_wall(wl, e)
-    type(wall_cfg_t), intent(in) :: wl
+  subroutine pack_wall(walls, k, e)
+    type(wall_cfg_t), intent(in) :: walls(:)
+    integer, intent(in) :: k
     type(echo_t), intent(inout) :: e
     call start(e, 'wall')
-    call put_r(e, 'point', wl%point)
-    call put_r(e, 'normal', wl%normal)
-    call put_c(e, 'contact', wl%contact)
-    call put_r(e, 'friction', [wl%friction])
-    call put_r(e, 'velocity', wl%velocity)
-    call put_r(e, 'ramp', [wl%ramp])
-    call put_r(e, 'motion_t', wl%motion_t)
-    call put_r(e, 'motion_f', wl%motion_f)
-    e%n_motion = wl%n_motion
-    if (wl%n_motion == 0) call hide(e, [character(len=8) :: 'motion_t', 'motion_f'], &
+    associate (wl => walls(k))
+      call put_r(e, 'point', wl%point)
+      call put_r(e, 'normal', wl%normal)
+      call put_c(e, 'contact', enum_name(wl%contact_id, contact_names, wl%contact))
+      call put_r(e, 'friction', [wl%friction])
+      call put_r(e, 'velocity', wl%velocity)
+      call put_r(e, 'ramp', [wl%ramp])
+      call put_r(e, 'motion_t', wl%motion_t)
+      call put_r(e, 'motion_f', wl%motion_f)
+      e%n_motion = wl%n_motion
+    end associate
+    if (e%n_motion == 0) call hide(e, [character(len=8) :: 'motion_t', 'motion_f'], &
       'no motion table')
   end subroutine pack_wall
 

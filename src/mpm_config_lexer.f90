@@ -16,7 +16,7 @@ module mpm_config_lexer
   implicit none
   private
   public :: reader_t, occ_t, token_t, assign_t, tk_word, tk_string, tk_equals
-  public :: load_lines, read_record, has_content, scan_source, check_groups
+  public :: load_lines, read_record, has_content, scan_source, check_groups, open_occ
   public :: add_err, add_warn, join_msgs, label, var_where
 
   integer, parameter :: tk_word = 1, tk_string = 2, tk_equals = 3
