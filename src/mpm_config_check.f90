@@ -22,11 +22,10 @@ contains
     type(reader_t), intent(inout) :: rd
     type(config_t), intent(inout) :: cfg
     integer, intent(in) :: first_of(n_groups), occ_mat(:), occ_body(:)
-    integer :: k, j, id, io_run, io_solver, io_grid, kc
+    integer :: k, j, id, io_run, io_solver, io_grid
     logical :: all_named, all_ok
     character(len=:), allocatable :: names_txt, want
-    real(wp) :: lo(2), hi(2), cd, c, vmax, dt_lim, ms, thick
-    type(material_cfg_t) :: m
+    real(wp) :: lo(2), hi(2)
 
     io_run = first_of(1)
     io_solver = first_of(2)
@@ -115,33 +114,41 @@ contains
     do k = 1, size(cfg%bodies)
       if (all_ok) all_ok = rd%occ(occ_body(k))%ok
     end do
-    if (all_ok) then
-      if (cfg%run%dt > 0.0_wp) then
-        ms = cfg%solver%mass_scale
-        cd = 0.0_wp
-        kc = 1
-        do k = 1, size(cfg%materials)
-          m = cfg%materials(k)
-          c = sqrt(m%E*(1.0_wp - m%nu)/((1.0_wp + m%nu)*(1.0_wp - 2.0_wp*m%nu)) / (m%rho*ms))
-          if (c > cd) then
-            cd = c
-            kc = k
-          end if
-        end do
-        vmax = 0.0_wp
-        do k = 1, size(cfg%bodies)
-          vmax = max(vmax, sqrt(sum(cfg%bodies(k)%velocity**2)))
-        end do
-        dt_lim = cfg%grid%h/(cd + vmax)
-        if (cfg%run%dt > dt_lim) call err_var(rd, io_run, 'dt', fmt_real(cfg%run%dt), &
-          'above the stable limit h / (c_d + v_max) = '//fmt_short(dt_lim)//' s at cfl = 1 '// &
-          '(h = '//fmt_short(cfg%grid%h)//' m; c_d = sqrt((lambda + 2 mu)/rho) = '// &
-          fmt_short(cd)//' m/s of &material #'//itoa(kc)//'; v_max = '//fmt_short(vmax)// &
-          ' m/s)', '0 < dt <= '//fmt_short(dt_lim)//' [s], or dt = 0 (time step from cfl)')
-      end if
-    end if
+    if (all_ok) call check_fixed_dt(rd, cfg, io_run)
 
   end subroutine cross_checks
+
+  !> A fixed time step must not exceed the stable limit at cfl = 1.
+  subroutine check_fixed_dt(rd, cfg, io_run)
+    type(reader_t), intent(inout) :: rd
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: io_run
+    integer :: k, kc
+    real(wp) :: cd, c, vmax, dt_lim, ms
+    type(material_cfg_t) :: m
+    if (.not. cfg%run%dt > 0.0_wp) return
+    ms = cfg%solver%mass_scale
+    cd = 0.0_wp
+    kc = 1
+    do k = 1, size(cfg%materials)
+      m = cfg%materials(k)
+      c = sqrt(m%E*(1.0_wp - m%nu)/((1.0_wp + m%nu)*(1.0_wp - 2.0_wp*m%nu)) / (m%rho*ms))
+      if (c > cd) then
+        cd = c
+        kc = k
+      end if
+    end do
+    vmax = 0.0_wp
+    do k = 1, size(cfg%bodies)
+      vmax = max(vmax, sqrt(sum(cfg%bodies(k)%velocity**2)))
+    end do
+    dt_lim = cfg%grid%h/(cd + vmax)
+    if (cfg%run%dt > dt_lim) call err_var(rd, io_run, 'dt', fmt_real(cfg%run%dt), &
+      'above the stable limit h / (c_d + v_max) = '//fmt_short(dt_lim)//' s at cfl = 1 '// &
+      '(h = '//fmt_short(cfg%grid%h)//' m; c_d = sqrt((lambda + 2 mu)/rho) = '// &
+      fmt_short(cd)//' m/s of &material #'//itoa(kc)//'; v_max = '//fmt_short(vmax)// &
+      ' m/s)', '0 < dt <= '//fmt_short(dt_lim)//' [s], or dt = 0 (time step from cfl)')
+  end subroutine check_fixed_dt
 
   !> Advice that the set-up's advice (mpm_advice, advice_check) gives again in full: thin walls
   !! need cells smaller than the wall thickness.

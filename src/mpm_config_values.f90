@@ -138,7 +138,8 @@ contains
       if (rd%occ(io)%asg(ia)%stray) then
         call add_err(rd, rd%occ(io)%asg(ia)%line, label(rd, io)//': unexpected text '''// &
           rd%occ(io)%asg(ia)%value//''' (expected <name> = <value>)'// &
-          missing_equals(rd%occ(io)%tok(rd%occ(io)%asg(ia)%t1)%text, rd%occ(io)%group)//'; allowed: '// &
+          missing_equals(rd%occ(io)%tok(rd%occ(io)%asg(ia)%t1)%text, rd%occ(io)%group)// &
+          '; allowed: '// &
           var_list(rd%occ(io)%group))
         cycle
       end if
@@ -250,7 +251,8 @@ contains
         if (ios /= 0) then
           what = ''''//rest//''' is not '//kind_text(kind)
           if (kind == 'i') what = ''''//rest//''' is not an integer (or is too large)'
-          call add_err(rd, rd%occ(io)%tok(it)%line, head//what//missing_equals(rest, rd%occ(io)%group)// &
+          call add_err(rd, rd%occ(io)%tok(it)%line, head//what// &
+            missing_equals(rest, rd%occ(io)%group)// &
             '; allowed: '//allowed_text(rd%occ(io)%group, name))
           return
         end if

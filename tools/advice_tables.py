@@ -37,7 +37,8 @@ def write_if_changed(path: Path, text: str) -> None:
 
 def arr(name: str, ftype: str, values: list[str]) -> str:
     body = ", &\n    ".join(values) if values else ""
-    return f"{ftype}, parameter :: {name}({len(values)}) = [{ftype.split(',')[0]} :: &\n    {body}]\n"
+    head = f"{ftype}, parameter :: {name}({len(values)}) = [{ftype.split(',')[0]} :: &"
+    return f"{head}\n    {body}]\n"
 
 
 def real(x: float) -> str:
