@@ -11,7 +11,7 @@ module mpm_config
   use, intrinsic :: ieee_exceptions, only: ieee_overflow, ieee_get_halting_mode, &
                                            ieee_set_halting_mode, ieee_get_flag, ieee_set_flag
   use mpm_kinds, only: wp
-  use mpm_constants, only: name_len, path_len, EXIT_INPUT, EXIT_IO, &
+  use mpm_constants, only: EXIT_INPUT, EXIT_IO, &
                            basis_names, scheme_names, plane_names, model_names, rate_law_names, &
                            shape_names, sector_names, contact_names, &
                            BASIS_CPDI2, SCHEME_MUSL, PLANE_STRAIN, MODEL_J2, RATE_NONE, &
@@ -19,7 +19,7 @@ module mpm_config
                            SECTOR_QUARTER, CONTACT_FRICTIONLESS, CONTACT_COULOMB
   use mpm_config_types, only: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, &
                               body_cfg_t, wall_cfg_t, probe_cfg_t, unset_real, iunset
-  use mpm_config_text, only: itoa, quote, fmt_real, fmt_short, fmt_vec, fmt_list
+  use mpm_config_text, only: itoa, fmt_real, fmt_short, fmt_vec, fmt_list
   use mpm_config_table, only: n_groups, group_names, group_id
   use mpm_config_lexer, only: reader_t, load_lines, has_content, scan_source, check_groups, &
                               join_msgs, open_occ

@@ -75,17 +75,18 @@ contains
     integer, intent(in) :: io
     type(values_t), intent(inout) :: v
     integer :: ia, it, k, pos, p, r, j, ios
-    character(len=:), allocatable :: t, rest
+    character(len=:), allocatable :: t, rest, sub
     character(len=256) :: msg
     associate (o => rd%occ(io))
       do ia = 1, o%n_asg
         if (o%asg(ia)%stray) cycle
         k = spec_index(v%group, o%asg(ia)%base)
         pos = 1
-        if (len(o%asg(ia)%sub) > 0) then
-          p = index(o%asg(ia)%sub, ':')
-          if (p == 0) p = len(o%asg(ia)%sub) + 1
-          read(o%asg(ia)%sub(1:p-1), *, iostat=ios, iomsg=msg) pos
+        sub = o%asg(ia)%sub
+        if (len(sub) > 0) then
+          p = index(sub, ':')
+          if (p == 0) p = len(sub) + 1
+          read(sub(1:p-1), *, iostat=ios, iomsg=msg) pos
         end if
         do it = o%asg(ia)%t1, o%asg(ia)%t2
           t = o%tok(it)%text
