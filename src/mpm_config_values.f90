@@ -190,6 +190,7 @@ contains
         read(sub(1:p-1), *, iostat=ios, iomsg=msg) i1
         if (ios == 0) read(sub(p+1:), *, iostat=ios, iomsg=msg) i2
       end if
+      if (index(sub, ',') > 0) ios = 1               ! one index only: these are 1-D
       if (ios /= 0 .or. i1 < 1 .or. i2 < i1 .or. i2 > cap) then
         if (cap == 1) then
           call add_err(rd, ln, head//'subscript on a single value; allowed: '//name// &
