@@ -47,6 +47,7 @@ program test_config
   call test_default_config()
   call test_warnings()
   call test_resolve()
+  call test_value_forms()
   call test_bad_inline()
   call test_several_at_once()
   call test_bad_files()
@@ -335,6 +336,35 @@ contains
       'with 0 <= nu < 0.5 (required)') > 0, 'nu out of range, as from a file: '//msg)
     call check(index(msg, '&run: t_end: missing (required)') > 0, 't_end missing: '//msg)
   end subroutine test_resolve
+
+  !> Values as gfortran's namelist reader takes them (the table-driven reader reads the values
+  !! itself): a null value keeps the default, `r*x` repeats, a later assignment wins, a
+  !! subscript fills from its index, a text without quotes that starts with a digit is text.
+  subroutine test_value_forms()
+    type(config_t) :: c
+    integer :: stat
+    character(len=:), allocatable :: msg, f
+    call begin_test('value forms')
+    f = write_case('forms', [character(len=100) :: &
+      '&run t_end = 1.0e-3, gravity = , -9.8, title = 123, depth = 2*0.5 /', grid_ok, mat_ok, &
+      '&body r_inner = 24e-3, r_outer = 26e-3, center(2) = 0.5, velocity = 2*3.0 /', &
+      '&wall point = 0, 0, normal = 0, 1, friction = 0.5, friction = 0 /'])
+    call read_config(f, c, stat, msg)
+    call check(stat /= 0, 'depth = 2*0.5 is two values for one: '//msg)
+    call check(index(msg, 'depth = 2*0.5: too many values (2 given, 1 allowed)') > 0, msg)
+    f = write_case('forms', [character(len=100) :: &
+      '&run t_end = 1.0e-3, gravity = , -9.8, title = 123 /', grid_ok, mat_ok, &
+      '&body r_inner = 24e-3, r_outer = 26e-3, center(2) = 0.5, velocity = 2*3.0 /', &
+      '&wall point = 0, 0, normal = 0, 1, friction = 0.5, friction = 0 /'])
+    call read_config(f, c, stat, msg)
+    call check(stat == 0, 'value forms read: '//msg)
+    if (stat /= 0) return
+    call check(all(c%run%gravity == [0.0_wp, -9.8_wp]), 'null value keeps the default 0')
+    call check(c%run%title == '123', 'title = 123 is the text 123')
+    call check(all(c%bodies(1)%center == [0.0_wp, 0.5_wp]), 'center(2) = 0.5')
+    call check(all(c%bodies(1)%velocity == [3.0_wp, 3.0_wp]), 'velocity = 2*3.0')
+    call check(c%walls(1)%friction == 0.0_wp, 'the later friction wins')
+  end subroutine test_value_forms
 
   ! ---------------------------------------------------------------------- bad inputs
 
