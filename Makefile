@@ -109,22 +109,29 @@ LEVEL ?= quick
 study: all
 	$(PYTHON) tools/study.py --level $(LEVEL)
 	$(PYTHON) plots/plot_study.py --level $(LEVEL)
+	$(PYTHON) tools/advice_tables.py --study
 	@$(MAKE) --no-print-directory all    # --check's advice table may have changed
 
 ## figures: regenerate the study's figures (docs/study/) from the committed table and curves,
-##          and --check's advice table (src/mpm_advice_table.inc, rebuilt when it changed);
-##          the stability study's figures (docs/stability/) from its committed tables
+##          and --check's advice table (tools/advice_tables.py writes src/mpm_advice_table.inc;
+##          rebuilt when it changed); the stability study's figures (docs/stability/) from its
+##          committed tables
 figures: deps
 	$(PYTHON) plots/plot_study.py --level full
 	$(PYTHON) plots/plot_stability.py --level full
+	$(PYTHON) tools/advice_tables.py --study
 	@$(MAKE) --no-print-directory all
 
 ## stability: the stability study of docs/stability.md (release build, one run at a time, one
 ##            thread): LEVEL=quick (default, < 10 min; tables and figures in out/stability-quick/)
-##            or LEVEL=full (docs/stability/); runs in build/stability/ (reused when unchanged)
+##            or LEVEL=full (docs/stability/); runs in build/stability/ (reused when unchanged);
+##            then --check's cfl limits from docs/stability/ (tools/advice_tables.py writes
+##            src/mpm_stability_table.inc)
 stability: all
 	$(PYTHON) tools/stability.py --level $(LEVEL)
 	$(PYTHON) plots/plot_stability.py --level $(LEVEL)
+	$(PYTHON) tools/advice_tables.py --stability
+	@$(MAKE) --no-print-directory all    # --check's cfl limits may have changed
 
 ## check-paraview: install Debian's ParaView (pvbatch, xvfb) if missing, then open a run's
 ##                 particles.xdmf with ParaView's default reader and check every array

@@ -1,22 +1,22 @@
 !> Build the simulation from the case: materials, bodies, walls (with sector mirror planes),
-!! fitted grid, initial energies; the derived set-up and the experts' warnings for --check.
+!! fitted grid, initial energies; the derived set-up for --check (its warnings: mpm_advice).
 ! SPDX-License-Identifier: MIT
 module mpm_setup
   use mpm_kinds, only: wp, i8
   use mpm_constants, only: pi, EXIT_INPUT, SHAPE_RING, SHAPE_RECT, SECTOR_FULL, SECTOR_HALF, &
-                           SECTOR_QUARTER, CONTACT_SLIP, BASIS_LINEAR, BASIS_UGIMP, BASIS_CPDI1, &
-                           BASIS_CPDI2, SCHEME_USL, basis_names, scheme_names, plane_names, &
-                           sector_names, PLANE_STRESS
+                           SECTOR_QUARTER, CONTACT_SLIP, BASIS_LINEAR, basis_names, &
+                           scheme_names, plane_names, sector_names
   use mpm_config, only: config_t
   use mpm_particles, only: particles_allocate, ring_counts, ring_fill, rect_counts, rect_fill, &
                            particles_memory_bytes
   use mpm_grid, only: grid_init, grid_memory_bytes
   use mpm_tiles, only: tiles_init, tiles_memory_bytes
-  use mpm_walls, only: wall_t, wall_travel
+  use mpm_walls, only: wall_t
   use mpm_material, only: material_new, material_wave_speed
   use mpm_solver, only: sim_t, solver_stable_dt, solver_init_energy
   use mpm_errors, only: append_msg
-  use mpm_strings, only: itoa, rtoa
+  use mpm_strings, only: itoa
+  use mpm_advice, only: advice_check
   implicit none
   private
   public :: setup_sim, setup_report, sector_factor
@@ -193,38 +193,17 @@ contains
   end function first_sector_center
 
   !> The derived set-up as text lines (for --check and the run's banner), and the warnings a
-  !! mechanics expert would give, one per line in `warnings`.
+  !! mechanics expert would give (mpm_advice's advice_check), one per line in `warnings`.
   subroutine setup_report(cfg, s, report, warnings)
     type(config_t), intent(in) :: cfg      !! the case
     type(sim_t), intent(in) :: s           !! the simulation at t = 0
     character(len=:), allocatable, intent(out) :: report    !! the set-up, one item per line
     character(len=:), allocatable, intent(out) :: warnings  !! warnings, one per line ('' none)
-    integer :: ib, nk, npb, ncb, k, m
-    real(wp) :: dt_stable, dt, t, rm, ei, omega2, vwall, ratio, mass, travel, delta
-    ! What the stability study measured (docs/stability.md, full level, completes_cfl):
-    ! the largest cfl at which the impact scene completes with no failure detected, per (scheme
-    ! usl/usf/musl, basis linear/ugimp/cpdi1/cpdi2); 0: unstable at every cfl tried.
-    ! cfl_ppc2: 2 particles per cell through the wall (h = t/2, n_t = 4; cfl_limits_ppc2.csv);
-    ! cfl_ppc1: 1 particle per cell (h = t/4, n_t = 4; cfl_limits_ppc1.csv): FLIP then gains
-    ! energy slowly
-    real(wp), parameter :: cfl_ppc2(3, 4) = reshape([ &
-      0.0_wp, 0.65625_wp, 1.25_wp, &        ! linear
-      0.5_wp, 1.6875_wp, 1.6875_wp, &       ! ugimp
-      0.5_wp, 1.71875_wp, 1.71875_wp, &     ! cpdi1
-      0.6875_wp, 1.6875_wp, 1.71875_wp], [3, 4])  ! cpdi2
-    real(wp), parameter :: cfl_ppc1(3, 4) = reshape([ &
-      0.0_wp, 0.15625_wp, 0.6875_wp, &      ! linear
-      0.5_wp, 1.9375_wp, 1.5625_wp, &       ! ugimp
-      0.75_wp, 0.5_wp, 0.375_wp, &          ! cpdi1
-      0.75_wp, 0.0_wp, 0.34375_wp], [3, 4])  ! cpdi2
-    real(wp) :: cfl_stable(3, 4), ppc
-    real(wp), parameter :: flip_trusted = 0.999_wp   !! flip below this dissipates visibly [-]
-    real(wp), parameter :: delta_fold = 0.9_wp     !! delta/D from which CPDI domains fold [-]
+    integer :: ib, nk, npb, ncb
+    real(wp) :: dt_stable, dt
     integer(i8) :: steps, mem
     character(len=512) :: line
-    character(len=32) :: flip_text
     report = ''
-    warnings = ''
     write(line, '(a)') 'case '''//trim(cfg%run%title)//''' from '//trim(cfg%file)
     call append_msg(report, line)
     write(line, '(a,a,a,a,a,a,a,l1)') 'solver: basis ', trim(basis_names(s%prm%basis)), &
@@ -284,146 +263,7 @@ contains
       call append_msg(report, line)
     end if
 
-    ! warnings of a mechanics expert
-    do ib = 1, size(cfg%bodies)
-      associate (b => cfg%bodies(ib))
-        if (b%shape_id /= SHAPE_RING) cycle
-        t = b%r_outer - b%r_inner
-        if (cfg%grid%h >= t) then
-          write(line, '(a,i0,a,es10.3,a,es10.3,a)') 'body ', ib, ': h = ', cfg%grid%h, &
-            ' m is not below the wall thickness t = ', t, ' m: both faces of the wall share '// &
-            'nodes, so the wall bends wrongly (crush force +25 % at h = t, +90 % at h = 2t) '// &
-            'and opposite walls stick when they come within about 2h (docs/stability.md). '// &
-            'Use h <= t/2'
-          call append_msg(warnings, line)
-        else if (cfg%grid%h > 0.5_wp*t*(1.0_wp + 1.0e-9_wp)) then
-          write(line, '(a,i0,a,f5.2,a)') 'body ', ib, ': h/t = ', cfg%grid%h/t, &
-            ': between t/2 and t the crush force comes out 7 to 25 % too high '// &
-            '(docs/stability.md). Use h <= t/2 with n_thick >= 2 t/h'
-          call append_msg(warnings, line)
-        end if
-        if (b%n_thick <= 2) then
-          write(line, '(a,i0,a,i0,a)') 'body ', ib, ': n_thick = ', b%n_thick, &
-            ': with 1 or 2 particles through the wall the wall cannot bend freely (it locks): '// &
-            'the crush force came out 1.6 to 2.7 times (n_thick = 2) and 20 times (1) too high '// &
-            '(docs/stability.md). Use n_thick >= 4'
-          call append_msg(warnings, line)
-        end if
-        if (cfg%grid%h > 0.25_wp*t*(1.0_wp + 1.0e-9_wp) .and. &
-            cfg%grid%h <= 0.5_wp*t*(1.0_wp + 1.0e-9_wp)) then
-          write(line, '(a,i0,a,f5.2,a)') 'body ', ib, ': h/t = ', cfg%grid%h/t, &
-            ': the refinement study found errors of 15 % (crush force) and 25 to 29 % '// &
-            '(impact) at h = t/2 against 2 to 7 % at h = t/4 (docs/validation.md). '// &
-            'Use h <= t/4 with n_thick >= 2 t/h for about 5 %'
-          call append_msg(warnings, line)
-        end if
-        ! quasi-static crushing: platen speed against the ovalling mode (METHOD.md sec. 7)
-        rm = 0.5_wp*(b%r_inner + b%r_outer)
-        associate (m => cfg%materials(b%material_id))
-          ei = m%E*t**3/12.0_wp
-          if (cfg%solver%plane_id /= PLANE_STRESS) ei = ei/(1.0_wp - m%nu**2)
-          mass = m%rho*cfg%solver%mass_scale*t
-          omega2 = sqrt(ei/(mass*rm**4)*4.0_wp*9.0_wp/5.0_wp)
-        end associate
-        do k = 1, size(cfg%walls)
-          vwall = abs(dot_product(cfg%walls(k)%velocity, cfg%walls(k)%normal))
-          if (vwall <= 0.0_wp .or. cfg%walls(k)%n_motion > 0) cycle
-          ratio = vwall/(omega2*2.0_wp*rm)
-          if (ratio > 0.05_wp) then
-            write(line, '(a,i0,a,es10.3,a,f6.3,a)') 'wall ', k, ': speed ', vwall, &
-              ' m/s is ', ratio, ' of D * omega_2 (ring ovalling mode); above 0.05 the '// &
-              'crush is not quasi-static: inertia adds to the force. Lower the speed or '// &
-              'mass_scale, or check kinetic/plastic in history.csv'
-            call append_msg(warnings, line)
-          end if
-        end do
-      end associate
-    end do
-    if (s%prm%dt_fixed > 0.0_wp .and. s%prm%dt_fixed > 0.3_wp*s%g%h/(s%prm%c_max + s%vmax)) then
-      write(line, '(a,es10.3,a,f5.2,a)') 'dt = ', s%prm%dt_fixed, ' s is cfl ', &
-        s%prm%dt_fixed*(s%prm%c_max + s%vmax)/s%g%h, &
-        ' of the grid limit; above 0.3 runs may go unstable'
-      call append_msg(warnings, line)
-    end if
-
-    ! where the stability study (docs/stability.md, tools/stability.py) found the method failing
-    ppc = huge(1.0_wp)                    ! fewest particles per cell through a ring wall
-    do ib = 1, size(cfg%bodies)
-      if (cfg%bodies(ib)%shape_id /= SHAPE_RING) cycle
-      ppc = min(ppc, real(cfg%bodies(ib)%n_thick, wp)*cfg%grid%h/ &
-                (cfg%bodies(ib)%r_outer - cfg%bodies(ib)%r_inner))
-    end do
-    cfl_stable = cfl_ppc2
-    if (ppc < 1.5_wp) cfl_stable = cfl_ppc1
-    if (ppc < 1.5_wp) then
-      write(line, '(a,f5.2,a)') 'only ', ppc, ' particle(s) per cell through the wall '// &
-        '(n_thick h / t): the wall comes out too stiff (crush force +28 to +32 % with CPDI '// &
-        'and uGIMP, +174 % linear, at h = t/4, n_thick = 4; +146 to +425 % at h = t/2, '// &
-        'n_thick = 2) and the force noisy (docs/stability.md). Use n_thick >= 2 t/h'
-      call append_msg(warnings, line)
-    end if
-    if (ppc < 1.5_wp .and. s%prm%scheme /= SCHEME_USL .and. s%prm%basis /= BASIS_UGIMP .and. &
-        s%prm%flip > 0.99_wp) then
-      write(line, '(a,f5.2,a)') 'with ', ppc, ' particle(s) per cell through the wall, '// &
-        'FLIP with this basis and scheme gained energy slowly on the impact scene (5 % '// &
-        'within 0.1-0.4 ms, exit 4) at cfl above 0.34 (cpdi2/musl), and at every cfl with '// &
-        'cpdi2/usf (docs/stability.md). Use n_thick >= 2 t/h'
-      call append_msg(warnings, line)
-    end if
-    ratio = dt*(s%prm%c_max + s%vmax)/s%g%h                    ! the cfl in use
-    write(flip_text, '(f6.4)') s%prm%flip
-    if (cfl_stable(s%prm%scheme, s%prm%basis) <= 0.0_wp) then
-      call append_msg(warnings, 'basis '''//trim(basis_names(s%prm%basis))//''' with scheme '''// &
-        trim(scheme_names(s%prm%scheme))//''' failed on the impact scene at every cfl tried '// &
-        '(down to 0.125) at this particle density: energy growth, exit 4 (docs/stability.md). '// &
-        'Use scheme = ''musl'' (and n_thick >= 2 t/h)')
-    else if (ratio > cfl_stable(s%prm%scheme, s%prm%basis)*(1.0_wp + 1.0e-9_wp)) then
-      call append_msg(warnings, 'cfl '//rtoa(ratio)//' is above '// &
-        rtoa(cfl_stable(s%prm%scheme, s%prm%basis))// &
-        ', the largest stable cfl the stability study '// &
-        'found for basis '''//trim(basis_names(s%prm%basis))//''' with scheme '''// &
-        trim(scheme_names(s%prm%scheme))//''' (impact scene, docs/stability.md): expect energy '// &
-        'growth and exit 4. Use cfl 0.2')
-    end if
-    if (s%prm%scheme == SCHEME_USL) call append_msg(warnings, &
-      'scheme ''usl'' loses 5 to 8 % of '// &
-      'the energy in an impact at any cfl (docs/stability.md). Use scheme = ''musl''')
-    if (s%prm%basis == BASIS_LINEAR) call append_msg(warnings, 'basis ''linear'': particles '// &
-      'crossing cell boundaries make the wall force noisy (RMS 0.5 of the crush plateau, 2 to '// &
-      '9 times cpdi2; docs/stability.md). Use basis = ''cpdi2'' for forces')
-    if (s%prm%flip < flip_trusted) call append_msg(warnings, 'flip = '//trim(adjustl(flip_text))// &
-      ': the PIC part damps every step: an elastic impact lost 26 % of its energy at flip = '// &
-      '0.999, 49 % at 0.99 and 98 % at 0, against 8 % at flip = 1 (docs/stability.md). '// &
-      'Use flip = 1 and smooth the force curve afterwards if it is too noisy')
-    ! relative approach of the platens at t_end: the travel of every moving wall (not the
-    ! mirror planes), doubled where a mirror plane of a half/quarter model is parallel to it
-    delta = 0.0_wp
-    do k = 1, s%nwall
-      if (s%walls(k)%mirror) cycle
-      travel = wall_travel(s%walls(k), s%prm%t_end)
-      if (.not. travel > 0.0_wp) cycle
-      do m = 1, s%nwall
-        if (s%walls(m)%mirror .and. abs(dot_product(s%walls(m)%normal, s%walls(k)%normal)) &
-            > 0.999_wp) travel = 2.0_wp*travel
-      end do
-      delta = delta + travel
-    end do
-    do ib = 1, size(cfg%bodies)
-      associate (b => cfg%bodies(ib))
-        if (b%shape_id /= SHAPE_RING) cycle
-        if (s%prm%basis /= BASIS_CPDI2 .and. s%prm%basis /= BASIS_CPDI1) cycle
-        ratio = delta/(2.0_wp*b%r_outer)
-        if (ratio > delta_fold) then
-          write(line, '(a,i0,a,f5.2,a)') 'body ', ib, ': the platens approach to delta/D = ', &
-            ratio, ': near full crush the inner walls meet and the side hinges close: '// &
-            'CPDI2 domains there fold (at delta/D = 0.94 with n_thick = 2 and 8; the run '// &
-            'stops with exit 4), CPDI1 domains open gaps of 0.15-0.4 h, and the grid contact '// &
-            'of the walls loses 15-30 % of the energy (docs/stability.md). Stop at '// &
-            'delta/D <= 0.9'
-          call append_msg(warnings, line)
-        end if
-      end associate
-    end do
+    call advice_check(cfg, s%g%h, s%prm%c_max, s%vmax, dt, s%walls(1:s%nwall), warnings)
   end subroutine setup_report
 
 end module mpm_setup

@@ -13,7 +13,7 @@ program tubempm
   use mpm_errors, only: fatal, warn
   use mpm_config, only: config_t, read_config, write_config, write_config_unit, default_config
   use mpm_setup, only: setup_sim, setup_report, sector_factor
-  use mpm_advice, only: study_advice, scene_of
+  use mpm_advice, only: study_advice, advice_end_of_run, scene_of
   use mpm_solver, only: sim_t, solver_step
   use mpm_particles, only: particles_t
   use mpm_output, only: history_t, history_open, history_write, history_close, write_summary, &
@@ -107,7 +107,7 @@ program tubempm
     'tubempm [--check] [--quiet] CASE.nml | --restart DIR | --help', EXIT_INPUT)
 
   ! input, set-up, report
-  call read_config(case_file, cfg, stat, errmsg, input_warnings)
+  call read_config(case_file, cfg, stat, errmsg, input_warnings, advice)   ! advice: once, below
   if (stat /= 0) call fatal('input', errmsg, stat)
   if (restart) cfg%run%output_dir = restart_dir
   if (len(input_warnings) > 0) call print_warnings(input_warnings)
@@ -376,13 +376,8 @@ contains
     call history_close(r%hist)
     call write_summary(r%dir//'/summary.nml', s, r%sm, st, msg)
     if (st /= 0) call fatal('output', msg, EXIT_IO)
-    ! (relative to the growth check's scale, so that the tiny work of a crush's first steps
-    ! does not count)
-    if (s%bal_max > 0.05_wp*max(s%e0, s%ext_max, s%prm%e_floor)) call warn('run', &
-      'energy error '// &
-      rtoa(100.0_wp*s%energy_error)//' % is above 5 %: the energy balance does not close, so '// &
-      'forces and energies are not to be trusted (docs/stability.md: USL, PIC blending and '// &
-      'coarse walls lose energy). Use scheme = ''musl'', flip = 1 and a finer grid')
+    msg = advice_end_of_run(s%bal_max, max(s%e0, s%ext_max, s%prm%e_floor), s%energy_error)
+    if (len(msg) > 0) call warn('run', msg)
     if (.not. r%quiet) then
       write(output_unit, '(a,i0,a,i0,a,f10.2,a)') 'done: ', s%step, ' steps, ', s%p%np, &
         ' particles, ', r%sm%wall_seconds, ' s'

@@ -12,7 +12,9 @@ program test_config
                            SCHEME_MUSL, SCHEME_USF, PLANE_STRAIN, PLANE_STRESS, MODEL_J2, &
                            MODEL_ELASTIC, RATE_NONE, RATE_COWPER_SYMONDS, SHAPE_RING, SHAPE_RECT, &
                            SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER, CONTACT_COULOMB
-  use mpm_config, only: config_t, read_config, write_config, write_config_unit, default_config
+  use mpm_config, only: config_t, read_config, write_config, write_config_unit, default_config, &
+                        config_resolve
+  use mpm_scene_builder, only: scene_new, scene_add_material, scene_add_ring, scene_add_wall
   implicit none
 
   character(len=*), parameter :: nml_files(4) = [character(len=24) :: &
@@ -44,6 +46,8 @@ program test_config
   call test_extreme_round_trip()
   call test_default_config()
   call test_warnings()
+  call test_resolve()
+  call test_value_forms()
   call test_bad_inline()
   call test_several_at_once()
   call test_bad_files()
@@ -295,6 +299,72 @@ contains
     call check(index(warn, 'warn.nml:5: &wall #1: ramp = 1e-4: ignored') > 0, &
       'ramp with a motion table is a warning')
   end subroutine test_warnings
+
+  !> A case built in code (mpm_scene_builder) and resolved by config_resolve equals the same
+  !! case read from a file (the echoes are the same text); a mistake in a built case gives the
+  !! file's message (less the line).
+  subroutine test_resolve()
+    type(config_t) :: a, b
+    integer :: stat
+    character(len=:), allocatable :: msg, f, ta, tb
+    call begin_test('config_resolve')
+    f = write_case('built', [character(len=100) :: &
+      '&run t_end = 1.0e-3 /', '&grid h = 1.0e-3 /', &
+      '&material name = ''alu'', E = 70e9, nu = 0.33, rho = 2700, sigma_y = 150e6 /', &
+      '&body r_inner = 24e-3, r_outer = 26e-3, n_thick = 4, velocity = 0, -30 /', &
+      '&wall point = 0, -0.03, normal = 0, 1 /'])
+    call read_config(f, a, stat, msg)
+    call check(stat == 0, 'the file reads: '//msg)
+    b = scene_new('built', 1.0e-3_wp, 1.0e-3_wp)
+    b%file = f
+    call scene_add_material(b, 'alu', MODEL_J2, 70.0e9_wp, 0.33_wp, 2700.0_wp, 150.0e6_wp)
+    call scene_add_ring(b, [0.0_wp, 0.0_wp], 24.0e-3_wp, 26.0e-3_wp, 4, [0.0_wp, -30.0_wp])
+    call scene_add_wall(b, [0.0_wp, -0.03_wp], [0.0_wp, 1.0_wp])
+    b%run%output_dir = ''
+    call config_resolve(b, stat, msg)
+    call check(stat == 0, 'the built case resolves: '//msg)
+    call write_config(a, dir//'/read_echo.nml', stat, msg)
+    call write_config(b, dir//'/built_echo.nml', stat, msg)
+    ta = file_text(dir//'/read_echo.nml')
+    tb = file_text(dir//'/built_echo.nml')
+    call check(len(ta) > 0 .and. ta == tb, 'built + resolved = read: '//tb)
+    b%materials(1)%nu = 0.6_wp
+    b%run%t_end = -1.0_wp
+    call config_resolve(b, stat, msg)
+    call check(stat == EXIT_INPUT, 'nu = 0.6 and no t_end fail')
+    call check(index(msg, '&material #1: nu = 0.6: out of range; allowed: a real number '// &
+      'with 0 <= nu < 0.5 (required)') > 0, 'nu out of range, as from a file: '//msg)
+    call check(index(msg, '&run: t_end: missing (required)') > 0, 't_end missing: '//msg)
+  end subroutine test_resolve
+
+  !> Values as gfortran's namelist reader takes them (the table-driven reader reads the values
+  !! itself): a null value keeps the default, `r*x` repeats, a later assignment wins, a
+  !! subscript fills from its index, a text without quotes that starts with a digit is text.
+  subroutine test_value_forms()
+    type(config_t) :: c
+    integer :: stat
+    character(len=:), allocatable :: msg, f
+    call begin_test('value forms')
+    f = write_case('forms', [character(len=100) :: &
+      '&run t_end = 1.0e-3, gravity = , -9.8, title = 123, depth = 2*0.5 /', grid_ok, mat_ok, &
+      '&body r_inner = 24e-3, r_outer = 26e-3, center(2) = 0.5, velocity = 2*3.0 /', &
+      '&wall point = 0, 0, normal = 0, 1, friction = 0.5, friction = 0 /'])
+    call read_config(f, c, stat, msg)
+    call check(stat /= 0, 'depth = 2*0.5 is two values for one: '//msg)
+    call check(index(msg, 'depth = 2*0.5: too many values (2 given, 1 allowed)') > 0, msg)
+    f = write_case('forms', [character(len=100) :: &
+      '&run t_end = 1.0e-3, gravity = , -9.8, title = 123 /', grid_ok, mat_ok, &
+      '&body r_inner = 24e-3, r_outer = 26e-3, center(2) = 0.5, velocity = 2*3.0 /', &
+      '&wall point = 0, 0, normal = 0, 1, friction = 0.5, friction = 0 /'])
+    call read_config(f, c, stat, msg)
+    call check(stat == 0, 'value forms read: '//msg)
+    if (stat /= 0) return
+    call check(all(c%run%gravity == [0.0_wp, -9.8_wp]), 'null value keeps the default 0')
+    call check(c%run%title == '123', 'title = 123 is the text 123')
+    call check(all(c%bodies(1)%center == [0.0_wp, 0.5_wp]), 'center(2) = 0.5')
+    call check(all(c%bodies(1)%velocity == [3.0_wp, 3.0_wp]), 'velocity = 2*3.0')
+    call check(c%walls(1)%friction == 0.0_wp, 'the later friction wins')
+  end subroutine test_value_forms
 
   ! ---------------------------------------------------------------------- bad inputs
 

@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
-"""The tables of docs/input.md must list exactly the namelist variables of src/mpm_config.f90.
+"""The tables of docs/input.md must list exactly the input variables of the table in
+src/mpm_config_table.f90 (the one declaration of every namelist variable).
 
 For every group, the names in the first column of the table under the heading `## &<group>`
-are compared with the names in the statement `namelist /<group>/ ...` of the source; a name
-in one but not the other is a failure. The variables used in the full example of the docs must
+are compared with the rows `var_spec_t('<group>', '<name>', ...)` of the source; a name in one
+but not the other is a failure. The variables used in the full example of the docs must
 be in the tables as well. Prints `test_docs_input: N passed, M failed` last; exit 1 on failure.
 Standard library only.
 """
@@ -17,28 +18,17 @@ from pycheck import Checks  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 DOC = ROOT / "docs" / "input.md"
-SRC = ROOT / "src" / "mpm_config.f90"
+SRC = ROOT / "src" / "mpm_config_table.f90"
 
 T = Checks("test_docs_input")
 check = T.check
 
 
 def source_groups(text):
-    """{group: [variables]} from `namelist /g/ a, b, &` statements (with continuation lines)."""
+    """{group: [variables]} from the rows `var_spec_t('group', 'name', ...)` of the table."""
     groups = {}
-    lines = text.splitlines()
-    i = 0
-    while i < len(lines):
-        line = lines[i].split("!", 1)[0]
-        m = re.match(r"\s*namelist\s*/\s*(\w+)\s*/(.*)$", line, re.IGNORECASE)
-        if m:
-            group, rest = m.group(1).lower(), m.group(2)
-            while rest.rstrip().endswith("&"):
-                i += 1
-                rest = rest.rstrip()[:-1] + " " + lines[i].split("!", 1)[0].lstrip(" &")
-            names = [n.strip().lower() for n in rest.split(",") if n.strip()]
-            groups.setdefault(group, []).extend(names)
-        i += 1
+    for m in re.finditer(r"var_spec_t\(\s*'(\w+)'\s*,\s*'(\w+)'", text):
+        groups.setdefault(m.group(1).lower(), []).append(m.group(2).lower())
     return groups
 
 
@@ -93,11 +83,11 @@ def main():
     doc_text = DOC.read_text()
     src = source_groups(src_text)
     doc = doc_groups(doc_text)
-    check(len(src) > 0, f"no namelist statements found in {SRC}")
+    check(len(src) > 0, f"no var_spec_t rows found in {SRC}")
     check(len(doc) > 0, f"no '## &group' tables found in {DOC}")
     for group in sorted(set(src) | set(doc)):
         check(group in doc, f"&{group} is read by {SRC.name} but has no table in {DOC.name}")
-        check(group in src, f"&{group} has a table in {DOC.name} but no namelist in {SRC.name}")
+        check(group in src, f"&{group} has a table in {DOC.name} but no rows in {SRC.name}")
         s = set(src.get(group, []))
         d = set(doc.get(group, []))
         for name in sorted(s | d):

@@ -6,9 +6,9 @@ program test_solver
   use mpm_kinds, only: wp
   use mpm_constants, only: BASIS_LINEAR, BASIS_CPDI2, basis_names, &
                            SCHEME_USL, SCHEME_MUSL, scheme_names, PLANE_STRESS, &
-                           PLANE_STRAIN, MODEL_ELASTIC, RATE_NONE, SHAPE_RECT, SHAPE_RING, &
-                           SECTOR_FULL, CONTACT_FRICTIONLESS
-  use mpm_config, only: config_t
+                           PLANE_STRAIN, MODEL_ELASTIC, CONTACT_FRICTIONLESS
+  use mpm_config, only: config_t, config_resolve
+  use mpm_scene_builder, only: scene_new, scene_add_material, scene_add_rect, scene_add_ring
   use mpm_setup, only: setup_sim
   use mpm_solver, only: sim_t, solver_step
   use testing, only: begin_test, check, check_close, finish_tests
@@ -29,85 +29,40 @@ program test_solver
 
 contains
 
-  !> A one-material case: elastic, E, nu, rho; no bodies or walls yet.
+  !> A one-material case: elastic, E, nu, rho; no bodies or walls yet (mpm_scene_builder).
   function base_case(E, nu, rho, h, t_end, basis, scheme, plane) result(cfg)
     real(wp), intent(in) :: E, nu, rho, h, t_end
     integer, intent(in) :: basis, scheme, plane
     type(config_t) :: cfg
-    cfg%file = 'test'
-    cfg%run%title = 'test'
-    cfg%run%t_end = t_end
-    cfg%run%cfl = 0.2_wp
-    cfg%solver%basis_id = basis
-    cfg%solver%scheme_id = scheme
-    cfg%solver%plane_id = plane
-    cfg%grid%h = h
-    cfg%grid%fitted = .true.
-    allocate(cfg%materials(1))
-    cfg%materials(1)%name = 'm'
-    cfg%materials(1)%model_id = MODEL_ELASTIC
-    cfg%materials(1)%rate_law_id = RATE_NONE
-    cfg%materials(1)%E = E
-    cfg%materials(1)%nu = nu
-    cfg%materials(1)%rho = rho
-    cfg%materials(1)%sigma_y = 1.0_wp
-    allocate(cfg%bodies(0), cfg%walls(0), cfg%probes(0))
+    cfg = scene_new('test', t_end, h, basis, scheme, plane)
+    call scene_add_material(cfg, 'm', MODEL_ELASTIC, E, nu, rho, sigma_y=1.0_wp)
   end function base_case
 
   subroutine add_rect(cfg, center, size, nx, ny, velocity)
     type(config_t), intent(inout) :: cfg
     real(wp), intent(in) :: center(2), size(2), velocity(2)
     integer, intent(in) :: nx, ny
-    integer :: n
-    n = size_of(cfg) + 1
-    call grow_bodies(cfg, n)
-    cfg%bodies(n)%shape_id = SHAPE_RECT
-    cfg%bodies(n)%material_id = 1
-    cfg%bodies(n)%sector_id = SECTOR_FULL
-    cfg%bodies(n)%center = center
-    cfg%bodies(n)%size = size
-    cfg%bodies(n)%n_x = nx
-    cfg%bodies(n)%n_y = ny
-    cfg%bodies(n)%velocity = velocity
+    call scene_add_rect(cfg, center, size, nx, ny, velocity)
   end subroutine add_rect
 
   subroutine add_ring(cfg, center, r_inner, r_outer, n_thick, velocity)
     type(config_t), intent(inout) :: cfg
     real(wp), intent(in) :: center(2), r_inner, r_outer, velocity(2)
     integer, intent(in) :: n_thick
-    integer :: n
-    n = size_of(cfg) + 1
-    call grow_bodies(cfg, n)
-    cfg%bodies(n)%shape_id = SHAPE_RING
-    cfg%bodies(n)%material_id = 1
-    cfg%bodies(n)%sector_id = SECTOR_FULL
-    cfg%bodies(n)%center = center
-    cfg%bodies(n)%r_inner = r_inner
-    cfg%bodies(n)%r_outer = r_outer
-    cfg%bodies(n)%n_thick = n_thick
-    cfg%bodies(n)%n_circ = 0
-    cfg%bodies(n)%velocity = velocity
+    call scene_add_ring(cfg, center, r_inner, r_outer, n_thick, velocity)
   end subroutine add_ring
 
-  integer function size_of(cfg)
-    type(config_t), intent(in) :: cfg
-    size_of = size(cfg%bodies)
-  end function size_of
-
-  subroutine grow_bodies(cfg, n)
-    type(config_t), intent(inout) :: cfg
-    integer, intent(in) :: n
-    type(config_t) :: tmp
-    allocate(tmp%bodies(n))
-    tmp%bodies(1:n - 1) = cfg%bodies(1:n - 1)
-    call move_alloc(tmp%bodies, cfg%bodies)
-  end subroutine grow_bodies
-
-  subroutine must_setup(cfg, s)
-    type(config_t), intent(in) :: cfg
+  !> Validate the case as an input file would be (config_resolve), then set it up.
+  subroutine must_setup(cfg_in, s)
+    type(config_t), intent(in) :: cfg_in
     type(sim_t), intent(out) :: s
+    type(config_t) :: cfg
     integer :: stat
     character(len=:), allocatable :: errmsg
+    cfg = cfg_in
+    call config_resolve(cfg, stat, errmsg)
+    call check(stat == 0, 'config_resolve: '//errmsg)
+    if (stat /= 0) error stop 1
     call setup_sim(cfg, s, stat, errmsg)
     call check(stat == 0, 'setup_sim: '//errmsg)
     if (stat /= 0) error stop 1

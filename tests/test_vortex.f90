@@ -18,8 +18,9 @@
 program test_vortex
   use mpm_kinds, only: wp
   use mpm_constants, only: pi, BASIS_LINEAR, BASIS_CPDI2, basis_names, SCHEME_MUSL, &
-                           PLANE_STRAIN, MODEL_NEOHOOKEAN, RATE_NONE, SHAPE_RING, SECTOR_FULL
-  use mpm_config, only: config_t
+                           PLANE_STRAIN, MODEL_NEOHOOKEAN
+  use mpm_config, only: config_t, config_resolve
+  use mpm_scene_builder, only: scene_new, scene_add_material, scene_add_ring
   use mpm_setup, only: setup_sim
   use mpm_solver, only: sim_t, solver_step, solver_init_energy
   use testing, only: begin_test, check, check_close, finish_tests
@@ -142,31 +143,11 @@ contains
     real(wp) :: r, th, sum_m, sum_e
     integer :: stat, ip, k
     character(len=:), allocatable :: errmsg
-    cfg%file = 'vortex'
-    cfg%run%title = 'vortex'
-    cfg%run%t_end = t_end
-    cfg%run%cfl = 0.2_wp
-    cfg%solver%basis_id = b
-    cfg%solver%scheme_id = SCHEME_MUSL
-    cfg%solver%plane_id = PLANE_STRAIN
-    cfg%grid%h = h
-    cfg%grid%fitted = .true.
-    allocate(cfg%materials(1), cfg%bodies(1), cfg%walls(0), cfg%probes(0))
-    cfg%materials(1)%name = 'rubber'
-    cfg%materials(1)%model_id = MODEL_NEOHOOKEAN
-    cfg%materials(1)%rate_law_id = RATE_NONE
-    cfg%materials(1)%E = E
-    cfg%materials(1)%nu = nu
-    cfg%materials(1)%rho = rho0
-    cfg%materials(1)%sigma_y = 1.0_wp
-    cfg%bodies(1)%shape_id = SHAPE_RING
-    cfg%bodies(1)%material_id = 1
-    cfg%bodies(1)%sector_id = SECTOR_FULL
-    cfg%bodies(1)%center = 0.0_wp
-    cfg%bodies(1)%r_inner = Ri
-    cfg%bodies(1)%r_outer = Ro
-    cfg%bodies(1)%n_thick = nint(real(ppc, wp)*(Ro - Ri)/h)
-    cfg%bodies(1)%n_circ = 0
+    cfg = scene_new('vortex', t_end, h, b, SCHEME_MUSL, PLANE_STRAIN)
+    call scene_add_material(cfg, 'rubber', MODEL_NEOHOOKEAN, E, nu, rho0, sigma_y=1.0_wp)
+    call scene_add_ring(cfg, [0.0_wp, 0.0_wp], Ri, Ro, nint(real(ppc, wp)*(Ro - Ri)/h))
+    call config_resolve(cfg, stat, errmsg)
+    call check(stat == 0, 'config_resolve: '//errmsg)
     call setup_sim(cfg, s, stat, errmsg)
     call check(stat == 0, 'setup: '//errmsg)
     X0 = s%p%x

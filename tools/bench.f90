@@ -21,9 +21,9 @@ program bench
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
   use mpm_kinds, only: wp, i8
   use mpm_constants, only: basis_names, scheme_names, SCHEME_MUSL, PLANE_STRAIN, MODEL_J2, &
-                           RATE_NONE, SHAPE_RING, SECTOR_HALF, SECTOR_QUARTER, &
-                           CONTACT_FRICTIONLESS
-  use mpm_config, only: config_t
+                           SECTOR_HALF, SECTOR_QUARTER
+  use mpm_config, only: config_t, config_resolve
+  use mpm_scene_builder, only: scene_new, scene_add_material, scene_add_ring, scene_add_wall
   use mpm_setup, only: setup_sim
   use mpm_solver, only: sim_t, solver_step, solver_memory_bytes
   use mpm_timers, only: clock_seconds, n_phases, phase_names
@@ -100,6 +100,11 @@ contains
       error stop 2
     end select
     cfg%solver%deterministic = det /= 0
+    call config_resolve(cfg, stat, errmsg)
+    if (stat /= 0) then
+      write(error_unit, '(a)') 'bench: bad case: '//errmsg
+      error stop 2
+    end if
     call setup_sim(cfg, s, stat, errmsg)
     if (stat /= 0) then
       write(error_unit, '(a)') 'bench: setup failed: '//errmsg
@@ -148,33 +153,11 @@ contains
     integer, intent(in) :: sector               !! SECTOR_* code
     real(wp), intent(in) :: velocity(2)         !! initial velocity [m/s]
     type(config_t) :: c
-    c%file = 'bench'
-    c%run%title = 'bench'
-    c%run%t_end = 1.0_wp
-    c%run%cfl = 0.2_wp
-    c%solver%basis_id = basis
-    c%solver%scheme_id = scheme
-    c%solver%plane_id = PLANE_STRAIN
-    c%grid%h = (r_outer - r_inner)/(0.5_wp*real(n_thick, wp))
-    c%grid%fitted = .true.
-    allocate(c%materials(1), c%bodies(1), c%walls(1), c%probes(0))
-    c%materials(1)%name = 'm'
-    c%materials(1)%model_id = MODEL_J2
-    c%materials(1)%rate_law_id = RATE_NONE
-    c%materials(1)%E = E
-    c%materials(1)%nu = nu
-    c%materials(1)%rho = rho
-    c%materials(1)%sigma_y = sigma_y
-    c%materials(1)%hardening = hardening
-    c%bodies(1)%shape_id = SHAPE_RING
-    c%bodies(1)%material_id = 1
-    c%bodies(1)%sector_id = sector
-    c%bodies(1)%r_inner = r_inner
-    c%bodies(1)%r_outer = r_outer
-    c%bodies(1)%n_thick = n_thick
-    c%bodies(1)%n_circ = 0
-    c%bodies(1)%velocity = velocity
-    c%walls(1)%contact_id = CONTACT_FRICTIONLESS
+    c = scene_new('bench', 1.0_wp, (r_outer - r_inner)/(0.5_wp*real(n_thick, wp)), basis, &
+                  scheme, PLANE_STRAIN)
+    call scene_add_material(c, 'm', MODEL_J2, E, nu, rho, sigma_y, hardening)
+    call scene_add_ring(c, [0.0_wp, 0.0_wp], r_inner, r_outer, n_thick, velocity, sector)
+    call scene_add_wall(c, [0.0_wp, 0.0_wp], [0.0_wp, 1.0_wp])     ! placed by the caller
   end function scene_case
 
   !> One step; a failure ends the benchmark with its message.

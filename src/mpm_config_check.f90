@@ -1,0 +1,189 @@
+!> The checks of the input that span groups: defaults that depend on other groups, material
+!! references, the given grid bounds, the fixed time step; and the reader's thin-wall advice.
+! SPDX-License-Identifier: MIT
+module mpm_config_check
+  use mpm_kinds, only: wp
+  use mpm_constants, only: BASIS_CPDI2, SCHEME_MUSL, PLANE_STRAIN, SHAPE_RING, SHAPE_RECT, &
+                           SECTOR_HALF, SECTOR_QUARTER
+  use mpm_config_types, only: config_t, material_cfg_t, body_cfg_t
+  use mpm_config_text, only: lower, itoa, quote, file_stem, fmt_short, fmt_vec, fmt_real
+  use mpm_config_table, only: n_groups
+  use mpm_config_lexer, only: reader_t
+  use mpm_config_values, only: err_var, warn_var
+  use mpm_advice, only: wall_too_thin
+  implicit none
+  private
+  public :: cross_checks, advice_checks, body_box
+
+contains
+
+  !> Defaults that depend on other groups, references, bounds, the fixed time step.
+  subroutine cross_checks(rd, cfg, first_of, occ_mat, occ_body)
+    type(reader_t), intent(inout) :: rd
+    type(config_t), intent(inout) :: cfg
+    integer, intent(in) :: first_of(n_groups), occ_mat(:), occ_body(:)
+    integer :: k, j, id, io_run, io_solver, io_grid
+    logical :: all_named, all_ok
+    character(len=:), allocatable :: names_txt, want
+    real(wp) :: lo(2), hi(2)
+
+    io_run = first_of(1)
+    io_solver = first_of(2)
+    io_grid = first_of(3)
+    if (len_trim(cfg%run%title) == 0) cfg%run%title = file_stem(rd%file)
+    if (len_trim(cfg%run%output_dir) == 0) cfg%run%output_dir = 'out/'//trim(cfg%run%title)
+    if (io_solver == 0) then
+      cfg%solver%basis_id = BASIS_CPDI2
+      cfg%solver%scheme_id = SCHEME_MUSL
+      cfg%solver%plane_id = PLANE_STRAIN
+    end if
+
+    ! material names: given and unique (case-insensitive)
+    all_named = .true.
+    names_txt = ''
+    do k = 1, size(cfg%materials)
+      if (.not. rd%occ(occ_mat(k))%read_ok .or. len_trim(cfg%materials(k)%name) == 0) then
+        all_named = .false.
+        cycle
+      end if
+      if (len(names_txt) > 0) names_txt = names_txt//', '
+      names_txt = names_txt//quote(trim(cfg%materials(k)%name))
+      do j = 1, k - 1
+        if (lower(trim(cfg%materials(j)%name)) == lower(trim(cfg%materials(k)%name))) then
+          call err_var(rd, occ_mat(k), 'name', quote(trim(cfg%materials(k)%name)), &
+            'already used by &material #'//itoa(j)//' (line '// &
+            itoa(rd%occ(occ_mat(j))%line)//')', 'a name that no other &material uses')
+          exit
+        end if
+      end do
+    end do
+
+    ! body -> material
+    do k = 1, size(cfg%bodies)
+      if (.not. rd%occ(occ_body(k))%read_ok .or. size(cfg%materials) == 0) cycle
+      want = trim(cfg%bodies(k)%material)
+      if (len(want) == 0) then
+        cfg%bodies(k)%material_id = 1
+        cfg%bodies(k)%material = cfg%materials(1)%name
+        cycle
+      end if
+      id = 0
+      do j = 1, size(cfg%materials)
+        if (lower(want) == lower(trim(cfg%materials(j)%name))) then
+          id = j
+          exit
+        end if
+      end do
+      if (id > 0) then
+        cfg%bodies(k)%material_id = id
+        cfg%bodies(k)%material = cfg%materials(id)%name
+      else if (all_named) then
+        call err_var(rd, occ_body(k), 'material', quote(want), 'no &material has this name', &
+          'the name of a &material: '//names_txt//' (or not given: the first material)')
+      end if
+    end do
+
+    ! given grid bounds contain every body
+    if (io_grid > 0) then
+      if (rd%occ(io_grid)%ok .and. .not. cfg%grid%fitted) then
+        do k = 1, size(cfg%bodies)
+          if (.not. rd%occ(occ_body(k))%ok) cycle
+          call body_box(cfg%bodies(k), lo, hi)
+          if (any(lo < cfg%grid%lower)) call err_var(rd, io_grid, 'lower', &
+            fmt_vec(cfg%grid%lower), 'does not contain &body #'//itoa(k)// &
+            ' (it reaches down to x = '//fmt_short(lo(1))//', y = '//fmt_short(lo(2))//')', &
+            'lower <= '//fmt_short(lo(1))//', '//fmt_short(lo(2))//' for this body, '// &
+            'or lower and upper not given (fitted)')
+          if (any(hi > cfg%grid%upper)) call err_var(rd, io_grid, 'upper', &
+            fmt_vec(cfg%grid%upper), 'does not contain &body #'//itoa(k)// &
+            ' (it reaches up to x = '//fmt_short(hi(1))//', y = '//fmt_short(hi(2))//')', &
+            'upper >= '//fmt_short(hi(1))//', '//fmt_short(hi(2))//' for this body, '// &
+            'or lower and upper not given (fitted)')
+        end do
+      end if
+    end if
+
+    ! a fixed time step must not exceed the stable limit at cfl = 1
+    all_ok = io_run > 0 .and. io_grid > 0 .and. size(cfg%materials) > 0 .and. &
+             size(cfg%bodies) > 0
+    if (all_ok) all_ok = rd%occ(io_run)%ok .and. rd%occ(io_grid)%ok
+    if (all_ok .and. io_solver > 0) all_ok = rd%occ(io_solver)%ok
+    do k = 1, size(cfg%materials)
+      if (all_ok) all_ok = rd%occ(occ_mat(k))%ok
+    end do
+    do k = 1, size(cfg%bodies)
+      if (all_ok) all_ok = rd%occ(occ_body(k))%ok
+    end do
+    if (all_ok) call check_fixed_dt(rd, cfg, io_run)
+
+  end subroutine cross_checks
+
+  !> A fixed time step must not exceed the stable limit at cfl = 1.
+  subroutine check_fixed_dt(rd, cfg, io_run)
+    type(reader_t), intent(inout) :: rd
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: io_run
+    integer :: k, kc
+    real(wp) :: cd, c, vmax, dt_lim, ms
+    type(material_cfg_t) :: m
+    if (.not. cfg%run%dt > 0.0_wp) return
+    ms = cfg%solver%mass_scale
+    cd = 0.0_wp
+    kc = 1
+    do k = 1, size(cfg%materials)
+      m = cfg%materials(k)
+      c = sqrt(m%E*(1.0_wp - m%nu)/((1.0_wp + m%nu)*(1.0_wp - 2.0_wp*m%nu)) / (m%rho*ms))
+      if (c > cd) then
+        cd = c
+        kc = k
+      end if
+    end do
+    vmax = 0.0_wp
+    do k = 1, size(cfg%bodies)
+      vmax = max(vmax, sqrt(sum(cfg%bodies(k)%velocity**2)))
+    end do
+    dt_lim = cfg%grid%h/(cd + vmax)
+    if (cfg%run%dt > dt_lim) call err_var(rd, io_run, 'dt', fmt_real(cfg%run%dt), &
+      'above the stable limit h / (c_d + v_max) = '//fmt_short(dt_lim)//' s at cfl = 1 '// &
+      '(h = '//fmt_short(cfg%grid%h)//' m; c_d = sqrt((lambda + 2 mu)/rho) = '// &
+      fmt_short(cd)//' m/s of &material #'//itoa(kc)//'; v_max = '//fmt_short(vmax)// &
+      ' m/s)', '0 < dt <= '//fmt_short(dt_lim)//' [s], or dt = 0 (time step from cfl)')
+  end subroutine check_fixed_dt
+
+  !> Advice that the set-up's advice (mpm_advice, advice_check) gives again in full: thin walls
+  !! need cells smaller than the wall thickness.
+  subroutine advice_checks(rd, cfg, first_of, occ_body)
+    type(reader_t), intent(inout) :: rd
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: first_of(n_groups), occ_body(:)
+    integer :: k, io_grid
+    real(wp) :: thick
+    io_grid = first_of(3)
+    if (io_grid == 0) return
+    if (.not. rd%occ(io_grid)%ok) return
+    do k = 1, size(cfg%bodies)
+      if (.not. rd%occ(occ_body(k))%ok .or. cfg%bodies(k)%shape_id /= SHAPE_RING) cycle
+      thick = cfg%bodies(k)%r_outer - cfg%bodies(k)%r_inner
+      if (wall_too_thin(cfg%grid%h, thick)) call warn_var(rd, io_grid, 'h', 'not smaller '// &
+        'than the wall thickness '//fmt_short(thick)//' m of &body #'//itoa(k)//': both '// &
+        'faces of the wall share grid nodes and the wall bends wrongly (use h < thickness)')
+    end do
+  end subroutine advice_checks
+
+  !> Bounding box of the material of a body (ring sector convention of mpm_particles:
+  !! half = the side x >= centre, quarter = x >= centre and y >= centre).
+  pure subroutine body_box(b, lo, hi)
+    type(body_cfg_t), intent(in) :: b
+    real(wp), intent(out) :: lo(2), hi(2)
+    if (b%shape_id == SHAPE_RECT) then
+      lo = b%center - 0.5_wp*b%size
+      hi = b%center + 0.5_wp*b%size
+      return
+    end if
+    lo = b%center - b%r_outer
+    hi = b%center + b%r_outer
+    if (b%sector_id == SECTOR_HALF .or. b%sector_id == SECTOR_QUARTER) lo(1) = b%center(1)
+    if (b%sector_id == SECTOR_QUARTER) lo(2) = b%center(2)
+  end subroutine body_box
+
+end module mpm_config_check

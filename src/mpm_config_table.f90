@@ -1,0 +1,307 @@
+!> The input variables: one row per namelist variable, from which the reader, the range checks,
+!! the allowed-value messages, the resolved echo (input.nml) and the docs check
+!! (tests/test_docs_input.py) are all derived.
+! SPDX-License-Identifier: MIT
+!
+! A row gives: group, name, kind (r real, i integer, l logical, c text, e one of a list of
+! names), number of values, the value the reader starts from (r0/i0/c0: the default, or a
+! "not given" sentinel that the group's validation turns into the default), the admissible
+! range (lo/hi, open or closed, required), the text of "allowed:" in messages (units in
+! brackets, default in parentheses; for kind e it is made from the list of names), the
+! comment of the echo (meaning and unit; % stands for the list of names), which body shape the
+! variable belongs to, and how the echo recognises a required value that was not set.
+module mpm_config_table
+  use mpm_kinds, only: wp
+  use mpm_constants, only: name_len, path_len, max_table, basis_names, scheme_names, &
+                           plane_names, model_names, rate_law_names, shape_names, sector_names, &
+                           contact_names
+  use mpm_config_types, only: unset_real, iunset
+  use mpm_config_text, only: enum_text, join_list
+  implicit none
+  private
+  public :: var_spec_t, specs, n_specs, n_groups, group_names, group_repeatable
+  public :: group_id, spec_index, group_specs, var_list, var_names, allowed_text, enum_names, &
+            echo_comment
+
+  integer, parameter :: n_groups = 7
+  character(len=*), parameter :: group_names(n_groups) = [character(len=8) :: &
+    'run', 'solver', 'grid', 'material', 'body', 'wall', 'probe']
+  logical, parameter :: group_repeatable(n_groups) = &
+    [.false., .false., .false., .true., .true., .true., .true.]
+
+  real(wp), parameter :: big = huge(1.0_wp)
+
+  !> One namelist variable.
+  type :: var_spec_t
+    character(len=8) :: group = ''
+    character(len=16) :: name = ''
+    character(len=1) :: kind = 'r'          !! r, i, l, c, e
+    integer :: n = 1                        !! number of values
+    real(wp) :: r0 = 0.0_wp                 !! starting value of a real
+    integer :: i0 = 0                       !! starting value of an integer
+    character(len=16) :: c0 = ''            !! default text (kind c, e)
+    logical :: c_blank = .false.            !! the reader starts from '' (given or not?)
+    logical :: required = .false.
+    real(wp) :: lo = -big, hi = big         !! range
+    logical :: lo_open = .false., hi_open = .false.  !! lo < x (not <=), x < hi (not <=)
+    integer :: max_len = name_len           !! longest text
+    character(len=4) :: only = ''           !! 'ring' or 'rect': a variable of that body shape
+    character(len=4) :: unset = ''          !! echo: not set when neg (-1), huge, empty, zero
+    character(len=56) :: unset_note = ''    !! echo comment when not set
+    character(len=160) :: allowed = ''      !! "allowed:" text of messages ('' for kind e)
+    character(len=48) :: comment = ''       !! echo comment: meaning [unit]; % = the names
+  end type var_spec_t
+
+  integer, parameter :: n_specs = 52
+  character(len=*), parameter :: s0 = 'a real number >= 0 [s] (default 0)'
+  character(len=*), parameter :: v0 = '2 finite real numbers [m/s] (default 0, 0)'
+  character(len=*), parameter :: lu = '2 real numbers [m] each for lower and upper, lower '// &
+    '< upper in both components, both given or neither (then fitted)'
+  character(len=*), parameter :: rq = 'required: '
+
+  type(var_spec_t), parameter :: specs(n_specs) = [ &
+    ! ---------------------------------------------------------------------------- &run
+    var_spec_t('run', 'title', 'c', unset='emp', unset_note='default: the file name stem', &
+      allowed='text of at most 64 characters (default: the file name stem)', &
+      comment='label of the case'), &
+    var_spec_t('run', 'output_dir', 'c', max_len=path_len, unset='emp', &
+      unset_note='default: out/<title>', &
+      allowed='a folder path of at most 512 characters (default: out/<title>)', &
+      comment='folder for all outputs'), &
+    var_spec_t('run', 't_end', r0=big, required=.true., lo=0.0_wp, lo_open=.true., &
+      unset='neg', unset_note=rq//'simulated time [s]', &
+      allowed='a real number > 0 [s] (required)', comment='simulated time [s]'), &
+    var_spec_t('run', 'cfl', r0=0.2_wp, lo=0.0_wp, lo_open=.true., hi=2.0_wp, &
+      allowed='a real number with 0 < cfl <= 2 (default 0.2; above 1 is unstable, allowed '// &
+      'for stability studies)', comment='dt = cfl h / (c_d + max speed) [-]'), &
+    var_spec_t('run', 'dt', lo=0.0_wp, allowed='a real number >= 0 [s] (0 = from cfl; '// &
+      'default 0)', comment='fixed time step if > 0 [s]'), &
+    var_spec_t('run', 'history_every', lo=0.0_wp, allowed=s0, &
+      comment='history.csv interval [s]'), &
+    var_spec_t('run', 'snapshot_every', lo=0.0_wp, allowed=s0, &
+      comment='snapshot interval [s]'), &
+    var_spec_t('run', 'checkpoint_every', lo=0.0_wp, allowed=s0, &
+      comment='wall-clock checkpoint interval [s]'), &
+    var_spec_t('run', 'depth', r0=1.0_wp, lo=0.0_wp, lo_open=.true., &
+      allowed='a real number > 0 [m] (default 1.0)', comment='out-of-plane length [m]'), &
+    var_spec_t('run', 'gravity', n=2, allowed='2 finite real numbers [m/s^2] (default 0, 0)', &
+      comment='body acceleration [m/s^2]'), &
+    var_spec_t('run', 'threads', 'i', lo=0.0_wp, &
+      allowed='an integer >= 0 (0 = the OpenMP runtime default)', &
+      comment='OpenMP threads (0 = runtime default)'), &
+    ! ---------------------------------------------------------------------------- &solver
+    var_spec_t('solver', 'basis', 'e', c0='cpdi2', comment='% [-]'), &
+    var_spec_t('solver', 'scheme', 'e', c0='musl', comment='% [-]'), &
+    var_spec_t('solver', 'flip', r0=1.0_wp, lo=0.0_wp, hi=1.0_wp, &
+      allowed='a real number with 0 <= flip <= 1 (default 1.0)', &
+      comment='FLIP fraction (1 FLIP, 0 PIC) [-]'), &
+    var_spec_t('solver', 'plane', 'e', c0='strain', comment='% [-]'), &
+    var_spec_t('solver', 'mass_scale', r0=1.0_wp, lo=1.0_wp, &
+      allowed='a real number >= 1 (default 1.0)', comment='density multiplier [-]'), &
+    var_spec_t('solver', 'damping', lo=0.0_wp, allowed='a real number >= 0 [1/s] (default 0)', &
+      comment='mass-proportional damping [1/s]'), &
+    var_spec_t('solver', 'deterministic', 'l', allowed='.true. or .false. (default .false.)', &
+      comment='results independent of the thread count'), &
+    ! ---------------------------------------------------------------------------- &grid
+    var_spec_t('grid', 'h', r0=big, required=.true., lo=0.0_wp, lo_open=.true., unset='neg', &
+      unset_note=rq//'cell size [m]', allowed='a real number > 0 [m] (required)', &
+      comment='cell size [m]'), &
+    var_spec_t('grid', 'lower', n=2, r0=big, allowed=lu, comment='lower domain corner [m]'), &
+    var_spec_t('grid', 'upper', n=2, r0=big, allowed=lu, comment='upper domain corner [m]'), &
+    ! ---------------------------------------------------------------------------- &material
+    var_spec_t('material', 'name', 'c', unset='emp', unset_note=rq//'label used by &body', &
+      allowed='text of 1 to 64 characters, unique among the &material groups (required)', &
+      comment='label used by &body'), &
+    var_spec_t('material', 'model', 'e', c0='j2', comment='%'), &
+    var_spec_t('material', 'E', r0=big, required=.true., lo=0.0_wp, lo_open=.true., &
+      unset='neg', unset_note=rq//'Young''s modulus [Pa]', &
+      allowed='a real number > 0 [Pa] (required)', comment='Young''s modulus [Pa]'), &
+    var_spec_t('material', 'nu', r0=big, required=.true., lo=0.0_wp, hi=0.5_wp, &
+      hi_open=.true., unset='neg', unset_note=rq//'Poisson''s ratio [-]', &
+      allowed='a real number with 0 <= nu < 0.5 (required)', comment='Poisson''s ratio [-]'), &
+    var_spec_t('material', 'rho', r0=big, required=.true., lo=0.0_wp, lo_open=.true., &
+      unset='neg', unset_note=rq//'density [kg/m^3]', &
+      allowed='a real number > 0 [kg/m^3] (required)', comment='density [kg/m^3]'), &
+    var_spec_t('material', 'sigma_y', r0=big, lo=0.0_wp, lo_open=.true., unset='neg', &
+      unset_note='required for model = ''j2'': initial yield stress [Pa]', &
+      allowed='a real number > 0 [Pa] (required for model = ''j2'')', &
+      comment='initial yield stress [Pa]'), &
+    var_spec_t('material', 'hardening', lo=0.0_wp, allowed='a real number >= 0 [Pa] '// &
+      '(default 0)', comment='linear isotropic hardening modulus [Pa]'), &
+    var_spec_t('material', 'rate_law', 'e', c0='none', comment='%'), &
+    var_spec_t('material', 'cs_d', r0=40.4_wp, lo=0.0_wp, lo_open=.true., &
+      allowed='a real number > 0 [1/s] (default 40.4)', comment='Cowper-Symonds D [1/s]'), &
+    var_spec_t('material', 'cs_q', r0=5.0_wp, lo=0.0_wp, lo_open=.true., &
+      allowed='a real number > 0 (default 5)', comment='Cowper-Symonds q [-]'), &
+    ! ---------------------------------------------------------------------------- &body
+    var_spec_t('body', 'shape', 'e', c0='ring', comment='%'), &
+    var_spec_t('body', 'material', 'c', unset='emp', unset_note='default: the first material', &
+      allowed='the name of a &material (default: the first material)', &
+      comment='a &material name'), &
+    var_spec_t('body', 'center', n=2, allowed='2 finite real numbers [m] (default 0, 0)', &
+      comment='centre [m]'), &
+    var_spec_t('body', 'r_inner', r0=big, required=.true., lo=0.0_wp, lo_open=.true., &
+      only='ring', unset='neg', unset_note=rq//'inner radius [m]', &
+      allowed='a real number with 0 < r_inner < r_outer [m] (required for shape = ''ring'')', &
+      comment='inner radius [m]'), &
+    var_spec_t('body', 'r_outer', r0=big, required=.true., lo=0.0_wp, lo_open=.true., &
+      only='ring', unset='neg', unset_note=rq//'outer radius [m]', &
+      allowed='a real number > r_inner [m] (required for shape = ''ring'')', &
+      comment='outer radius [m]'), &
+    var_spec_t('body', 'n_thick', 'i', i0=iunset, lo=1.0_wp, only='ring', &
+      allowed='an integer >= 1 (default 16)', comment='particles through the wall'), &
+    var_spec_t('body', 'n_circ', 'i', i0=iunset, only='ring', &
+      allowed='0 (particles about square) or an integer >= 3, divisible by 2 for sector = '// &
+      '''half'' and by 4 for ''quarter'' (default 0)', &
+      comment='particles around the whole ring (0 = auto)'), &
+    var_spec_t('body', 'sector', 'e', c0='full', c_blank=.true., only='ring', comment='%'), &
+    var_spec_t('body', 'size', n=2, r0=big, required=.true., only='rect', unset='neg', &
+      unset_note=rq//'rectangle sides [m]', &
+      allowed='2 real numbers > 0 [m] (required for shape = ''rect'')', &
+      comment='rectangle sides [m]'), &
+    var_spec_t('body', 'n_x', 'i', i0=iunset, required=.true., lo=1.0_wp, only='rect', &
+      unset='zero', unset_note=rq//'particles along x', &
+      allowed='an integer >= 1 (required for shape = ''rect'')', comment='particles along x'), &
+    var_spec_t('body', 'n_y', 'i', i0=iunset, required=.true., lo=1.0_wp, only='rect', &
+      unset='zero', unset_note=rq//'particles along y', &
+      allowed='an integer >= 1 (required for shape = ''rect'')', comment='particles along y'), &
+    var_spec_t('body', 'velocity', n=2, allowed=v0, comment='initial velocity [m/s]'), &
+    ! ---------------------------------------------------------------------------- &wall
+    var_spec_t('wall', 'point', n=2, r0=big, required=.true., unset='huge', &
+      unset_note=rq//'a point on the plane at t = 0 [m]', &
+      allowed='2 finite real numbers [m] (required)', &
+      comment='a point on the plane at t = 0 [m]'), &
+    var_spec_t('wall', 'normal', n=2, r0=big, required=.true., unset='huge', &
+      unset_note=rq//'unit normal into the material side [-]', &
+      allowed='2 real numbers forming a unit vector, |normal| = 1 within 1e-6 (required)', &
+      comment='unit normal into the material side [-]'), &
+    var_spec_t('wall', 'contact', 'e', c0='frictionless', comment='%'), &
+    var_spec_t('wall', 'friction', lo=0.0_wp, allowed='a real number >= 0, and > 0 only '// &
+      'with contact = ''coulomb'' (default 0)', comment='Coulomb coefficient [-]'), &
+    var_spec_t('wall', 'velocity', n=2, allowed=v0, comment='prescribed velocity [m/s]'), &
+    var_spec_t('wall', 'ramp', lo=0.0_wp, allowed='a real number >= 0 [s] (default 0)', &
+      comment='smooth rise time of the velocity [s]'), &
+    var_spec_t('wall', 'motion_t', n=max_table, r0=big, allowed='up to 64 times [s], >= 0 '// &
+      'and strictly increasing, as many as motion_f (default none)', comment='times [s]'), &
+    var_spec_t('wall', 'motion_f', n=max_table, r0=big, allowed='up to 64 finite factors, '// &
+      'as many as motion_t (default none)', comment='factors on velocity [-]'), &
+    ! ---------------------------------------------------------------------------- &probe
+    var_spec_t('probe', 'point', n=2, r0=big, required=.true., unset='huge', &
+      unset_note=rq//'the particle nearest to it is recorded [m]', &
+      allowed='2 finite real numbers [m] (required)', &
+      comment='the particle nearest to it is recorded [m]')]
+
+contains
+
+  !> Index of a group name in group_names, 0 if unknown.
+  pure integer function group_id(name)
+    character(len=*), intent(in) :: name   !! group name, lower case
+    integer :: k
+    group_id = 0
+    do k = 1, n_groups
+      if (name == trim(group_names(k))) group_id = k
+    end do
+  end function group_id
+
+  !> Row of variable `name` (case-insensitive, as the file writes it) of a group, 0 if none.
+  pure integer function spec_index(group, name) result(k)
+    character(len=*), intent(in) :: group, name
+    do k = 1, n_specs
+      if (specs(k)%group == group .and. lower_eq(specs(k)%name, name)) return
+    end do
+    k = 0
+  end function spec_index
+
+  pure logical function lower_eq(a, b)
+    character(len=*), intent(in) :: a, b
+    integer :: k, ca, cb
+    lower_eq = len_trim(a) == len_trim(b)
+    if (.not. lower_eq) return
+    do k = 1, len_trim(a)
+      ca = iachar(a(k:k))
+      cb = iachar(b(k:k))
+      if (ca >= iachar('A') .and. ca <= iachar('Z')) ca = ca + 32
+      if (cb >= iachar('A') .and. cb <= iachar('Z')) cb = cb + 32
+      if (ca /= cb) then
+        lower_eq = .false.
+        return
+      end if
+    end do
+  end function lower_eq
+
+  !> The rows of a group, in table order.
+  pure function group_specs(group) result(idx)
+    character(len=*), intent(in) :: group
+    integer, allocatable :: idx(:)
+    integer :: k
+    allocate(idx(0))
+    do k = 1, n_specs
+      if (specs(k)%group == group) idx = [idx, k]
+    end do
+  end function group_specs
+
+  !> The names of the variables of a group.
+  pure function var_names(group) result(names)
+    character(len=*), intent(in) :: group
+    character(len=16), allocatable :: names(:)
+    names = specs(group_specs(group))%name
+  end function var_names
+
+  !> 'a, b, c': the variables of a group.
+  pure function var_list(group) result(s)
+    character(len=*), intent(in) :: group
+    character(len=:), allocatable :: s
+    s = join_list(var_names(group), '')
+  end function var_list
+
+  !> The names a variable of kind e accepts.
+  pure function enum_names(list) result(names)
+    character(len=*), intent(in) :: list   !! the variable's name
+    character(len=name_len), allocatable :: names(:)
+    select case (list)
+    case ('basis')
+      names = basis_names
+    case ('scheme')
+      names = scheme_names
+    case ('plane')
+      names = plane_names
+    case ('model')
+      names = model_names
+    case ('rate_law')
+      names = rate_law_names
+    case ('shape')
+      names = shape_names
+    case ('sector')
+      names = sector_names
+    case ('contact')
+      names = contact_names
+    case default
+      allocate(names(0))
+    end select
+  end function enum_names
+
+  !> What a variable accepts, for messages (units in brackets, default in parentheses).
+  pure function allowed_text(group, var) result(s)
+    character(len=*), intent(in) :: group, var
+    character(len=:), allocatable :: s
+    integer :: k
+    k = spec_index(group, var)
+    if (k == 0) then
+      s = 'see docs/input.md'
+    else if (specs(k)%kind == 'e') then
+      s = enum_text(enum_names(trim(specs(k)%name)), trim(specs(k)%c0))
+    else
+      s = trim(specs(k)%allowed)
+    end if
+  end function allowed_text
+
+  !> The echo's comment of row k (% replaced by the list of names).
+  pure function echo_comment(k) result(s)
+    integer, intent(in) :: k
+    character(len=:), allocatable :: s
+    integer :: p
+    s = trim(specs(k)%comment)
+    p = index(s, '%')
+    if (p > 0) s = s(1:p-1)//join_list(enum_names(trim(specs(k)%name)), '')//s(p+1:)
+  end function echo_comment
+end module mpm_config_table

@@ -1,0 +1,116 @@
+!> The case description as read from a namelist file: one derived type per namelist group.
+! SPDX-License-Identifier: MIT
+!
+! The components keep the type defaults below until the reader (mpm_config) or a scene builder
+! sets them; the table of input variables (mpm_config_table) says what each one accepts.
+module mpm_config_types
+  use mpm_kinds, only: wp
+  use mpm_constants, only: name_len, path_len, max_table
+  implicit none
+  private
+  public :: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, body_cfg_t, &
+            wall_cfg_t, probe_cfg_t
+  public :: unset_real, iunset
+
+  type :: run_cfg_t
+    character(len=name_len) :: title = ''          !! label of the case
+    character(len=path_len) :: output_dir = ''     !! folder for all outputs
+    real(wp) :: t_end = -1.0_wp                    !! simulated time [s]
+    real(wp) :: cfl = 0.2_wp                       !! Courant number [-]
+    real(wp) :: dt = 0.0_wp                        !! fixed time step if > 0 [s]
+    real(wp) :: history_every = 0.0_wp             !! history interval [s]
+    real(wp) :: snapshot_every = 0.0_wp            !! snapshot interval [s]
+    real(wp) :: checkpoint_every = 0.0_wp          !! wall-clock checkpoint interval [s]
+    real(wp) :: depth = 1.0_wp                     !! out-of-plane length [m]
+    real(wp) :: gravity(2) = 0.0_wp                !! body acceleration [m/s^2]
+    integer :: threads = 0                         !! OpenMP threads (0 = runtime default)
+  end type run_cfg_t
+
+  !> &solver
+  type :: solver_cfg_t
+    character(len=name_len) :: basis = 'cpdi2'     !! linear | ugimp | cpdi1 | cpdi2
+    character(len=name_len) :: scheme = 'musl'     !! usl | usf | musl
+    character(len=name_len) :: plane = 'strain'    !! strain | stress
+    integer :: basis_id = 0, scheme_id = 0, plane_id = 0  !! codes of mpm_constants
+    real(wp) :: flip = 1.0_wp                      !! FLIP fraction [-]
+    real(wp) :: mass_scale = 1.0_wp                !! density multiplier [-]
+    real(wp) :: damping = 0.0_wp                   !! mass-proportional damping [1/s]
+    logical :: deterministic = .false.             !! thread-count independent results
+  end type solver_cfg_t
+
+  !> &grid
+  type :: grid_cfg_t
+    real(wp) :: h = -1.0_wp                        !! cell size [m]
+    real(wp) :: lower(2) = 0.0_wp                  !! lower domain corner [m]
+    real(wp) :: upper(2) = 0.0_wp                  !! upper domain corner [m]
+    logical :: fitted = .true.                     !! lower/upper not given: fit to the scene
+  end type grid_cfg_t
+
+  !> &material (repeatable)
+  type :: material_cfg_t
+    character(len=name_len) :: name = ''           !! label used by &body
+    character(len=name_len) :: model = 'j2'        !! elastic | neohookean | j2
+    character(len=name_len) :: rate_law = 'none'   !! none | cowper_symonds
+    integer :: model_id = 0, rate_law_id = 0       !! codes of mpm_constants
+    real(wp) :: E = -1.0_wp                        !! Young's modulus [Pa]
+    real(wp) :: nu = -1.0_wp                       !! Poisson's ratio [-]
+    real(wp) :: rho = -1.0_wp                      !! density [kg/m^3]
+    real(wp) :: sigma_y = -1.0_wp                  !! initial yield stress [Pa]
+    real(wp) :: hardening = 0.0_wp                 !! linear isotropic hardening modulus [Pa]
+    real(wp) :: cs_d = 40.4_wp                     !! Cowper-Symonds D [1/s]
+    real(wp) :: cs_q = 5.0_wp                      !! Cowper-Symonds q [-]
+  end type material_cfg_t
+
+  !> &body (repeatable)
+  type :: body_cfg_t
+    character(len=name_len) :: shape = 'ring'      !! ring | rect
+    character(len=name_len) :: material = ''       !! a &material name
+    character(len=name_len) :: sector = 'full'     !! full | half | quarter
+    integer :: shape_id = 0, material_id = 0, sector_id = 0  !! codes; material_id indexes materials
+    real(wp) :: center(2) = 0.0_wp                 !! centre [m]
+    real(wp) :: r_inner = -1.0_wp                  !! ring inner radius [m]
+    real(wp) :: r_outer = -1.0_wp                  !! ring outer radius [m]
+    integer :: n_thick = 16                        !! particles through the wall
+    integer :: n_circ = 0                          !! particles around the whole ring
+    real(wp) :: size(2) = -1.0_wp                  !! rectangle sides [m]
+    integer :: n_x = 0, n_y = 0                    !! particles along the rectangle sides
+    real(wp) :: velocity(2) = 0.0_wp               !! initial velocity [m/s]
+  end type body_cfg_t
+
+  !> &wall (repeatable)
+  type :: wall_cfg_t
+    real(wp) :: point(2) = 0.0_wp                  !! point on the plane at t = 0 [m]
+    real(wp) :: normal(2) = 0.0_wp                 !! unit normal into the material side [-]
+    character(len=name_len) :: contact = 'frictionless'  !! frictionless|coulomb|stick|slip
+    integer :: contact_id = 0                      !! code of mpm_constants
+    real(wp) :: friction = 0.0_wp                  !! Coulomb coefficient [-]
+    real(wp) :: velocity(2) = 0.0_wp               !! prescribed velocity [m/s]
+    real(wp) :: ramp = 0.0_wp                      !! smooth rise time of the velocity [s]
+    integer :: n_motion = 0                        !! points in the motion table
+    real(wp) :: motion_t(max_table) = 0.0_wp       !! table times [s]
+    real(wp) :: motion_f(max_table) = 0.0_wp       !! table factors on velocity [-]
+    logical :: mirror = .false.                    !! added by a body sector (not in the input)
+  end type wall_cfg_t
+
+  !> &probe (repeatable)
+  type :: probe_cfg_t
+    real(wp) :: point(2) = 0.0_wp                  !! the particle nearest at t = 0 is recorded [m]
+  end type probe_cfg_t
+
+  !> The whole case.
+  type :: config_t
+    character(len=path_len) :: file = ''           !! the namelist file read
+    type(run_cfg_t) :: run
+    type(solver_cfg_t) :: solver
+    type(grid_cfg_t) :: grid
+    type(material_cfg_t), allocatable :: materials(:)
+    type(body_cfg_t), allocatable :: bodies(:)
+    type(wall_cfg_t), allocatable :: walls(:)
+    type(probe_cfg_t), allocatable :: probes(:)
+  end type config_t
+
+  !> Marks a required number that was not given (wall and probe points, normals in
+  !! default_config); the other required numbers keep their type defaults (-1, 0).
+  real(wp), parameter :: unset_real = huge(1.0_wp)
+  integer, parameter :: iunset = -huge(1)       !! integer "not given" sentinel of the reader
+end module mpm_config_types

@@ -1,0 +1,632 @@
+!> The values of one group occurrence, read from its assignments as the table describes them,
+!! and the checks that report a bad value with its line, group, variable and what is allowed.
+! SPDX-License-Identifier: MIT
+!
+! Every assignment is diagnosed first (name known to the group, subscript, value types and
+! count, quotes); only a group without such errors is read. The values start from the table's
+! r0/i0/c0, so that a group can tell a value that was not given from one that was.
+module mpm_config_values
+  use mpm_kinds, only: wp
+  use mpm_constants, only: max_table
+  use mpm_config_types, only: unset_real, iunset
+  use mpm_config_text, only: lower, itoa, quote, unquote, suggestion, fmt_real, fmt_vec, &
+                             fmt_list, finite
+  use mpm_config_table, only: specs, n_specs, spec_index, var_list, var_names, allowed_text, &
+                              enum_names, group_specs
+  use mpm_config_lexer, only: reader_t, tk_string, add_err, add_warn, label, var_where
+  implicit none
+  private
+  public :: values_t, read_group, long_len
+  public :: vreal, vvec, vtab, vint, vtext, vlog, set_int
+  public :: chk_r, chk_i, chk_v, chk_e, chk_t, chk_real, chk_int, table_count
+  public :: err_var, err_missing, warn_var, warn_group
+
+  integer, parameter :: long_len = 1024         !! text buffers (longer than allowed)
+
+  !> The values of one occurrence: column k holds row k of the table.
+  type :: values_t
+    character(len=8) :: group = ''
+    real(wp) :: r(max_table, n_specs) = 0.0_wp
+    integer :: i(n_specs) = 0
+    logical :: l(n_specs) = .false.
+    character(len=long_len) :: c(n_specs) = ''
+  end type values_t
+
+contains
+
+  !> Diagnose and read occurrence io into v; ok is false (and the group not usable) when it
+  !! had structural errors or any assignment was wrong.
+  subroutine read_group(rd, io, v, ok)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io                !! occurrence
+    type(values_t), intent(out) :: v         !! its values (table start values where not given)
+    logical, intent(out) :: ok
+    integer :: n0, k
+    integer, allocatable :: idx(:)
+    ok = .false.
+    rd%occ(io)%ok = .false.
+    if (.not. rd%occ(io)%readable) return
+    v%group = rd%occ(io)%group
+    idx = group_specs(v%group)
+    do k = 1, size(idx)
+      associate (s => specs(idx(k)))
+        v%r(:, idx(k)) = s%r0
+        v%i(idx(k)) = s%i0
+        v%c(idx(k)) = s%c0
+        if (s%c_blank) v%c(idx(k)) = ''
+      end associate
+    end do
+    n0 = rd%n_err
+    call diagnose(rd, io, .false.)
+    if (rd%n_err > n0) then             ! the group cannot be read: report it strictly
+      rd%n_err = n0
+      call diagnose(rd, io, .true.)
+      return
+    end if
+    call parse_values(rd, io, v)
+    rd%occ(io)%read_ok = .true.
+    ok = .true.
+  end subroutine read_group
+
+  !> Store the values of every assignment of a diagnosed occurrence (later ones win; `r*x` is
+  !! r copies of x, `r*` skips r values).
+  subroutine parse_values(rd, io, v)
+    type(reader_t), intent(in) :: rd
+    integer, intent(in) :: io
+    type(values_t), intent(inout) :: v
+    integer :: ia, it, k, pos, p, r, j, ios
+    character(len=:), allocatable :: t, rest, sub
+    character(len=256) :: msg
+    associate (o => rd%occ(io))
+      do ia = 1, o%n_asg
+        if (o%asg(ia)%stray) cycle
+        k = spec_index(v%group, o%asg(ia)%base)
+        pos = 1
+        sub = o%asg(ia)%sub
+        if (len(sub) > 0) then
+          p = index(sub, ':')
+          if (p == 0) p = len(sub) + 1
+          read(sub(1:p-1), *, iostat=ios, iomsg=msg) pos
+        end if
+        do it = o%asg(ia)%t1, o%asg(ia)%t2
+          t = o%tok(it)%text
+          pos = pos + nulls(o%tok(it)%commas, it == o%asg(ia)%t1)
+          if (o%tok(it)%kind == tk_string .or. index('ce', specs(k)%kind) > 0) then
+            v%c(k) = t
+            if (o%tok(it)%kind == tk_string) v%c(k) = unquote(t)
+            pos = pos + 1
+            cycle
+          end if
+          r = 1
+          rest = t
+          p = index(t, '*')
+          if (p > 1) then
+            if (verify(t(1:p-1), '0123456789') == 0) then
+              read(t(1:p-1), *, iostat=ios, iomsg=msg) r
+              if (ios /= 0) r = 1
+              rest = t(p+1:)
+            end if
+          end if
+          do j = 1, r
+            if (len(rest) > 0) then
+              select case (specs(k)%kind)
+              case ('r')
+                read(rest, *, iostat=ios, iomsg=msg) v%r(pos, k)
+              case ('i')
+                read(rest, *, iostat=ios, iomsg=msg) v%i(k)
+              case ('l')
+                read(rest, *, iostat=ios, iomsg=msg) v%l(k)
+              end select
+            end if
+            pos = pos + 1
+          end do
+        end do
+      end do
+    end associate
+  end subroutine parse_values
+
+  !> Check names, subscripts, value types and value counts of every assignment in a group.
+  !! Like gfortran's namelist reader, a text value without quotes that starts with a digit
+  !! (`model = 3.5`) is read as text, unless strict: then, as when the reader fails on the
+  !! group for another reason, it is reported too.
+  subroutine diagnose(rd, io, strict)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io
+    logical, intent(in) :: strict
+    integer :: ia, vi
+    character(len=:), allocatable :: written
+    do ia = 1, rd%occ(io)%n_asg
+      if (rd%occ(io)%asg(ia)%stray) then
+        call add_err(rd, rd%occ(io)%asg(ia)%line, label(rd, io)//': unexpected text '''// &
+          rd%occ(io)%asg(ia)%value//''' (expected <name> = <value>)'// &
+          missing_equals(rd%occ(io)%tok(rd%occ(io)%asg(ia)%t1)%text, rd%occ(io)%group)// &
+          '; allowed: '// &
+          var_list(rd%occ(io)%group))
+        cycle
+      end if
+      vi = spec_index(rd%occ(io)%group, rd%occ(io)%asg(ia)%base)
+      if (vi == 0) then
+        written = rd%occ(io)%tok(rd%occ(io)%asg(ia)%t1 - 2)%text
+        call add_err(rd, rd%occ(io)%asg(ia)%line, label(rd, io)//': '//written//' = '// &
+          rd%occ(io)%asg(ia)%value//': unknown variable'// &
+          suggestion(rd%occ(io)%asg(ia)%base, var_names(rd%occ(io)%group))//'; allowed: '// &
+          var_list(rd%occ(io)%group))
+        cycle
+      end if
+      call check_values(rd, io, ia, vi, strict)
+    end do
+  end subroutine diagnose
+
+  !> Subscript, types and count of the values of assignment ia (variable vi).
+  subroutine check_values(rd, io, ia, vi, strict)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io, ia
+    logical, intent(in) :: strict
+    integer, intent(in) :: vi                !! row of the table
+    character(len=1) :: kind
+    integer :: cap, i1, i2, p, ios, it, r, count, ln
+    character(len=:), allocatable :: name, sub, t, rest, head, what
+    real(wp) :: x
+    integer :: n
+    logical :: l
+    character(len=256) :: msg
+    name = trim(specs(vi)%name)
+    kind = specs(vi)%kind
+    if (kind == 'e') kind = 'c'
+    sub = rd%occ(io)%asg(ia)%sub
+    ln = rd%occ(io)%asg(ia)%line
+    cap = specs(vi)%n
+    head = label(rd, io)//': '//name
+    if (len(sub) > 0) head = head//'('//sub//')'
+    head = head//' = '//rd%occ(io)%asg(ia)%value//': '
+    if (len(sub) > 0) then
+      p = index(sub, ':')
+      i1 = -1
+      i2 = -1
+      if (p == 0) then
+        read(sub, *, iostat=ios, iomsg=msg) i1
+        i2 = i1
+      else
+        read(sub(1:p-1), *, iostat=ios, iomsg=msg) i1
+        if (ios == 0) read(sub(p+1:), *, iostat=ios, iomsg=msg) i2
+      end if
+      if (index(sub, ',') > 0) ios = 1               ! one index only: these are 1-D
+      if (ios /= 0 .or. i1 < 1 .or. i2 < i1 .or. i2 > cap) then
+        if (cap == 1) then
+          call add_err(rd, ln, head//'subscript on a single value; allowed: '//name// &
+            ' = <value>, '//allowed_text(rd%occ(io)%group, name))
+        else
+          call add_err(rd, ln, head//'subscript out of range; allowed: '//name//'(1) to '// &
+            name//'('//itoa(cap)//'), '//allowed_text(rd%occ(io)%group, name))
+        end if
+        return
+      end if
+      cap = i2 - i1 + 1
+    end if
+    count = 0
+    do it = rd%occ(io)%asg(ia)%t1, rd%occ(io)%asg(ia)%t2
+      t = rd%occ(io)%tok(it)%text
+      count = count + nulls(rd%occ(io)%tok(it)%commas, it == rd%occ(io)%asg(ia)%t1)
+      if (it < rd%occ(io)%asg(ia)%t2 .and. rd%occ(io)%tok(it)%comma_comment) then
+        call add_err(rd, rd%occ(io)%tok(it)%line, head//'a comment follows the comma after '''// &
+          t//''' while the values go on on the next line (gfortran cannot read that); '// &
+          'allowed: no comment there, or no comma before it')
+        return
+      end if
+      if (rd%occ(io)%tok(it)%kind == tk_string) then
+        if (kind == 'c') then
+          count = count + 1
+          cycle
+        end if
+        call add_err(rd, rd%occ(io)%tok(it)%line, head//t//' is text in quotes, not '// &
+          kind_text(kind)//'; allowed: '//allowed_text(rd%occ(io)%group, name))
+        return
+      end if
+      if (kind == 'c' .and. .not. strict .and. bare_text(rd, io, it)) then
+        count = count + 1
+        cycle
+      else if (kind == 'c') then
+        call add_err(rd, rd%occ(io)%tok(it)%line, head//'text values need quotes ('// &
+          name//' = '''//t//''')'//missing_equals(t, rd%occ(io)%group)//'; allowed: '// &
+          allowed_text(rd%occ(io)%group, name))
+        return
+      end if
+      r = 1
+      rest = t
+      p = index(t, '*')
+      if (p > 1) then
+        if (verify(t(1:p-1), '0123456789') == 0) then
+          read(t(1:p-1), *, iostat=ios, iomsg=msg) r
+          if (ios /= 0) r = 1
+          rest = t(p+1:)
+        end if
+      end if
+      if (len(rest) > 0) then
+        select case (kind)
+        case ('r')
+          read(rest, *, iostat=ios, iomsg=msg) x
+        case ('i')
+          read(rest, *, iostat=ios, iomsg=msg) n
+        case default
+          read(rest, *, iostat=ios, iomsg=msg) l
+        end select
+        if (ios /= 0) then
+          what = ''''//rest//''' is not '//kind_text(kind)
+          if (kind == 'i') what = ''''//rest//''' is not an integer (or is too large)'
+          call add_err(rd, rd%occ(io)%tok(it)%line, head//what// &
+            missing_equals(rest, rd%occ(io)%group)// &
+            '; allowed: '//allowed_text(rd%occ(io)%group, name))
+          return
+        end if
+      end if
+      count = count + r
+    end do
+    if (count > cap) then
+      call add_err(rd, ln, head//'too many values ('//itoa(count)//' given, '//itoa(cap)// &
+        ' allowed); allowed: '//allowed_text(rd%occ(io)%group, name))
+    end if
+  end subroutine check_values
+
+  !> Null values before a value token that follows `commas` commas: each comma after '=' is
+  !! one (`x = , 2`), and each comma but the first between two values (`x = 1, , 3`).
+  pure integer function nulls(commas, first)
+    integer, intent(in) :: commas
+    logical, intent(in) :: first     !! the first value token of the assignment
+    if (first) then
+      nulls = commas
+    else
+      nulls = max(commas - 1, 0)
+    end if
+  end function nulls
+
+  !> Whether gfortran's namelist reader takes word token it as a text value without quotes:
+  !! it starts with a digit, has no repeat count, and no '!' or quote follows it directly
+  !! (those the reader would take into the text, and then fail).
+  logical function bare_text(rd, io, it)
+    type(reader_t), intent(in) :: rd
+    integer, intent(in) :: io, it
+    character(len=:), allocatable :: t
+    integer :: il
+    t = rd%occ(io)%tok(it)%text
+    il = rd%occ(io)%tok(it)%line
+    bare_text = index('0123456789', t(1:1)) > 0 .and. index(t, '*') == 0
+    if (bare_text) bare_text = index(rd%lines(il)%s, t//'!') == 0 .and. &
+      index(rd%lines(il)%s, t//'''') == 0 .and. index(rd%lines(il)%s, t//'"') == 0
+  end function bare_text
+
+  !> ' (is a ''='' missing after x?)' when word t is a variable name of the group.
+  pure function missing_equals(t, group) result(s)
+    character(len=*), intent(in) :: t, group
+    character(len=:), allocatable :: s
+    s = ''
+    if (spec_index(group, lower(t)) > 0) s = ' (is a ''='' missing after '''//t//'''?)'
+  end function missing_equals
+
+  pure function kind_text(kind) result(s)
+    character(len=1), intent(in) :: kind
+    character(len=:), allocatable :: s
+    select case (kind)
+    case ('r')
+      s = 'a real number'
+    case ('i')
+      s = 'an integer'
+    case ('l')
+      s = 'a logical (.true. or .false.)'
+    case default
+      s = 'text in quotes'
+    end select
+  end function kind_text
+
+  ! ------------------------------------------------------------------------ validators
+
+
+  ! ------------------------------------------------------------------------ validators
+
+  !> Check a real: finite, given (when required), in range. True when usable and given.
+  logical function chk_real(rd, io, var, x, required, lo, hi, lo_open, hi_open) result(good)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io
+    character(len=*), intent(in) :: var
+    real(wp), intent(in) :: x
+    logical, intent(in) :: required
+    real(wp), intent(in) :: lo, hi              !! range
+    logical, intent(in) :: lo_open, hi_open     !! lo < x, x < hi (else <=)
+    logical :: bad
+    good = .false.
+    if (.not. finite(x)) then
+      call err_var(rd, io, var, fmt_real(x), 'not a finite number')
+      return
+    end if
+    if (x == unset_real) then
+      if (required) call err_missing(rd, io, var)
+      return
+    end if
+    if (lo_open) then
+      bad = .not. (x > lo)
+    else
+      bad = .not. (x >= lo)
+    end if
+    if (hi_open) then
+      bad = bad .or. .not. (x < hi)
+    else
+      bad = bad .or. .not. (x <= hi)
+    end if
+    if (bad) then
+      call err_var(rd, io, var, fmt_real(x), 'out of range')
+      return
+    end if
+    good = .true.
+  end function chk_real
+
+  !> Check an integer: given (when required), >= ge. True when usable and given.
+  logical function chk_int(rd, io, var, n, required, ge) result(good)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io
+    character(len=*), intent(in) :: var
+    integer, intent(in) :: n
+    logical, intent(in) :: required
+    integer, intent(in) :: ge
+    good = .false.
+    if (n == iunset) then
+      if (required) call err_missing(rd, io, var)
+      return
+    end if
+    if (n < ge) then
+      call err_var(rd, io, var, itoa(n), 'out of range')
+      return
+    end if
+    good = .true.
+  end function chk_int
+
+  !> Check a 2-vector: finite, both components or none. Returns 2 (given), 0 (not given,
+  !! reported when required) or -1 (error reported).
+  integer function chk_vec(rd, io, var, v, required) result(n_given)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io
+    character(len=*), intent(in) :: var
+    real(wp), intent(in) :: v(2)
+    logical, intent(in) :: required
+    n_given = -1
+    if (.not. all(finite(v))) then
+      call err_var(rd, io, var, fmt_vec(v), 'not finite numbers')
+      return
+    end if
+    n_given = count(v /= unset_real)
+    if (n_given == 1) then
+      call err_var(rd, io, var, fmt_vec(v), 'needs 2 values, only one was given')
+      n_given = -1
+    else if (n_given == 0 .and. required) then
+      call err_missing(rd, io, var)
+    end if
+  end function chk_vec
+
+  !> Check an enumeration value (case-insensitive); returns its code or 0 (error reported).
+  integer function chk_enum(rd, io, var, text, names) result(id)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io
+    character(len=*), intent(in) :: var
+    character(len=*), intent(in) :: text
+    character(len=*), intent(in) :: names(:)
+    integer :: k
+    character(len=:), allocatable :: t
+    t = lower(trim(adjustl(text)))
+    id = 0
+    do k = 1, size(names)
+      if (t == trim(names(k))) id = k
+    end do
+    if (id == 0) call err_var(rd, io, var, quote(trim(adjustl(text))), 'not an allowed value'// &
+      suggestion(t, names))
+  end function chk_enum
+
+  !> Check the length of a text value.
+  logical function chk_text(rd, io, var, text, max_len) result(good)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io
+    character(len=*), intent(in) :: var
+    character(len=*), intent(in) :: text
+    integer, intent(in) :: max_len
+    good = len_trim(adjustl(text)) <= max_len
+    if (.not. good) call err_var(rd, io, var, quote(trim(adjustl(text))), 'too long ('// &
+      itoa(len_trim(adjustl(text)))//' characters)')
+  end function chk_text
+
+
+  !> Number of table entries given (leading, without gaps); reports gaps and non-finite values.
+  subroutine table_count(rd, io, var, t, n, ok)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io
+    character(len=*), intent(in) :: var
+    real(wp), intent(in) :: t(:)
+    integer, intent(out) :: n
+    logical, intent(inout) :: ok
+    integer :: k, last
+    n = 0
+    last = 0
+    do k = 1, size(t)
+      if (.not. finite(t(k))) then
+        call err_var(rd, io, var, fmt_real(t(k)), var//'('//itoa(k)//') is not a finite number')
+        ok = .false.
+        return
+      end if
+      if (t(k) /= unset_real) last = k
+    end do
+    do k = 1, last
+      if (t(k) == unset_real) then
+        call err_var(rd, io, var, fmt_list(t(1:last)), var//'('//itoa(k)// &
+          ') not given (a gap in the table)')
+        ok = .false.
+        return
+      end if
+    end do
+    n = last
+  end subroutine table_count
+
+  !> `file:line: &group #k: var = value: what; allowed: ...` for occurrence io; the line and
+  !! the value are those of the variable's assignment when the file has one.
+  subroutine err_var(rd, io, var, value, what, allowed)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io
+    character(len=*), intent(in) :: var, value, what
+    character(len=*), intent(in), optional :: allowed
+    integer :: ln
+    character(len=:), allocatable :: v, al
+    call var_where(rd, io, var, value, ln, v)
+    if (present(allowed)) then
+      al = allowed
+    else
+      al = allowed_text(rd%occ(io)%group, var)
+    end if
+    call add_err(rd, ln, label(rd, io)//': '//var//' = '//v//': '//what//'; allowed: '//al)
+    rd%occ(io)%ok = .false.
+  end subroutine err_var
+
+  !> A required variable is missing in occurrence io.
+  subroutine err_missing(rd, io, var)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io
+    character(len=*), intent(in) :: var
+    call add_err(rd, rd%occ(io)%line, label(rd, io)//': '//var//': missing (required); '// &
+      'allowed: '//allowed_text(rd%occ(io)%group, var))
+    rd%occ(io)%ok = .false.
+  end subroutine err_missing
+
+  !> A warning about a variable of occurrence io.
+  subroutine warn_var(rd, io, var, what)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io
+    character(len=*), intent(in) :: var, what
+    integer :: ln
+    character(len=:), allocatable :: v
+    call var_where(rd, io, var, '', ln, v)
+    if (len(v) > 0) then
+      call add_warn(rd, ln, label(rd, io)//': '//var//' = '//v//': '//what)
+    else
+      call add_warn(rd, ln, label(rd, io)//': '//var//': '//what)
+    end if
+  end subroutine warn_var
+
+  !> A warning about occurrence io as a whole.
+  subroutine warn_group(rd, io, what)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io
+    character(len=*), intent(in) :: what
+    call add_warn(rd, rd%occ(io)%line, label(rd, io)//': '//what)
+  end subroutine warn_group
+
+  ! ------------------------------------------------ the table's checks, by variable name
+
+  !> Check real `name` of v against its row: finite, given when required (the row's, or
+  !! `required` when present), in range. True when usable and given.
+  logical function chk_r(rd, io, v, name, required) result(good)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io
+    type(values_t), intent(in) :: v
+    character(len=*), intent(in) :: name
+    logical, intent(in), optional :: required
+    integer :: k
+    logical :: req
+    k = spec_index(v%group, name)
+    req = specs(k)%required
+    if (present(required)) req = required
+    good = chk_real(rd, io, trim(specs(k)%name), v%r(1, k), req, specs(k)%lo, specs(k)%hi, &
+                    specs(k)%lo_open, specs(k)%hi_open)
+  end function chk_r
+
+  !> Check integer `name` of v against its row (given when required, >= lo).
+  logical function chk_i(rd, io, v, name) result(good)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io
+    type(values_t), intent(in) :: v
+    character(len=*), intent(in) :: name
+    integer :: k
+    k = spec_index(v%group, name)
+    good = chk_int(rd, io, trim(specs(k)%name), v%i(k), specs(k)%required, &
+                   nint(max(specs(k)%lo, -1.0e9_wp)))
+  end function chk_i
+
+  !> Check 2-vector `name` of v: 2 (given), 0 (not given; reported when required), -1 (error
+  !! reported).
+  integer function chk_v(rd, io, v, name, required) result(n_given)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io
+    type(values_t), intent(in) :: v
+    character(len=*), intent(in) :: name
+    logical, intent(in), optional :: required
+    integer :: k
+    logical :: req
+    k = spec_index(v%group, name)
+    req = specs(k)%required
+    if (present(required)) req = required
+    n_given = chk_vec(rd, io, trim(specs(k)%name), v%r(1:2, k), req)
+  end function chk_v
+
+  !> Check the name given for `name` against its list; its code, or 0 (error reported).
+  integer function chk_e(rd, io, v, name) result(id)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io
+    type(values_t), intent(in) :: v
+    character(len=*), intent(in) :: name
+    integer :: k
+    k = spec_index(v%group, name)
+    id = chk_enum(rd, io, trim(specs(k)%name), v%c(k), enum_names(trim(specs(k)%name)))
+  end function chk_e
+
+  !> Check the length of text `name`.
+  logical function chk_t(rd, io, v, name) result(good)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io
+    type(values_t), intent(in) :: v
+    character(len=*), intent(in) :: name
+    integer :: k
+    k = spec_index(v%group, name)
+    good = chk_text(rd, io, trim(specs(k)%name), v%c(k), specs(k)%max_len)
+  end function chk_t
+
+  ! ------------------------------------------------------------------------ accessors
+
+  real(wp) function vreal(v, name)
+    type(values_t), intent(in) :: v
+    character(len=*), intent(in) :: name
+    vreal = v%r(1, spec_index(v%group, name))
+  end function vreal
+
+  function vvec(v, name) result(x)
+    type(values_t), intent(in) :: v
+    character(len=*), intent(in) :: name
+    real(wp) :: x(2)
+    x = v%r(1:2, spec_index(v%group, name))
+  end function vvec
+
+  function vtab(v, name) result(x)
+    type(values_t), intent(in) :: v
+    character(len=*), intent(in) :: name
+    real(wp) :: x(max_table)
+    x = v%r(:, spec_index(v%group, name))
+  end function vtab
+
+  integer function vint(v, name)
+    type(values_t), intent(in) :: v
+    character(len=*), intent(in) :: name
+    vint = v%i(spec_index(v%group, name))
+  end function vint
+
+  function vtext(v, name) result(s)
+    type(values_t), intent(in) :: v
+    character(len=*), intent(in) :: name
+    character(len=long_len) :: s
+    s = v%c(spec_index(v%group, name))
+  end function vtext
+
+  logical function vlog(v, name)
+    type(values_t), intent(in) :: v
+    character(len=*), intent(in) :: name
+    vlog = v%l(spec_index(v%group, name))
+  end function vlog
+
+  subroutine set_int(v, name, n)
+    type(values_t), intent(inout) :: v
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: n
+    v%i(spec_index(v%group, name)) = n
+  end subroutine set_int
+end module mpm_config_values
