@@ -231,7 +231,7 @@ contains
   !> The four corners of particle ip's domain for basis `basis`, counter-clockwise [m]: the
   !! shared CPDI2 corners; the CPDI1 parallelogram x -+ r1 -+ r2 with r = F r0; otherwise
   !! (linear, uGIMP) the axis-aligned square x -+ half. The one answer to "where is this
-  !! particle's material" (wall gaps, output, the basis weights).
+  !! particle's material" (wall gaps, output; the basis step gathers CPDI2 corners inline).
   pure function particle_corners(p, ip, basis) result(xq)
     type(particles_t), intent(in) :: p        !! particles
     integer, intent(in) :: ip                 !! particle

@@ -5,7 +5,9 @@ src/mpm_config_table.f90 (the one declaration of every namelist variable).
 
 For every group, the names in the first column of the table under the heading `## &<group>`
 are compared with the rows `var_spec_t('<group>', '<name>', ...)` of the source; a name in one
-but not the other is a failure. The variables used in the full example of the docs must
+but not the other is a failure. The unit column must be the unit in brackets at the end of the
+row's echo comment (`-` when it has none), and for a variable with a list of names the default
+column must name the row's default (`c0`). The variables used in the full example of the docs must
 be in the tables as well. Prints `test_docs_input: N passed, M failed` last; exit 1 on failure.
 Standard library only.
 """
@@ -30,6 +32,41 @@ def source_groups(text):
     for m in re.finditer(r"var_spec_t\(\s*'(\w+)'\s*,\s*'(\w+)'", text):
         groups.setdefault(m.group(1).lower(), []).append(m.group(2).lower())
     return groups
+
+
+def source_rows(text):
+    """{(group, name): (unit, default name or None)} from the rows of the table."""
+    rows = {}
+    for m in re.finditer(r"var_spec_t\(\s*'(\w+)'\s*,\s*'(\w+)'(.*?)\)\s*(?:,\s*&|\])", text,
+                         re.DOTALL):
+        rest = re.sub(r"'\s*//\s*&\s*\n\s*'", "", m.group(3))   # join continued texts
+        comment = re.search(r"comment='((?:[^']|'')*)'", rest)
+        unit = re.search(r"\[([^\]]*)\]\s*$", comment.group(1)) if comment else None
+        kind_e = re.match(r"\s*,\s*'e'", rest) is not None
+        c0 = re.search(r"c0='(\w*)'", rest)
+        rows[(m.group(1).lower(), m.group(2).lower())] = (
+            unit.group(1) if unit else "-", c0.group(1) if (kind_e and c0) else None)
+    return rows
+
+
+def doc_cells(text):
+    """{(group, name): [cells of its table row]}."""
+    cells_of = {}
+    current = None
+    for line in text.splitlines():
+        h = re.match(r"^##\s+&(\w+)\s*$", line)
+        if h:
+            current = h.group(1).lower()
+            continue
+        if line.startswith("## "):
+            current = None
+            continue
+        if current is None or not line.startswith("|"):
+            continue
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        for name in re.findall(r"`([A-Za-z_]\w*)`", cells[0]):
+            cells_of[(current, name.lower())] = cells
+    return cells_of
 
 
 def doc_groups(text):
@@ -95,6 +132,18 @@ def main():
             check(name in s, f"&{group}: {name} is in the docs table but not in the namelist")
         dup = sorted({n for n in doc.get(group, []) if doc[group].count(n) > 1})
         check(not dup, f"&{group}: listed more than once in the docs: {dup}")
+    rows = source_rows(src_text)
+    cells_of = doc_cells(doc_text)
+    check(len(rows) == sum(len(v) for v in src.values()), "every row of the table parsed")
+    for key in sorted(set(rows) & set(cells_of)):
+        unit, default = rows[key]
+        cells = cells_of[key]
+        check(len(cells) >= 5 and cells[2] == unit,
+              f"&{key[0]}: {key[1]}: unit {cells[2] if len(cells) > 2 else '?'!r} in the docs, "
+              f"{unit!r} in the table's comment")
+        if default is not None:
+            check(len(cells) >= 5 and f"'{default}'" in cells[4],
+                  f"&{key[0]}: {key[1]}: default '{default}' of the table not in the docs")
     used = example_names(doc_text)
     check(used is not None, "docs/input.md has no '## Full example' with a fenced block")
     for group, names in (used or {}).items():
