@@ -3,7 +3,8 @@
 !! annulus, must keep that stress: free surfaces free (sigma_rr small) and the hoop stress of
 !! the closed form.
 !!   usage: test_rotation [SCRATCH] [--basis=NAME] [--h=H] [--nt=N] [--cfl=C] [--model=M]
-!!          [--scheme=S] [--turn=RAD] [--zero]   (experiments; --zero: start unstressed)
+!!          [--scheme=S] [--turn=RAD] [--v=V] [--flip=F] [--zero]   (experiments; --zero:
+!!          start unstressed)
 ! SPDX-License-Identifier: MIT
 !
 ! Closed form (Timoshenko & Goodier, Theory of Elasticity, sec. 32, rotating disk with a
@@ -23,7 +24,7 @@ program test_rotation
   real(wp), parameter :: E = 70.0e9_wp, nu = 0.33_wp
   character(len=256) :: scratch, arg
   character(len=16) :: basis, model, scheme
-  real(wp) :: h, cfl, turn, vrim
+  real(wp) :: h, cfl, turn, vrim, flip
   integer :: nt, k
   logical :: zero, experiment
 
@@ -36,6 +37,7 @@ program test_rotation
   cfl = 0.2_wp
   turn = 0.5_wp
   vrim = 30.0_wp
+  flip = 1.0_wp
   zero = .false.
   experiment = .false.
   do k = 1, command_argument_count()
@@ -53,6 +55,7 @@ program test_rotation
     if (arg(1:6) == '--cfl=') read(arg(7:), *) cfl
     if (arg(1:7) == '--turn=') read(arg(8:), *) turn
     if (arg(1:4) == '--v=') read(arg(5:), *) vrim
+    if (arg(1:7) == '--flip=') read(arg(8:), *) flip
     if (trim(arg) == '--zero') zero = .true.
   end do
   if (experiment) then
@@ -97,8 +100,8 @@ contains
     if (ios /= 0) return
     write(u, '(a,es24.16,a,es24.16,a)') "&run title = 'spin', t_end = ", t_end, ', cfl = ', &
       cfl, ' /'
-    write(u, '(5a)') "&solver basis = '", trim(basis), "', scheme = '", trim(scheme), &
-      "', plane = 'strain' /"
+    write(u, '(5a,es24.16,a)') "&solver basis = '", trim(basis), "', scheme = '", &
+      trim(scheme), "', plane = 'strain', flip = ", flip, ' /'
     write(u, '(a,es24.16,a)') '&grid h = ', h, ' /'
     write(u, '(3a,es24.16,a,es24.16,a,es24.16,a)') "&material name = 'alu', model = '", &
       trim(model), "', E = ", E, ', nu = ', nu, ', rho = ', rho, ' /'
