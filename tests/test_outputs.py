@@ -307,11 +307,11 @@ def check_xdmf(outdir: Path, snaps: list[dict]) -> None:
     if not check(path.is_file(), f"{path} exists"):
         return
     try:
-        root = ET.parse(path).getroot()
+        root, err = ET.parse(path).getroot(), ""
     except ET.ParseError as exc:
-        check(False, f"particles.xdmf parses as XML: {exc}")
+        root, err = None, str(exc)
+    if not check(root is not None, f"particles.xdmf parses as XML {err}"):
         return
-    check(True, "particles.xdmf parses as XML")
     check(root.tag == "Xdmf" and root.get("Version", "").startswith("3"), "root is <Xdmf "
           "Version=\"3...\">")
     coll = root.find("./Domain/Grid")
@@ -372,11 +372,11 @@ def check_input_echo(outdir: Path) -> None:
     if not check(path.is_file(), f"{path} exists"):
         return
     try:
-        groups = namelist.read_namelist(path)
+        groups, err = namelist.read_namelist(path), ""
     except Exception as exc:  # noqa: BLE001
-        check(False, f"input.nml reads back with read_namelist: {exc}")
+        groups, err = None, str(exc)
+    if not check(groups is not None, f"input.nml reads back with read_namelist {err}"):
         return
-    check(True, "input.nml reads back with read_namelist")
     for g in GROUPS:
         check(g in groups, f"input.nml has &{g}")
     check(len(groups.get("probe", [])) == len(PROBES), "input.nml has both probes")

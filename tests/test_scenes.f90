@@ -85,24 +85,23 @@ contains
                      rtol=0.03_wp)
   end subroutine test_elastic_stiffness
 
-  !> Elastic ring on a rigid frictionless target: it rebounds, the impulse on the target equals
-  !! m (V0 + Vr), and contact starts when the surface reaches the plane (not a cell early).
+  !> Elastic ring on a rigid frictionless target: it rebounds with Bao & Yu's coefficient of
+  !! restitution, and contact starts when the surface reaches the plane (not a cell early).
+  !! (The impulse on the target equals m (V0 + Vr) by the scheme's momentum balance, which is
+  !! no test; the closed-form impulse 2 m V of the elastic bar is in test_solver.)
   subroutine test_impact_rebound()
     type(config_t) :: cfg
     type(sim_t) :: s
-    real(wp) :: imp(2), v0, vr, mass, t_contact, dt_contact, gap, factor
+    real(wp) :: v0, vr, mass, t_contact, dt_contact, gap
     call begin_test('elastic ring impact on a rigid target')
     call load('impact_half.nml', cfg, s)
-    factor = sector_factor(cfg)
     mass = sum(s%p%mass)
     v0 = sum(s%p%mass*s%p%v(2, :))/mass
     gap = cfg%bodies(1)%center(2) - cfg%bodies(1)%r_outer
-    imp = 0.0_wp
     t_contact = -1.0_wp
     dt_contact = 0.0_wp
     do while (s%t < s%prm%t_end)
       call step(s)
-      imp = imp + s%walls(1)%impulse
       if (t_contact < 0.0_wp .and. abs(s%walls(1)%impulse(2)) > 0.0_wp) then
         t_contact = s%t - s%dt
         dt_contact = s%dt
@@ -112,11 +111,13 @@ contains
     print '(a,f8.4,a,f8.4,a,f7.4,a,es11.4,a,es11.4)', '  V0 ', v0, ' m/s, rebound ', vr, &
       ' m/s, COR ', -vr/v0, ', contact at ', t_contact, ' s, expected ', gap/abs(v0)
     call check(vr > 0.0_wp, 'the ring rebounds')
-    call check_close(imp(2)*factor, mass*factor*(vr - v0), 'impulse on the target = m (Vr + V0)', &
-                     rtol=0.01_wp)
     call check_close(t_contact, gap/abs(v0), 'contact begins within one step of gap / V0', &
                      atol=dt_contact)
-    call check(-vr/v0 > 0.5_wp .and. -vr/v0 <= 1.0_wp, 'elastic COR between 0.5 and 1')
+    ! Bao & Yu (2015): an elastic ring striking a rigid target at low speed rebounds with a
+    ! coefficient of restitution of 0.75-0.78 (the rest of the energy stays in vibration);
+    ! measured here 0.7624 (docs/verification.md)
+    call check(-vr/v0 >= 0.75_wp .and. -vr/v0 <= 0.78_wp, 'elastic COR in Bao & Yu''s '// &
+               '0.75-0.78')
   end subroutine test_impact_rebound
 
   !> Force of the top platen of the full structure, averaged in windows of the run [N].
@@ -160,17 +161,18 @@ contains
                      rtol=0.02_wp)
   end subroutine test_sectors
 
-  !> Nearly perfectly plastic ring crushed slowly: the force over delta/D = 0.1 ... 0.3 follows
+  !> Nearly perfectly plastic ring crushed slowly: the force over delta/D = 0.1 ... 0.3 against
   !! DeRuntz & Hodge, P = P0 / sqrt(1 - (delta/D)^2), P0 = 4 M0 / R, M0 = sigma0 t^2/(2 sqrt 3)
-  !! (plane strain), within 10 %; kinetic energy under 5 % of the plastic work there; the energy
-  !! balance closes within 2 % of the work put in.
+  !! (plane strain); kinetic energy under 5 % of the plastic work there; and the energy balance
+  !! recomputed here from the particle state and the platen's force and travel, independently
+  !! of the solver's energy accounts.
   subroutine test_plastic_crush()
     integer, parameter :: nbin = 4
     type(config_t) :: cfg
     type(sim_t) :: s
     real(wp) :: R, t, D, p0, x, imp(2, nbin), tin(nbin), dbin, f, ratio(nbin), kmax, bal
-    real(wp) :: factor, wmax
-    integer :: k
+    real(wp) :: factor, wmax, work, travel_old, travel, e(3), ind_bal, ind_bal_max, ind_wmax
+    integer :: k, nstep
     call begin_test('plastic ring crush against DeRuntz-Hodge')
     call load('crush_quarter.nml', cfg, s)
     factor = sector_factor(cfg)
@@ -184,8 +186,14 @@ contains
     kmax = 0.0_wp
     bal = 0.0_wp
     wmax = 0.0_wp
+    work = 0.0_wp
+    ind_bal_max = 0.0_wp
+    ind_wmax = 0.0_wp
+    nstep = 0
+    travel_old = wall_travel(s%walls(1), s%t)
     do while (s%t < s%prm%t_end)
       call step(s)
+      nstep = nstep + 1
       x = 2.0_wp*(-wall_travel(s%walls(1), s%t - 0.5_wp*s%dt))/D     ! mid-step delta/D
       if (x >= 0.1_wp .and. x < 0.3_wp) then
         k = min(nbin, 1 + int((x - 0.1_wp)/dbin))
@@ -195,6 +203,17 @@ contains
       end if
       wmax = max(wmax, abs(s%e_external))
       bal = max(bal, abs(s%e_kin + s%e_strain + s%e_plastic + s%e_damped - s%e_external - s%e0))
+      ! work of the platen on the ring: its mean force over the step (impulse / dt) times its
+      ! displacement, the plane moving by -(travel change) along its normal
+      travel = wall_travel(s%walls(1), s%t)
+      work = work - (travel - travel_old)*dot_product(s%walls(1)%impulse, s%walls(1)%normal)/s%dt
+      travel_old = travel
+      ind_wmax = max(ind_wmax, abs(work))
+      if (mod(nstep, 10) == 0 .or. s%t >= s%prm%t_end) then
+        e = particle_energies(s, cfg)
+        ind_bal = abs(sum(e) - work)            ! E0 = 0: the ring starts at rest, unstressed
+        ind_bal_max = max(ind_bal_max, ind_bal)
+      end if
     end do
     call check(all(tin > 0.0_wp), 'the crush reaches delta/D = 0.3')
     if (.not. all(tin > 0.0_wp)) return
@@ -203,16 +222,68 @@ contains
       x = 0.1_wp + (real(k, wp) - 0.5_wp)*dbin
       ratio(k) = f/(p0/sqrt(1.0_wp - x**2))
     end do
-    print '(a,4f8.4)', '  force / DeRuntz-Hodge in delta/D bins of 0.05 from 0.1: ', ratio
+    e = particle_energies(s, cfg)
+    print '(a,4f8.4,a,f8.4)', '  force / DeRuntz-Hodge in delta/D bins of 0.05 from 0.1: ', &
+      ratio, ', mean ', sum(ratio)/real(nbin, wp)
     print '(a,f8.4,a,f8.4)', '  max kinetic/plastic ', kmax, ', energy balance error / work ', &
       bal/wmax
-    call check_close(ratio, [1.0_wp, 1.0_wp, 1.0_wp, 1.0_wp], &
-                     'force within 10 % of DeRuntz-Hodge over delta/D = 0.1-0.3', rtol=0.10_wp)
+    print '(a,es12.5,a,es12.5,a,es12.5,a,es12.5)', '  independent: work ', work, &
+      ' J/m (solver ', s%e_external, '), plastic ', e(3), ' J/m (solver ', s%e_plastic
+    print '(a,f8.5,a,f8.5)', '  independent largest imbalance / work ', &
+      ind_bal_max/ind_wmax, ', solver energy_error ', s%energy_error
+    ! Measured 1.062, 1.041, 1.068, 1.093 (mean 1.066): at this resolution (n_t = 6, h = t/3)
+    ! the crush force lies 4-9 % above DeRuntz-Hodge and falls towards it under refinement
+    ! (1.05 at n_t = 8, h = t/4; docs/verification.md); the hardening of 1 MPa adds < 0.1 %.
+    ! Asserted: every bin in 1.02-1.12 (the measured band with a margin of 2-3 % for the
+    ! grid-crossing ripple of the bins) and the mean 1.066 +- 0.02, so a systematic shift of
+    ! 2 %, larger than a resolution step of the study, fails.
+    call check(all(ratio > 1.02_wp .and. ratio < 1.12_wp), &
+               'force / DeRuntz-Hodge in 1.02-1.12 in every delta/D bin of 0.1-0.3')
+    call check_close(sum(ratio)/real(nbin, wp), 1.066_wp, &
+                     'mean force / DeRuntz-Hodge = 1.066 +- 0.02', atol=0.02_wp)
     call check(kmax < 0.05_wp, 'kinetic energy under 5 % of plastic work')
     call check(bal < 0.02_wp*wmax, 'energy balance within 2 % of the work put in')
-    call check_close(s%energy_error, bal/max(s%e0, wmax), &
-                     'energy_error = largest imbalance / max(E0, largest external work)', &
-                     rtol=1.0e-12_wp)
+    ! the independent accounts: plastic work from each particle's equivalent plastic strain
+    ! and the hardening law (not the solver's dissipation sums; they differ by the elastic
+    ! volume change, p/K < 0.2 %, measured 1e-5), stored energy from the stress by the bulk
+    ! and shear compliances, platen work from force times travel (exact over the ramp, where
+    ! the solver takes the mid-step velocity). Measured: imbalance 0.01271 here, energy_error
+    ! 0.01269; the tolerance 0.001 covers sampling every 10th step here.
+    call check(ind_bal_max < 0.02_wp*ind_wmax, 'independent energy balance within 2 % of the '// &
+               'work put in')
+    call check_close(e(3), s%e_plastic, 'plastic work from eqps = solver plastic dissipation '// &
+                     '(0.1 %)', rtol=1.0e-3_wp)
+    call check_close(work, s%e_external, 'platen work force x travel = solver external work '// &
+                     '(1e-6)', rtol=1.0e-6_wp)
+    call check_close(s%energy_error, ind_bal_max/ind_wmax, 'solver energy_error = '// &
+                     'independent largest imbalance / work (+- 0.001)', atol=1.0e-3_wp)
     call check(factor == 4.0_wp, 'quarter model outputs scale by 4')
   end subroutine test_plastic_crush
+
+  !> Kinetic, stored elastic and plastic energy of the particles [J/m], from their state alone:
+  !! sum m v^2/2; sum V (p^2/(2K) + s:s/(4 mu)) with p = tr(sigma)/3 and s the deviator (3-D,
+  !! sigma_zz of plane strain); sum V (sigma_y eqps + H eqps^2/2) (linear hardening, no rate law).
+  function particle_energies(s, cfg) result(e)
+    type(sim_t), intent(in) :: s
+    type(config_t), intent(in) :: cfg
+    real(wp) :: e(3)
+    real(wp) :: bulk, shear, pm, dev(4), sy, hd
+    integer :: ip
+    associate (m => cfg%materials(1))
+      bulk = m%E/(3.0_wp*(1.0_wp - 2.0_wp*m%nu))
+      shear = m%E/(2.0_wp*(1.0_wp + m%nu))
+      sy = m%sigma_y
+      hd = m%hardening
+    end associate
+    e = 0.0_wp
+    do ip = 1, s%p%np
+      e(1) = e(1) + 0.5_wp*s%p%mass(ip)*(s%p%v(1, ip)**2 + s%p%v(2, ip)**2)
+      pm = (s%p%stress(1, ip) + s%p%stress(2, ip) + s%p%stress(4, ip))/3.0_wp
+      dev = [s%p%stress(1, ip) - pm, s%p%stress(2, ip) - pm, s%p%stress(3, ip), &
+             s%p%stress(4, ip) - pm]
+      e(2) = e(2) + s%p%vol(ip)*(0.5_wp*pm**2/bulk + (dev(1)**2 + dev(2)**2 + dev(4)**2 + &
+             2.0_wp*dev(3)**2)/(4.0_wp*shear))
+      e(3) = e(3) + s%p%vol(ip)*(sy*s%p%eqps(ip) + 0.5_wp*hd*s%p%eqps(ip)**2)
+    end do
+  end function particle_energies
 end program test_scenes

@@ -55,9 +55,10 @@ def test_render() -> None:
     for bad in ({"probe[8].point": (0.0, 0.0)}, {"grid h": 1.0}):
         try:
             batch.render(base, bad)
-            check(False, f"render: {bad} should be refused")
+            refused = False
         except ValueError:
-            check(True, "")
+            refused = True
+        check(refused, f"render: {bad} is refused with ValueError")
     check(batch.fortran_value([1.5, 2]) == "1.5, 2", "fortran_value of a list")
     check(batch.fortran_value(False) == ".false.", "fortran_value of a bool")
 
