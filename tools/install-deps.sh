@@ -3,15 +3,17 @@
 # Install what tubempm needs and is missing: Debian packages (gfortran, HDF5 Fortran, pkg-config)
 # and the Python packages of plots/requirements.txt. Idempotent; silent when all is present.
 # Without root it prints the exact commands to run by hand and exits 2.
-#   usage: tools/install-deps.sh [--python-only|--fortran-only]
+# --ccx: also CalculiX's solver ccx (Debian package calculix-ccx), for `make fe-reference`.
+#   usage: tools/install-deps.sh [--python-only|--fortran-only|--ccx]
 set -u
 here=$(cd "$(dirname "$0")/.." && pwd)
-want_fortran=1; want_python=1
+want_fortran=1; want_python=1; want_ccx=0
 case "${1:-}" in
   --python-only) want_fortran=0 ;;
   --fortran-only) want_python=0 ;;
+  --ccx) want_fortran=0; want_ccx=1 ;;
   "") ;;
-  *) echo "usage: $0 [--python-only|--fortran-only]" >&2; exit 2 ;;
+  *) echo "usage: $0 [--python-only|--fortran-only|--ccx]" >&2; exit 2 ;;
 esac
 
 missing_deb=()
@@ -31,6 +33,11 @@ if [ $want_fortran = 1 ]; then
     done
   fi
   [ $hdf5_ok = 1 ] || missing_deb+=(libhdf5-dev)
+fi
+if [ $want_ccx = 1 ]; then
+  # the FE reference was made with ccx 2.20 (Debian 12's calculix-ccx); another version runs
+  # but may give a slightly different curve
+  command -v ccx >/dev/null 2>&1 || missing_deb+=(calculix-ccx)
 fi
 py=${PYTHON:-python3}
 missing_py=()
@@ -55,7 +62,8 @@ if [ ${#missing_deb[@]} -gt 0 ]; then
   if [ "$sudo" = NONE ] || ! command -v apt-get >/dev/null 2>&1; then
     echo "tubempm needs these system packages, which this script cannot install here:" >&2
     echo "    sudo apt-get install -y ${missing_deb[*]}" >&2
-    echo "(on other systems: gfortran, the HDF5 Fortran library with pkg-config file, python3-pip)" >&2
+    echo "(on other systems: gfortran, the HDF5 Fortran library with pkg-config file, python3-pip;" >&2
+    echo " for make fe-reference: CalculiX 2.20's ccx on PATH, from www.calculix.de)" >&2
     [ ${#missing_py[@]} -gt 0 ] && \
       echo "and the Python packages:  python3 -m pip install -r $here/plots/requirements.txt" >&2
     exit 2
