@@ -137,9 +137,11 @@ def test_decks(scratch: Path) -> None:
                                          - np.roll(xy[:, 0], -1) * xy[:, 1])))
     check(min(areas) > 0.0, "every element's corners run counter-clockwise (positive area)")
     area = sum(areas)
-    # corner-node polygons of a quarter annulus: area below pi/4 (r_o^2 - r_i^2), within 1 %
-    exact = math.pi / 4.0 * (c.r_outer ** 2 - c.r_inner ** 2)
-    check(0.99 * exact < area <= exact, f"quarter annulus area {area:.4f} of {exact:.4f}")
+    # the corner nodes make n_c trapezoids of angle dth = (pi/2)/n_c between the two circles:
+    # area n_c (r_o^2 - r_i^2) sin(dth) / 2 (the annulus' pi/4 (r_o^2 - r_i^2) as dth -> 0)
+    dth = 0.5 * math.pi / 6
+    exact = 6 * (c.r_outer ** 2 - c.r_inner ** 2) * math.sin(dth) / 2.0
+    check(abs(area / exact - 1.0) < 1e-9, f"quarter annulus polygon area {area:.6f} of {exact:.6f}")
     check(len(sets["outer"]) == 6 and len(sets["xmirror"]) == 5, "outer faces and mirror nodes")
     # a namelist the FE reference cannot model is refused with its file and variable
     bad = scratch / "bad.nml"
