@@ -79,6 +79,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--docs", type=Path, default=ROOT / "docs" / "fe_reference")
     ap.add_argument("--curves", type=Path, default=ROOT / "docs" / "study" / "curves")
     ap.add_argument("--case", type=Path, default=ROOT / "namelists" / "crush.nml")
+    ap.add_argument("--table", type=Path, default=ROOT / "docs" / "study" / "study_full.csv",
+                    help="the study's table: CPU seconds and the self-referenced error per run")
     a = ap.parse_args(argv)
     meshes = fe_meshes(a.docs)
     if not meshes:
@@ -104,17 +106,25 @@ def main(argv: list[str] | None = None) -> int:
         rows.append({"curve": name, "kind": kind, "err": rel_l2(w, ref),
                      "err_s": rel_l2(ws, ref_s), "mean": np.mean(w) / 1e3,
                      "over_fe": np.mean(w) / np.mean(ref), "over_dh": np.mean(w) / np.mean(dh)})
+    table = {}
+    if a.table.is_file():
+        with open(a.table, newline="") as fh:
+            table = {r["name"]: r for r in csv.DictReader(fh)}
     with open(a.docs / "errors_vs_fe.csv", "w", newline="") as fh:
         wr = csv.writer(fh)
         wr.writerow(["curve", "kind", "err_L2_vs_fe", "err_smooth_vs_fe", "force_mean_kN_per_m",
-                     "force_mean_over_fe", "force_mean_over_dh"])
+                     "force_mean_over_fe", "force_mean_over_dh", "err_L2_vs_study_ref", "cpu_s"])
         print(f"{'curve':>42s}  {'L2 vs FE':>8s}  {'smoothed':>8s}  {'mean F':>11s}  "
-              f"{'/FE':>6s}  {'/DH':>6s}")
+              f"{'/FE':>6s}  {'/DH':>6s}  {'self':>6s}  {'CPU s':>6s}")
         for row in rows:
+            st = table.get(row["curve"], {})
+            self_err, cpu = st.get("err_F_L2", ""), st.get("cpu_s", "")
             wr.writerow([row["curve"], row["kind"], f"{row['err']:.5f}", f"{row['err_s']:.5f}",
-                         f"{row['mean']:.4f}", f"{row['over_fe']:.5f}", f"{row['over_dh']:.5f}"])
+                         f"{row['mean']:.4f}", f"{row['over_fe']:.5f}", f"{row['over_dh']:.5f}",
+                         self_err, cpu])
             print(f"{row['curve']:>42s}  {100 * row['err']:7.2f}%  {100 * row['err_s']:7.2f}%  "
-                  f"{row['mean']:6.3f} kN/m  {row['over_fe']:.4f}  {row['over_dh']:.4f}")
+                  f"{row['mean']:6.3f} kN/m  {row['over_fe']:.4f}  {row['over_dh']:.4f}  "
+                  f"{self_err[:6]:>6s}  {cpu[:6]:>6s}")
 
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4.3))
     xd = np.linspace(0.0, 0.55, 200)

@@ -25,6 +25,8 @@ The model (docs/fe_reference/README.md):
     python3 tools/fe_reference/fe_reference.py                 # the study's crush, 3 meshes
     python3 tools/fe_reference/fe_reference.py --deck-only     # write the decks, no ccx
     python3 tools/fe_reference/fe_reference.py --meshes 2x26   # one mesh (n_t x n_c)
+    python3 tools/fe_reference/fe_reference.py --meshes 4x52 --increments 550 \
+        --docs out/fe_sens/docs --work out/fe_sens/work          # a sensitivity check
 """
 from __future__ import annotations
 
@@ -396,7 +398,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--work", type=Path, default=WORK, help="run folders")
     ap.add_argument("--deck-only", action="store_true", help="write the decks, do not run ccx")
     ap.add_argument("--force", action="store_true", help="re-run meshes that have a result")
+    ap.add_argument("--increments", type=int, default=INCREMENTS,
+                    help="equal load increments (a sensitivity check; use other --docs/--work)")
+    ap.add_argument("--penalty", type=float, default=PENALTY_OVER_E,
+                    help="contact penalty over E per mm (a sensitivity check)")
     a = ap.parse_args(argv)
+    globals().update(INCREMENTS=a.increments, PENALTY_OVER_E=a.penalty)
     try:
         c = read_crush(a.case)
         meshes = [tuple(int(v) for v in m.lower().split("x")) for m in a.meshes]
