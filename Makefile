@@ -119,7 +119,7 @@ figures: deps
 	@$(MAKE) --no-print-directory all
 
 ## fe-reference: the CalculiX reference of the study's crush (installs calculix-ccx where
-##               missing; about 10 CPU min, one thread): decks, curves and convergence in
+##               missing; about 20 CPU min, one thread): decks, curves and convergence in
 ##               docs/fe_reference/, runs in out/fe_reference/ (reused when the deck is unchanged),
 ##               then the comparison with the study's crush curves (docs/fe_reference/crush_fe.png)
 fe-reference: deps
