@@ -138,8 +138,10 @@ def main(argv: list[str] | None = None) -> int:
         if p != meshes[-1][2]:
             bx.plot(xw, 100 * (smooth_on_window(x, f) - ref_s) / ref_s, color=col, lw=1.0,
                     label=f"FE {n_t}×{n_c}")
-    picks = [("crush_cpdi2_musl_h1_8_nt16_a1_cfl0.2", "C0"), ("crush_cpdi2_musl_h1_4_nt8_a1_cfl0.2", "C1"),
-             ("crush_cpdi2_musl_h1_4_nt16_a1_cfl0.2", "C2"), ("crush_cpdi2_musl_h1_4_nt4_a1_cfl0.2", "C3")]
+    picks = [("crush_cpdi2_musl_h1_8_nt16_a1_cfl0.2", "C0"),
+             ("crush_cpdi2_musl_h1_4_nt8_a1_cfl0.2", "C1"),
+             ("crush_cpdi2_musl_h1_4_nt16_a1_cfl0.2", "C2"),
+             ("crush_cpdi2_musl_h1_4_nt4_a1_cfl0.2", "C3")]
     names = {"crush_cpdi2_musl_h1_8_nt16_a1_cfl0.2": "MPM h = t/8, n_t = 16 (study ref.)",
              "crush_cpdi2_musl_h1_4_nt8_a1_cfl0.2": "MPM h = t/4, n_t = 8",
              "crush_cpdi2_musl_h1_4_nt16_a1_cfl0.2": "MPM h = t/4, n_t = 16",

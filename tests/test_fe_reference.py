@@ -113,7 +113,8 @@ def test_convergence() -> None:
     ref = curves[-1]
     errs = [fe.rel_l2(c, ref) for c in curves[:-1]]
     check(len(curves) >= 3, "at least three meshes")
-    check(errs[-1] < 0.005, f"second-finest mesh within 0.5 % of the finest ({100 * errs[-1]:.3f} %)")
+    check(errs[-1] < 0.005,
+          f"second-finest mesh within 0.5 % of the finest ({100 * errs[-1]:.3f} %)")
     check(all(a > b for a, b in zip(errs, errs[1:])), f"errors shrink with the mesh: {errs}")
     # rel_l2 itself: a curve 1 % above is 1 % off
     check(abs(fe.rel_l2(1.01 * ref, ref) - 0.01) < 1e-12, "rel_l2 of a 1 % offset")

@@ -109,7 +109,8 @@ def read_crush(path: Path) -> Crush:
     if r["model"] != "j2":
         raise InputError(f"{where}: &material model = '{r['model']}': the FE reference models 'j2'")
     if r["plane"] != "strain":
-        raise InputError(f"{where}: &solver plane = '{r['plane']}': the FE reference is plane strain")
+        raise InputError(f"{where}: &solver plane = '{r['plane']}': the FE reference is "
+                         f"plane strain")
     for key in ("E", "nu", "sigma_y"):
         if not math.isfinite(r[key]):
             raise InputError(f"{where}: &material {key}: missing")
@@ -236,13 +237,15 @@ def platen_travel(c: Crush) -> float:
     return 0.5 * DELTA_END * c.D
 
 
-def write_deck(c: Crush, n_t: int, n_c: int) -> str:
-    """The ccx input for one mesh (deterministic text: the test regenerates and compares it)."""
+def write_deck(c: Crush, n_t: int, n_c: int, increments: int = INCREMENTS,
+               penalty: float = PENALTY_OVER_E) -> str:
+    """The ccx input for one mesh (deterministic text: the test regenerates and compares it);
+    increments: equal load increments; penalty: contact penalty over E per mm."""
     nodes, elems, sets = ring_mesh(c, n_t, n_c)
     first_node = max(nodes) + 1
     pnodes, pelems, pfaces = platen_mesh(c, first_node, len(elems) + 1)
     u = platen_travel(c)
-    dt = 1.0 / INCREMENTS
+    dt = 1.0 / increments
     out = [
         "** tubempm FE reference (tools/fe_reference/fe_reference.py): quasi-static crush",
         f"** case {c.source}: quarter ring, plane strain CPE8R, n_t = {n_t} x n_c = {n_c}",
@@ -274,14 +277,14 @@ def write_deck(c: Crush, n_t: int, n_c: int) -> str:
             "*SOLID SECTION, ELSET=EPLATEN, MATERIAL=STEEL", "1.0",
             "*SURFACE INTERACTION, NAME=SI",
             "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR",
-            f"{_num(PENALTY_OVER_E * c.E)}",
+            f"{_num(penalty * c.E)}",
             "*CONTACT PAIR, INTERACTION=SI, TYPE=SURFACE TO SURFACE",
             "SRING, SPLATEN",
             "*BOUNDARY",
             "NYMIRROR, 2, 2",
             "NXMIRROR, 1, 1",
             "NPLATEN, 1, 2",
-            f"*STEP, NLGEOM, INC={10 * INCREMENTS}",
+            f"*STEP, NLGEOM, INC={10 * increments}",
             "*STATIC",
             f"{_num(dt)}, 1.0, {_num(dt * 1e-4)}, {_num(dt)}",
             "*BOUNDARY",
@@ -404,7 +407,6 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--penalty", type=float, default=PENALTY_OVER_E,
                     help="contact penalty over E per mm (a sensitivity check)")
     a = ap.parse_args(argv)
-    globals().update(INCREMENTS=a.increments, PENALTY_OVER_E=a.penalty)
     try:
         c = read_crush(a.case)
         meshes = [tuple(int(v) for v in m.lower().split("x")) for m in a.meshes]
@@ -415,7 +417,7 @@ def main(argv: list[str] | None = None) -> int:
     results = []
     for n_t, n_c in meshes:
         name = deck_name(n_t, n_c)
-        text = write_deck(c, n_t, n_c)
+        text = write_deck(c, n_t, n_c, a.increments, a.penalty)
         (a.docs / f"{name}.inp").write_text(text)
         if a.deck_only:
             continue
@@ -454,7 +456,7 @@ def main(argv: list[str] | None = None) -> int:
     ref = results[-1]["window"]
     summary = {"case": c.source, "reference": results[-1]["mesh"],
                "window_delta_over_D": list(WINDOW), "delta_end_over_D": DELTA_END,
-               "penalty_MPa_per_mm": PENALTY_OVER_E * c.E, "increments": INCREMENTS,
+               "penalty_MPa_per_mm": a.penalty * c.E, "increments": a.increments,
                "meshes": []}
     for r in results:
         w = r.pop("window")
