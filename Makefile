@@ -30,7 +30,8 @@ TESTSRC := $(wildcard tests/test_*.f90)
 TESTS   := $(patsubst tests/%.f90,$(BLD)/%,$(TESTSRC))
 FC_ALL  := $(FC) $(FFLAGS_common) $(FFLAGS_$(BUILD))
 
-.PHONY: all deps test run clean help check-namelists check-paraview bench study stability figures fuzz
+.PHONY: all deps test run clean help check-namelists check-paraview bench study stability figures \
+        fuzz fe-reference
 
 # HDF5 flags come from pkg-config when make reads this file, so everything that compiles runs
 # in a sub-make started after `deps` has installed what was missing (a fresh machine).
@@ -121,6 +122,15 @@ figures: deps
 	$(PYTHON) plots/plot_stability.py --level full
 	$(PYTHON) tools/advice_tables.py --study
 	@$(MAKE) --no-print-directory all
+
+## fe-reference: the CalculiX reference of the study's crush (installs calculix-ccx where
+##               missing; about 20 CPU min, one thread): decks, curves and convergence in
+##               docs/fe_reference/, runs in out/fe_reference/ (reused when the deck is unchanged),
+##               then the comparison with the study's crush curves (docs/fe_reference/crush_fe.png)
+fe-reference: deps
+	@bash tools/install-deps.sh --ccx
+	$(PYTHON) tools/fe_reference/fe_reference.py
+	$(PYTHON) plots/plot_fe_reference.py
 
 ## stability: the stability study of docs/stability.md (release build, one run at a time, one
 ##            thread): LEVEL=quick (default, < 10 min; tables and figures in out/stability-quick/)

@@ -3,20 +3,22 @@
 # Install what tubempm needs and is missing: Debian packages (gfortran, HDF5 Fortran, pkg-config)
 # and the Python packages of plots/requirements.txt. Idempotent; silent when all is present.
 # Without root it prints the exact commands to run by hand and exits 2.
-#   usage: tools/install-deps.sh [--python-only|--fortran-only|--paraview]
+#   usage: tools/install-deps.sh [--python-only|--fortran-only|--paraview|--ccx]
 #   --paraview: only ParaView with its Python (pvbatch) and a virtual display (xvfb), for
 #   `make check-paraview`
+#   --ccx: also CalculiX's solver ccx (Debian package calculix-ccx), for `make fe-reference`
 set -u
 here=$(cd "$(dirname "$0")/.." && pwd)
-want_fortran=1; want_python=1
+want_fortran=1; want_python=1; want_ccx=0
 want_paraview=0
 case "${1:-}" in
   --paraview) want_fortran=0; want_python=0; want_paraview=1 ;;
   --python-only) want_fortran=0 ;;
   --fortran-only) want_python=0 ;;
+  --ccx) want_fortran=0; want_ccx=1 ;;
   "") ;;
   -h|--help) awk 'NR > 2 && /^#/ {sub(/^# ?/, ""); print; next} NR > 2 {exit}' "$0"; exit 0 ;;
-  *) echo "usage: $0 [--python-only|--fortran-only|--paraview]" >&2; exit 2 ;;
+  *) echo "usage: $0 [--python-only|--fortran-only|--paraview|--ccx]" >&2; exit 2 ;;
 esac
 
 missing_deb=()
@@ -43,6 +45,11 @@ if [ $want_paraview = 1 ]; then
     || missing_deb+=(python3-paraview)
   command -v xvfb-run >/dev/null 2>&1 || missing_deb+=(xvfb xauth)
 fi
+if [ $want_ccx = 1 ]; then
+  # the FE reference was made with ccx 2.20 (Debian 12's calculix-ccx); another version runs
+  # but may give a slightly different curve
+  command -v ccx >/dev/null 2>&1 || missing_deb+=(calculix-ccx)
+fi
 py=${PYTHON:-python3}
 missing_py=()
 if [ $want_python = 1 ]; then
@@ -66,7 +73,8 @@ if [ ${#missing_deb[@]} -gt 0 ]; then
   if [ "$sudo" = NONE ] || ! command -v apt-get >/dev/null 2>&1; then
     echo "tubempm needs these system packages, which this script cannot install here:" >&2
     echo "    sudo apt-get install -y ${missing_deb[*]}" >&2
-    echo "(on other systems: gfortran, the HDF5 Fortran library with pkg-config file, python3-pip)" >&2
+    echo "(on other systems: gfortran, the HDF5 Fortran library with pkg-config file, python3-pip;" >&2
+    echo " for make fe-reference: CalculiX 2.20's ccx on PATH, from www.calculix.de)" >&2
     [ ${#missing_py[@]} -gt 0 ] && \
       echo "and the Python packages:  python3 -m pip install -r $here/plots/requirements.txt" >&2
     exit 2
