@@ -15,7 +15,7 @@ module mpm_setup
   use mpm_material, only: material_new, material_wave_speed
   use mpm_solver, only: sim_t, solver_stable_dt, solver_init_energy
   use mpm_errors, only: append_msg
-  use mpm_strings, only: itoa
+  use mpm_strings, only: itoa, plural
   use mpm_advice, only: advice_check
   implicit none
   private
@@ -236,8 +236,8 @@ contains
     call append_msg(report, line)
     if (.not. s%g%fixed) call append_msg(report, '      (fitted to the bodies plus two '// &
       'cells; it grows when the material moves out)')
-    write(line, '(a,i0,a,i0,a)') 'walls: ', s%nwall, ' (', count(s%walls(:)%mirror), &
-      ' mirror planes added by the sector)'
+    write(line, '(a,i0,4a)') 'walls: ', s%nwall, ' (', &
+      plural(count(s%walls(:)%mirror), 'mirror plane'), ' added by the sector)'
     call append_msg(report, line)
     dt_stable = solver_stable_dt(s)
     dt = dt_stable

@@ -4,7 +4,7 @@ module mpm_strings
   use mpm_kinds, only: wp, i8
   implicit none
   private
-  public :: itoa, rtoa
+  public :: itoa, rtoa, hms, plural
 
   !> Integer (default or 64-bit) to text without blanks.
   interface itoa
@@ -39,4 +39,25 @@ contains
     write(buf, '(es12.4e3)') x
     str = trim(adjustl(buf))
   end function rtoa
+
+  !> A duration as h:mm:ss (rounded to the second; hours not limited) [s -> text].
+  pure function hms(seconds) result(str)
+    real(wp), intent(in) :: seconds        !! duration [s]
+    character(len=:), allocatable :: str
+    character(len=32) :: buf
+    integer(i8) :: total
+    total = nint(max(0.0_wp, min(seconds, 1.0e15_wp)), i8)
+    write(buf, '(i0,a,i2.2,a,i2.2)') total/3600_i8, ':', mod(total/60_i8, 60_i8), ':', &
+      mod(total, 60_i8)
+    str = trim(buf)
+  end function hms
+
+  !> 'n word' or 'n words' (the plural by an added s).
+  pure function plural(n, word) result(str)
+    integer, intent(in) :: n               !! count
+    character(len=*), intent(in) :: word   !! singular
+    character(len=:), allocatable :: str
+    str = itoa(n)//' '//word
+    if (n /= 1) str = str//'s'
+  end function plural
 end module mpm_strings

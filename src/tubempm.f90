@@ -21,7 +21,7 @@ program tubempm
   use mpm_io_hdf5, only: snapfile_t, snap_create, snap_reopen, snap_write, snap_close, xdmf_write
   use mpm_restart, only: checkpoint_write, checkpoint_read, ckpt_extra_t
   use mpm_sys, only: sys_mkdir_p, sys_install_signals, sys_signal_received, sys_stdout_isatty
-  use mpm_strings, only: itoa, rtoa
+  use mpm_strings, only: itoa, rtoa, hms
   implicit none
 
   character(len=path_len) :: case_file, arg, restart_dir
@@ -426,9 +426,9 @@ contains
     character(len=160) :: line
     frac = s%t/s%prm%t_end
     eta = elapsed*(1.0_wp - frac)/max(frac, 1.0e-12_wp)
-    write(line, '(f6.2,a,es10.3,a,i0,a,f9.1,a,f9.1,a)') 100.0_wp*frac, ' %  t = ', s%t, &
+    write(line, '(f6.2,a,es10.3,a,i0,a,f9.1,2a)') 100.0_wp*frac, ' %  t = ', s%t, &
       ' s  step ', s%step, '  ', real(s%step, wp)/max(elapsed, 1.0e-9_wp), &
-      ' steps/s  ETA ', eta, ' s'
+      ' steps/s  ETA ', hms(eta)
     if (tty) then
       write(output_unit, '(2a)', advance='no') achar(13), trim(line)
     else

@@ -50,7 +50,12 @@ check_case() {
 
 if [ ! -x "$bin" ]; then
   failed setup "no executable at TUBEMPM=$bin (build it, or set TUBEMPM)"
-  echo "test_cli_input: $pass passed, $fail failed"
+  # the set-up report counts mirror planes in good English (was "1 mirror planes")
+out=$("$bin" --check "$here/../namelists/default.nml" 2>/dev/null)
+echo "$out" | grep -q "walls: 2 (1 mirror plane added by the sector)" && pass=$((pass + 1)) || {
+  fail=$((fail + 1)); echo "FAIL [cli]: --check of the half-ring default: $(echo "$out" | grep walls:)"; }
+
+echo "test_cli_input: $pass passed, $fail failed"
   exit 1
 fi
 
@@ -77,6 +82,11 @@ check_case "$scratch/does_not_exist.nml" 3 "does_not_exist.nml: cannot open the 
 # an empty file: bad input (status 2)
 : > "$scratch/empty.nml"
 check_case "$scratch/empty.nml" 2 "empty.nml: the file is empty"
+
+# the set-up report counts mirror planes in good English (was "1 mirror planes")
+out=$("$bin" --check "$here/../namelists/default.nml" 2>/dev/null)
+echo "$out" | grep -q "walls: 2 (1 mirror plane added by the sector)" && pass=$((pass + 1)) || {
+  fail=$((fail + 1)); echo "FAIL [cli]: --check of the half-ring default: $(echo "$out" | grep walls:)"; }
 
 echo "test_cli_input: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
