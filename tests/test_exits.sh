@@ -61,6 +61,17 @@ sleep 2
 kill -TERM $pid 2>/dev/null
 wait $pid
 expect 'SIGTERM' 143 $? "$scratch/sig.err"
+# --restart of a completed run: exit 0, says so, touches nothing (before: it ran again from a
+# leftover checkpoint)
+ring done ", checkpoint_every = 1.0e-9"
+sed -i 's/t_end = 2.0e-4/t_end = 2.0e-5/' "$scratch/done.nml"
+"$bin" --quiet "$scratch/done.nml" > /dev/null 2>&1 && ok || bad "the short run failed"
+sum0=$(cksum "$scratch/done/history.csv" "$scratch/done/particles.h5" 2>/dev/null)
+"$bin" --restart "$scratch/done" > "$scratch/done.out" 2> "$scratch/done.err"
+[ $? -eq 0 ] && ok || bad "--restart of a completed run does not exit 0"
+grep -q "is complete" "$scratch/done.out" && ok || bad "--restart of a completed run does not say it is complete"
+[ "$(cksum "$scratch/done/history.csv" "$scratch/done/particles.h5" 2>/dev/null)" = "$sum0" ] && ok \
+  || bad "--restart of a completed run changed its outputs"
 # --help names what SIGTERM gives
 "$bin" --help | grep -q '143' && ok || bad "--help does not name exit status 143 (SIGTERM)"
 echo "exits: $pass passed, $fail failed"
