@@ -102,12 +102,6 @@ program tubempm
     if (len_trim(case_file) > 0) call fatal('command line', '--restart DIR takes no case '// &
       'file: the case is DIR/input.nml. Usage: tubempm --restart DIR', EXIT_INPUT)
     case_file = trim(restart_dir)//'/input.nml'
-    ! a completed run has nothing to continue: say so and leave its outputs alone
-    if (index(read_text(trim(restart_dir)//'/summary.nml'), "status = 'completed'") > 0) then
-      write(output_unit, '(a)') 'the run in '//trim(restart_dir)//' is complete (summary.nml: '// &
-        'status = ''completed''): nothing to restart; its outputs are left as they are'
-      stop
-    end if
   end if
   if (len_trim(case_file) == 0) call fatal('command line', 'no case file given. Usage: '// &
     'tubempm [--check] [--quiet] CASE.nml | --restart DIR | --help', EXIT_INPUT)
@@ -115,6 +109,14 @@ program tubempm
   ! input, set-up, report
   call read_config(case_file, cfg, stat, errmsg, input_warnings, advice)   ! advice: once, below
   if (stat /= 0) call fatal('input', errmsg, stat)
+  ! a completed run has nothing to continue (its input read and valid): say so, touch nothing
+  if (restart) then
+    if (index(read_text(trim(restart_dir)//'/summary.nml'), "status = 'completed'") > 0) then
+      write(output_unit, '(a)') 'the run in '//trim(restart_dir)//' is complete (summary.nml: '// &
+        'status = ''completed''): nothing to restart; its outputs are left as they are'
+      stop
+    end if
+  end if
   if (restart) cfg%run%output_dir = restart_dir
   if (len(input_warnings) > 0) call print_warnings(input_warnings)
   call setup_sim(cfg, s, stat, errmsg)
