@@ -6,6 +6,7 @@ module mpm_config_text
   use mpm_kinds, only: wp
   use mpm_constants, only: name_len
   use mpm_config_types, only: unset_real
+  use mpm_strings, only: itoa            ! re-exported for the reader's modules
   implicit none
   private
   public :: enum_text, join_list, suggestion, lower, is_blank, name_end, word_end, &
@@ -177,16 +178,6 @@ contains
       if (.not. is_blank(s(k:k))) t = t//s(k:k)
     end do
   end function compact
-
-  pure function itoa(n) result(s)
-    integer, intent(in) :: n
-    character(len=:), allocatable :: s
-    character(len=24) :: buf
-    character(len=128) :: msg
-    integer :: ios
-    write(buf, '(i0)', iostat=ios, iomsg=msg) n
-    s = trim(buf)
-  end function itoa
 
   !> Text in single quotes, inner quotes doubled (namelist syntax).
   pure function quote(s) result(t)

@@ -97,16 +97,7 @@ contains
             pos = pos + 1
             cycle
           end if
-          r = 1
-          rest = t
-          p = index(t, '*')
-          if (p > 1) then
-            if (verify(t(1:p-1), '0123456789') == 0) then
-              read(t(1:p-1), *, iostat=ios, iomsg=msg) r
-              if (ios /= 0) r = 1
-              rest = t(p+1:)
-            end if
-          end if
+          call split_repeat(t, r, rest)
           do j = 1, r
             if (len(rest) > 0) then
               select case (specs(k)%kind)
@@ -231,16 +222,7 @@ contains
           allowed_text(rd%occ(io)%group, name))
         return
       end if
-      r = 1
-      rest = t
-      p = index(t, '*')
-      if (p > 1) then
-        if (verify(t(1:p-1), '0123456789') == 0) then
-          read(t(1:p-1), *, iostat=ios, iomsg=msg) r
-          if (ios /= 0) r = 1
-          rest = t(p+1:)
-        end if
-      end if
+      call split_repeat(t, r, rest)
       if (len(rest) > 0) then
         select case (kind)
         case ('r')
@@ -295,6 +277,23 @@ contains
   end function bare_text
 
   !> ' (is a ''='' missing after x?)' when word t is a variable name of the group.
+  !> A value token as namelist input writes it: 'r*value' gives the repeat count r and the
+  !! value (empty for 'r*', r null values); any other token is itself once.
+  pure subroutine split_repeat(t, r, rest)
+    character(len=*), intent(in) :: t      !! the token
+    integer, intent(out) :: r              !! repeat count
+    character(len=:), allocatable, intent(out) :: rest  !! the value
+    integer :: p, ios
+    r = 1
+    rest = t
+    p = index(t, '*')
+    if (p <= 1) return
+    if (verify(t(1:p-1), '0123456789') /= 0) return
+    read(t(1:p-1), *, iostat=ios) r
+    if (ios /= 0) r = 1
+    rest = t(p+1:)
+  end subroutine split_repeat
+
   pure function missing_equals(t, group) result(s)
     character(len=*), intent(in) :: t, group
     character(len=:), allocatable :: s

@@ -140,6 +140,9 @@ contains
     real(wp), allocatable :: corners(:,:), col(:)
     integer, allocatable :: quads(:,:)
     character(len=11) :: name
+    character(len=2), parameter :: xyz = 'xy'
+    character(len=2), parameter :: stress_names(4) = ['xx', 'yy', 'xy', 'zz']
+    integer :: k
     stat = 0
     errmsg = ''
     name = snap_name(sf%count + 1)
@@ -166,18 +169,16 @@ contains
     call write_real_1d(gid, 'eqps', p%eqps, '-', 'equivalent plastic strain', stat, errmsg)
     ! the components once more as 1-D datasets: ParaView's default XDMF reader (Xdmf3) skips
     ! hyperslabs of the 2-D ones ("unrecognized array type"), so the XDMF index points at these
-    col = p%v(1, 1:p%np)
-    call write_real_1d(gid, 'vx', col, 'm/s', 'particle velocity x', stat, errmsg)
-    col = p%v(2, 1:p%np)
-    call write_real_1d(gid, 'vy', col, 'm/s', 'particle velocity y', stat, errmsg)
-    col = p%stress(1, 1:p%np)
-    call write_real_1d(gid, 'sxx', col, 'Pa', 'Cauchy stress xx', stat, errmsg)
-    col = p%stress(2, 1:p%np)
-    call write_real_1d(gid, 'syy', col, 'Pa', 'Cauchy stress yy', stat, errmsg)
-    col = p%stress(3, 1:p%np)
-    call write_real_1d(gid, 'sxy', col, 'Pa', 'Cauchy stress xy', stat, errmsg)
-    col = p%stress(4, 1:p%np)
-    call write_real_1d(gid, 'szz', col, 'Pa', 'Cauchy stress zz', stat, errmsg)
+    do k = 1, 2
+      col = p%v(k, 1:p%np)
+      call write_real_1d(gid, 'v'//xyz(k:k), col, 'm/s', 'particle velocity '//xyz(k:k), &
+                         stat, errmsg)
+    end do
+    do k = 1, 4
+      col = p%stress(k, 1:p%np)
+      call write_real_1d(gid, 's'//stress_names(k), col, 'Pa', 'Cauchy stress '// &
+                         stress_names(k), stat, errmsg)
+    end do
     call write_int_2d(gid, 'body', reshape(p%body(1:p%np), [1, p%np]), '-', &
                       'body of each particle (order of the &body groups, from 1)', stat, errmsg, &
                       flat=.true.)

@@ -8,6 +8,7 @@
 program test_config
   use testing, only: begin_test, check, check_close, finish_tests, scratch_dir
   use mpm_kinds, only: wp
+  use mpm_strings, only: itoa
   use mpm_constants, only: EXIT_INPUT, EXIT_IO, max_table, BASIS_CPDI1, BASIS_CPDI2, &
                            SCHEME_MUSL, SCHEME_USF, PLANE_STRAIN, PLANE_STRESS, MODEL_J2, &
                            MODEL_ELASTIC, RATE_NONE, RATE_COWPER_SYMONDS, SHAPE_RING, SHAPE_RECT, &
@@ -702,16 +703,6 @@ contains
       'material', 'body', 'wall', 'probe']
     g = names(k)
   end function group_of
-
-  pure function itoa(n) result(s)
-    integer, intent(in) :: n
-    character(len=:), allocatable :: s
-    character(len=24) :: buf
-    character(len=128) :: msg
-    integer :: ios
-    write(buf, '(i0)', iostat=ios, iomsg=msg) n
-    s = trim(buf)
-  end function itoa
 
   !> x with 18 significant digits (more than enough to be exact).
   function e17(x) result(s)

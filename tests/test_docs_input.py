@@ -49,14 +49,15 @@ def source_rows(text):
     return rows
 
 
-def doc_cells(text):
-    """{(group, name): [cells of its table row]}."""
-    cells_of = {}
+def doc_rows(text):
+    """(group, name, cells) for every variable named in the first column of the tables after
+    each `## &group` heading, in order; a heading gives (group, None, None) first."""
     current = None
     for line in text.splitlines():
         h = re.match(r"^##\s+&(\w+)\s*$", line)
         if h:
             current = h.group(1).lower()
+            yield current, None, None
             continue
         if line.startswith("## "):
             current = None
@@ -65,30 +66,21 @@ def doc_cells(text):
             continue
         cells = [c.strip() for c in line.strip().strip("|").split("|")]
         for name in re.findall(r"`([A-Za-z_]\w*)`", cells[0]):
-            cells_of[(current, name.lower())] = cells
-    return cells_of
+            yield current, name.lower(), cells
+
+
+def doc_cells(text):
+    """{(group, name): [cells of its table row]}."""
+    return {(g, name): cells for g, name, cells in doc_rows(text) if name}
 
 
 def doc_groups(text):
     """{group: [variables]} from the first column of the table after each `## &group`."""
     groups = {}
-    current = None
-    for line in text.splitlines():
-        h = re.match(r"^##\s+&(\w+)\s*$", line)
-        if h:
-            current = h.group(1).lower()
-            groups.setdefault(current, [])
-            continue
-        if line.startswith("## "):
-            current = None
-            continue
-        if current is None or not line.startswith("|"):
-            continue
-        cells = [c.strip() for c in line.strip().strip("|").split("|")]
-        if not cells or cells[0] in ("name", "") or set(cells[0]) <= set("-: "):
-            continue
-        for name in re.findall(r"`([A-Za-z_]\w*)`", cells[0]):
-            groups[current].append(name.lower())
+    for g, name, _ in doc_rows(text):
+        groups.setdefault(g, [])
+        if name:
+            groups[g].append(name)
     return groups
 
 
