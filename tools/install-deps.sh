@@ -3,22 +3,25 @@
 # Install what tubempm needs and is missing: Debian packages (gfortran, HDF5 Fortran, pkg-config)
 # and the Python packages of plots/requirements.txt. Idempotent; silent when all is present.
 # Without root it prints the exact commands to run by hand and exits 2.
-#   usage: tools/install-deps.sh [--python-only|--fortran-only|--paraview|--ccx]
+#   usage: tools/install-deps.sh [--python-only|--fortran-only|--paraview|--ccx|--slurm]
 #   --paraview: only ParaView with its Python (pvbatch) and a virtual display (xvfb), for
 #   `make check-paraview`
 #   --ccx: also CalculiX's solver ccx (Debian package calculix-ccx), for `make fe-reference`
+#   --slurm: also Slurm (Debian's slurm-wlm: slurmctld, slurmd, sbatch, squeue, scancel) and
+#   munge, for `make test-slurm`
 set -u
 here=$(cd "$(dirname "$0")/.." && pwd)
-want_fortran=1; want_python=1; want_ccx=0
+want_fortran=1; want_python=1; want_ccx=0; want_slurm=0
 want_paraview=0
 case "${1:-}" in
   --paraview) want_fortran=0; want_python=0; want_paraview=1 ;;
   --python-only) want_fortran=0 ;;
   --fortran-only) want_python=0 ;;
   --ccx) want_fortran=0; want_ccx=1 ;;
+  --slurm) want_fortran=0; want_slurm=1 ;;
   "") ;;
   -h|--help) awk 'NR > 2 && /^#/ {sub(/^# ?/, ""); print; next} NR > 2 {exit}' "$0"; exit 0 ;;
-  *) echo "usage: $0 [--python-only|--fortran-only|--paraview|--ccx]" >&2; exit 2 ;;
+  *) echo "usage: $0 [--python-only|--fortran-only|--paraview|--ccx|--slurm]" >&2; exit 2 ;;
 esac
 
 missing_deb=()
@@ -49,6 +52,15 @@ if [ $want_ccx = 1 ]; then
   # the FE reference was made with ccx 2.20 (Debian 12's calculix-ccx); another version runs
   # but may give a slightly different curve
   command -v ccx >/dev/null 2>&1 || missing_deb+=(calculix-ccx)
+fi
+if [ $want_slurm = 1 ]; then
+  # the daemons live in /usr/sbin, which a non-root PATH may lack
+  for c in slurmctld slurmd; do
+    command -v $c >/dev/null 2>&1 || [ -x /usr/sbin/$c ] || { missing_deb+=(slurm-wlm); break; }
+  done
+  command -v sbatch >/dev/null 2>&1 || [[ " ${missing_deb[*]} " == *" slurm-wlm "* ]] \
+    || missing_deb+=(slurm-wlm)
+  command -v munged >/dev/null 2>&1 || [ -x /usr/sbin/munged ] || missing_deb+=(munge)
 fi
 py=${PYTHON:-python3}
 missing_py=()
