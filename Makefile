@@ -31,7 +31,7 @@ TESTS   := $(patsubst tests/%.f90,$(BLD)/%,$(TESTSRC))
 FC_ALL  := $(FC) $(FFLAGS_common) $(FFLAGS_$(BUILD))
 
 .PHONY: all deps test run clean help check-namelists check-paraview bench study stability figures \
-        fuzz fe-reference
+        fuzz fe-reference test-slurm
 
 # HDF5 flags come from pkg-config when make reads this file, so everything that compiles runs
 # in a sub-make started after `deps` has installed what was missing (a fresh machine).
@@ -88,6 +88,13 @@ test: deps
 
 test-programs: $(TESTS)
 
+## test-slurm: as root, install Slurm and munge where missing (tools/install-deps.sh --slurm),
+##             start a one-node cluster in a temporary folder, run a small sweep through it and
+##             locally, compare, cancel a task and re-submit (tests/slurm/; about 2 min)
+test-slurm: all
+	@bash tools/install-deps.sh --slurm
+	@bash tests/slurm/run.sh bin/tubempm
+
 ## run: build, run CASE (default namelists/default.nml), then plot it
 run: all
 	bin/tubempm $(CASE)
@@ -105,10 +112,12 @@ $(BLD)/bench: tools/bench.f90 $(LIBOBJ) | $(BLD) $(BLD)/tmod_bench
 
 ## study: the refinement study (LEVEL=quick: under 10 min on 2 cores; LEVEL=full: about 2 h;
 ##        LEVEL=all: more); runs in out/study/ (resumable), table and figures in
-##        docs/study/ (quick: out/study-quick/)
+##        docs/study/ (quick: out/study-quick/); BACKEND=slurm runs them as a Slurm job
+##        array, BATCH_FLAGS="--partition P --time T --account A" (docs/batch.md)
 LEVEL ?= quick
+BACKEND ?= local
 study: all
-	$(PYTHON) tools/study.py --level $(LEVEL)
+	$(PYTHON) tools/study.py --level $(LEVEL) --backend $(BACKEND) $(BATCH_FLAGS)
 	$(PYTHON) plots/plot_study.py --level $(LEVEL)
 	$(PYTHON) tools/advice_tables.py --study
 	@$(MAKE) --no-print-directory all    # --check's advice table may have changed
@@ -136,9 +145,9 @@ fe-reference: deps
 ##            thread): LEVEL=quick (default, < 10 min; tables and figures in out/stability-quick/)
 ##            or LEVEL=full (docs/stability/); runs in build/stability/ (reused when unchanged);
 ##            then --check's cfl limits from docs/stability/ (tools/advice_tables.py writes
-##            src/mpm_stability_table.inc)
+##            src/mpm_stability_table.inc); BACKEND=slurm and BATCH_FLAGS as for study
 stability: all
-	$(PYTHON) tools/stability.py --level $(LEVEL)
+	$(PYTHON) tools/stability.py --level $(LEVEL) --backend $(BACKEND) $(BATCH_FLAGS)
 	$(PYTHON) plots/plot_stability.py --level $(LEVEL)
 	$(PYTHON) tools/advice_tables.py --stability
 	@$(MAKE) --no-print-directory all    # --check's cfl limits may have changed
@@ -167,3 +176,4 @@ help:
 	@echo "tubempm make targets:"
 	@grep -E '^## ' Makefile | sed 's/^## /  /'
 	@echo "variables: BUILD=release|debug  CASE=file.nml  FC=compiler  PYTHON=python3"
+	@echo "           LEVEL=quick|full|all  BACKEND=local|slurm  BATCH_FLAGS=... (study, stability)"

@@ -376,6 +376,10 @@ def _slurm_batch(cases: list[Case], root: Path, threads: int, timeout: float | N
             path.write_text(json.dumps(sub, indent=1) + "\n")
             waiting[case.name] = f"{job}_{i}"
         say(f"submitted job array {job}: {len(todo)} runs ({script_file})")
+    if waiting and not slurm.wait:
+        say(f"{len(waiting)} runs queued or running (Slurm tasks "
+            f"{', '.join(sorted(set(waiting.values()))[:4])}{' ...' if len(waiting) > 4 else ''})"
+            "; run the same command again to wait for them and collect")
     if waiting and slurm.wait:
         if not todo:
             say(f"waiting for {len(waiting)} runs queued earlier")
@@ -420,12 +424,14 @@ def run_task(tasks_file: Path, index: int) -> int:
     folders = tasks_file.read_text().splitlines()
     folder = Path(folders[index])
     sub = json.loads((folder / "slurm.json").read_text())
+    # (from Slurm: the submitter may not have written the job id into slurm.json yet)
+    slurm_task = f"{os.environ.get('SLURM_ARRAY_JOB_ID', '?')}_{index}"
     stop = threading.Event()
     signal.signal(signal.SIGTERM, lambda *_: stop.set())
     signal.signal(signal.SIGINT, lambda *_: stop.set())
     result = _execute(folder, sub["name"], sub["input_hash"], sub["labels"], sub["threads"],
                       sub["timeout"], Path(sub["binary"]), stop,
-                      extra={"backend": "slurm", "slurm_task": sub.get("task_id", "")})
+                      extra={"backend": "slurm", "slurm_task": slurm_task})
     if result is None:
         print(f"{sub['name']}: stopped by a signal; no result.json (it is run again)")
         return 143
@@ -451,7 +457,7 @@ def run_batch(cases: list[Case], root: Path, jobs: int = 2, threads: int = 1,
     names = [c.name for c in cases]
     if len(set(names)) != len(names):
         raise ValueError("case names must be unique")
-    if not binary.is_file():
+    if not binary.is_file() and not (backend is not None and backend.dry_run):
         raise FileNotFoundError(f"{binary} not found: build it with 'make'")
     lock = threading.Lock()
 
@@ -478,6 +484,19 @@ def run_batch(cases: list[Case], root: Path, jobs: int = 2, threads: int = 1,
     return results
 
 
+def private_binary(folder: Path, binary: Path = BINARY) -> Path:
+    """A copy of ``binary`` in ``folder`` for a long batch (rebuilding bin/ meanwhile does not
+    change the runs still to come), replaced only when it differs, and then as a new file so
+    that runs of the old one (queued or running) go on."""
+    folder.mkdir(parents=True, exist_ok=True)
+    copy = folder / binary.name
+    if not copy.is_file() or _file_hash(copy) != _file_hash(binary):
+        tmp = copy.with_name(copy.name + ".tmp")
+        shutil.copy2(binary, tmp)
+        os.replace(tmp, copy)
+    return copy
+
+
 def read_summary(folder: Path) -> dict[str, Any]:
     """summary.nml of a finished case as a dict ({} if missing)."""
     if str(ROOT / "plots") not in sys.path:
@@ -487,9 +506,10 @@ def read_summary(folder: Path) -> dict[str, Any]:
     return readers.read_summary(path) if path.is_file() else {}
 
 
-def add_backend_args(ap: Any, threads: bool = True) -> None:
+def add_backend_args(ap: Any, threads: bool = True, no_wait: bool = True) -> None:
     """The command-line options that choose where a batch runs (tools/study.py,
-    tools/stability.py, tools/sweep.py); ``backend_of`` turns them into run_batch's backend."""
+    tools/stability.py, tools/sweep.py); ``backend_of`` turns them into run_batch's backend.
+    ``threads``, ``no_wait``: offer --threads, --no-wait."""
     g = ap.add_argument_group("where the runs go (docs/batch.md)")
     g.add_argument("--backend", choices=("local", "slurm"), default="local",
                    help="local processes (default) or one Slurm job array per batch")
@@ -506,11 +526,16 @@ def add_backend_args(ap: Any, threads: bool = True) -> None:
     g.add_argument("--sbatch-option", action="append", default=[], metavar="OPT",
                    help="Slurm: an extra #SBATCH line, e.g. --sbatch-option=--mem=2G "
                         "(repeatable)")
+    g.add_argument("--poll", type=float, default=10.0, metavar="SECONDS",
+                   help="Slurm: how often to ask squeue whether the runs have ended "
+                        "(default 10)")
     g.add_argument("--dry-run", action="store_true",
                    help="Slurm: print the sbatch script of each batch, submit nothing")
-    g.add_argument("--no-wait", action="store_true",
-                   help="Slurm: return once submitted; run the same command again later to "
-                        "wait for the queued runs and collect (nothing is submitted twice)")
+    if no_wait:
+        g.add_argument("--no-wait", action="store_true",
+                       help="Slurm: return once submitted; run the same command again later "
+                            "to wait for the queued runs and collect (nothing is submitted "
+                            "twice)")
 
 
 def backend_of(args: Any) -> Slurm | None:
@@ -519,18 +544,24 @@ def backend_of(args: Any) -> Slurm | None:
                                  ("--account", args.account),
                                  ("--max-running", args.max_running),
                                  ("--sbatch-option", args.sbatch_option),
-                                 ("--dry-run", args.dry_run), ("--no-wait", args.no_wait)) if v]
+                                 ("--dry-run", args.dry_run),
+                                 ("--no-wait", getattr(args, "no_wait", False))) if v]
+    def refuse(msg: str) -> None:
+        print(f"ERROR [batch]: {msg}", file=sys.stderr)
+        raise SystemExit(2)
+
     if args.backend == "local":
         if slurm_only:
-            raise SystemExit(f"ERROR [batch]: {', '.join(slurm_only)} need --backend slurm")
+            refuse(f"{', '.join(slurm_only)}: only with --backend slurm")
         return None
     if getattr(args, "threads", 1) < 1:
-        raise SystemExit("ERROR [batch]: --threads must be at least 1")
+        refuse(f"--threads {args.threads}: must be at least 1")
     if args.max_running is not None and args.max_running < 1:
-        raise SystemExit("ERROR [batch]: --max-running must be at least 1")
+        refuse(f"--max-running {args.max_running}: must be at least 1")
     return Slurm(partition=args.partition, time=args.time, account=args.account,
                  max_running=args.max_running, options=list(args.sbatch_option),
-                 dry_run=args.dry_run, wait=not args.no_wait)
+                 dry_run=args.dry_run, wait=not getattr(args, "no_wait", False),
+                 poll=max(0.2, args.poll))
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -26,6 +26,8 @@ study continues where it stopped).
 
     python3 tools/stability.py                # quick level (< 10 min on one core)
     python3 tools/stability.py --level full   # full level, into docs/stability/
+    python3 tools/stability.py --backend slurm --partition short   # each batch a Slurm job
+                                              # array, waited for (docs/batch.md)
     python3 plots/plot_stability.py --level full   # the figures again from the tables
 """
 from __future__ import annotations
@@ -104,8 +106,22 @@ def fmt(x: float) -> str:
     return f"{x:g}".replace(".", "p").replace("-", "m")
 
 
+#: where the runs go: None = local processes, one at a time; or a batch.Slurm (set by main)
+BACKEND: batch.Slurm | None = None
+
+
 def batch_run(cases: list[Case]) -> list[dict[str, Any]]:
-    return run_batch(cases, RUNS, jobs=1, threads=1, log=say)
+    """Run ``cases`` (one thread each) and return their results; on Slurm, stop the study
+    where a run did not end on its own, since each part's next runs depend on these."""
+    res = run_batch(cases, RUNS, jobs=1, threads=1, log=say, backend=BACKEND)
+    if BACKEND is not None and BACKEND.dry_run:
+        raise SystemExit("dry run: the script of the first batch only (the later batches "
+                         "depend on its results)")
+    lost = [r["name"] for r in res if r.get("exit_code") is None]
+    if lost:
+        raise SystemExit(f"{len(lost)} runs did not end on their own (cancelled, or out of "
+                         f"time), e.g. {lost[0]}; run the study again to re-run them")
+    return res
 
 
 def run_reason(folder: Path, summary: dict[str, Any], exit_code: int | None) -> str:
@@ -707,6 +723,7 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
     ap.add_argument("--out", help="folder of the tables (default: by --level)")
     ap.add_argument("--parts", default=",".join(PARTS),
                     help=f"comma-separated subset of {','.join(PARTS)}")
+    batch.add_backend_args(ap, threads=False, no_wait=False)
     args = ap.parse_args(argv)
     if args.quick:
         args.level = "quick"
@@ -717,8 +734,9 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
 
 
 def main(argv: list[str] | None = None) -> int:
-    global OUT
+    global OUT, BACKEND
     args = parse_args(argv)
+    BACKEND = batch.backend_of(args)
     level = args.level
     OUT = Path(args.out) if args.out else folder_of(level)
     names = args.parts.split(",")

@@ -3,12 +3,14 @@
 scenes of Sinaie et al. (2018).
 
     python3 tools/study.py [--level quick|full|all] [--jobs N] [--tables-only] [--list]
+                           [--backend slurm [--partition P] [--time T] [--account A] ...]
 
 Each scene is swept one factor at a time around a centre point (CPDI2, MUSL, cfl 0.2, square
 particles): the grid spacing h/t, the particles through the wall n_t, the particle aspect ratio
 (length around / length through the wall, which sets n_c), the basis, the cfl number, and for
 the impact the impact speed. Runs go to out/study/<case>/ through tools/batch.py (several at
-once, one thread each, finished runs skipped, interrupted runs re-run).
+once, one thread each, finished runs skipped, interrupted runs re-run), or with
+``--backend slurm`` as one Slurm job array (docs/batch.md).
 
 Then every run's metrics are computed against the scene's reference (the finest CPDI2 run of the
 level: h = t/8, n_t = 16 for full and all, h = t/4, n_t = 8 for quick; its own error is
@@ -30,7 +32,6 @@ import csv
 import json
 import math
 import os
-import shutil
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -148,15 +149,15 @@ class Point:
 _RINGS: dict[str, dict[str, Any]] = {}
 
 
-def ring_of(scene: str) -> dict[str, Any]:
+def ring_of(name: str) -> dict[str, Any]:
     """Mean radius, wall, sector and dilatational speed of a scene's ring."""
-    if scene not in _RINGS:
-        inputs = namelist.read_namelist(SCENES[scene]["base"])
+    if name not in _RINGS:
+        inputs = namelist.read_namelist(SCENES[name]["base"])
         r = scene.ring_properties(inputs)
         r["sector"] = str(scene.ring_body(inputs).get("sector", "full")).lower()
         r["c"] = theory.dilatational_speed(r["E"], r["nu"], r["rho"])
-        _RINGS[scene] = r
-    return _RINGS[scene]
+        _RINGS[name] = r
+    return _RINGS[name]
 
 
 # ----------------------------------------------------------------------------------------------
@@ -452,7 +453,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--tables-only", action="store_true",
                     help="recompute the table from the run folders, run nothing")
     ap.add_argument("--list", action="store_true", help="list the runs and their estimated cost")
+    batch.add_backend_args(ap, threads=False)
     args = ap.parse_args(argv)
+    backend = batch.backend_of(args)
     points = design(args.level)
     allpts = [p for pts in points.values() for p in pts]
     if args.list:
@@ -470,18 +473,25 @@ def main(argv: list[str] | None = None) -> int:
         order = sorted(allpts, key=Point.cost)
         order = order[-1:] + order[:-1]
         cases = [p.case() for p in order]
-        print(f"study {args.level}: {len(cases)} runs in {RUNS} ({args.jobs} at once)",
-              flush=True)
+        where = f"{args.jobs} at once" if backend is None else "on Slurm"
+        print(f"study {args.level}: {len(cases)} runs in {RUNS} ({where})", flush=True)
         try:
             # a private copy of the binary: rebuilding bin/ during a long study does not
             # change the runs still to come
-            RUNS.mkdir(parents=True, exist_ok=True)
-            binary = RUNS / "tubempm"
-            shutil.copy2(batch.BINARY, binary)
-            batch.run_batch(cases, RUNS, jobs=args.jobs, threads=1, binary=binary)
+            binary = RUNS / "tubempm" if backend is not None and backend.dry_run else \
+                batch.private_binary(RUNS)
+            res = batch.run_batch(cases, RUNS, jobs=args.jobs, threads=1, binary=binary,
+                                  backend=backend)
         except KeyboardInterrupt:
             print("interrupted: finished runs are kept; run again to continue", file=sys.stderr)
             return 130
+        if backend is not None and (backend.dry_run or not backend.wait):
+            return 0                       # nothing to tabulate yet
+        unfinished = [r["name"] for r in res if r.get("exit_code") is None]
+        if unfinished:
+            print(f"{len(unfinished)} runs did not end on their own (cancelled, or out of "
+                  f"time): {', '.join(unfinished[:5])}{' ...' if len(unfinished) > 5 else ''}; "
+                  "run again to re-run them", file=sys.stderr)
     rows, extra = collect(args.level, points)
     path = write_table(args.level, rows, extra)
     failed = [r["name"] for r in rows if r.get("exit_code") != 0]
