@@ -117,8 +117,9 @@ def test_table(tmp: Path) -> None:
     unnamed = tmp / "unnamed.csv"
     unnamed.write_text("ring.speed\n5\n40\n")
     cases = sweep.expand(IMPACT, [], ["run.cfl=0.1,0.2"], sweep.read_table(unnamed))
-    check([c.name for c in cases] == ["speed5_cfl0p1", "speed5_cfl0p2", "speed40_cfl0p1",
-                                      "speed40_cfl0p2"], f"rows x --vary: {[c.name for c in cases]}")
+    names = [c.name for c in cases]
+    check(names == ["speed5_cfl0p1", "speed5_cfl0p2", "speed40_cfl0p1", "speed40_cfl0p2"],
+          f"rows x --vary: {names}")
 
 
 def refused(fn, *args, words: str = "") -> bool:

@@ -9,7 +9,8 @@ the overrides applied, ``output_dir`` pointing at the folder itself), the run's 
 and its hash). A case whose ``result.json`` exists
 for the same input is skipped; any other folder (an interrupted run, or a changed input) is
 cleared and run again. A run stopped from outside (Ctrl-C, kill, scancel, a time limit: exit
-130 or 143) writes no result.json, so it is run again too. Runs use one OpenMP thread each (``threads``), ``jobs`` at a time.
+130 or 143) writes no result.json, so it is run again too. Runs use one OpenMP thread each
+(``threads``), ``jobs`` at a time.
 
 Two backends run them: local processes (the default), or Slurm (``Slurm``): one job array per
 batch, one array task per run that is not finished, each task running this file with
@@ -375,11 +376,13 @@ def _slurm_batch(cases: list[Case], root: Path, threads: int, timeout: float | N
             sub.update(job_id=job, task_id=f"{job}_{i}")
             path.write_text(json.dumps(sub, indent=1) + "\n")
             waiting[case.name] = f"{job}_{i}"
-        say(f"submitted job array {job}: {len(todo)} runs ({script_file})")
+        say(f"submitted job array {job}: {len(todo)} run{'s' if len(todo) > 1 else ''} "
+            f"({script_file})")
     if waiting and not slurm.wait:
-        say(f"{len(waiting)} runs queued or running (Slurm tasks "
-            f"{', '.join(sorted(set(waiting.values()))[:4])}{' ...' if len(waiting) > 4 else ''})"
-            "; run the same command again to wait for them and collect")
+        shown = ", ".join(sorted(set(waiting.values()))[:4]) + (" ..." if len(waiting) > 4
+                                                                  else "")
+        say(f"{len(waiting)} run{'s' if len(waiting) > 1 else ''} queued or running (Slurm "
+            f"tasks {shown}); run the same command again to wait for them and collect")
     if waiting and slurm.wait:
         if not todo:
             say(f"waiting for {len(waiting)} runs queued earlier")

@@ -163,7 +163,7 @@ def part_cancel(scratch: Path, binary: Path) -> None:
     before = {i: (out / f"short{i}" / "result.json").read_text() for i in (1, 2, 3)}
     p = sweep(args, out, binary)
     tasks = sorted((out / "slurm").glob("*.tasks"), key=lambda f: f.stat().st_mtime)
-    check(p.returncode == 0 and "submitted job array" in p.stdout and "1 runs" in p.stdout,
+    check(p.returncode == 0 and "submitted job array" in p.stdout and ": 1 run (" in p.stdout,
           "submitted again: one run")
     newest = tasks[-1].read_text().split() if tasks else []
     check(len(tasks) == 2 and newest == [str((out / "long").resolve())],
