@@ -16,7 +16,8 @@ module mpm_config
                            shape_names, sector_names, contact_names, &
                            BASIS_CPDI2, SCHEME_MUSL, PLANE_STRAIN, MODEL_J2, RATE_NONE, &
                            RATE_COWPER_SYMONDS, SHAPE_RING, SHAPE_RECT, SECTOR_FULL, SECTOR_HALF, &
-                           SECTOR_QUARTER, CONTACT_FRICTIONLESS, CONTACT_COULOMB
+                           SECTOR_QUARTER, CONTACT_FRICTIONLESS, CONTACT_COULOMB, &
+                           flow_stress_names, FLOW_LINEAR, FLOW_JOHNSON_COOK
   use mpm_config_types, only: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, &
                               body_cfg_t, wall_cfg_t, probe_cfg_t, unset_real, iunset
   use mpm_config_text, only: itoa, fmt_real, fmt_short, fmt_vec, fmt_list
@@ -369,8 +370,43 @@ contains
     end if
     if (chk_r(rd, io, v, 'cs_d')) m%cs_d = vreal(v, 'cs_d')
     if (chk_r(rd, io, v, 'cs_q')) m%cs_q = vreal(v, 'cs_q')
+    call read_flow_stress(rd, io, v, m)
     rd%occ(io)%ok = rd%n_err == n0
   end subroutine check_material
+
+  !> The flow stress law of a material and its Johnson-Cook parameters (A is sigma_y); the
+  !! linear law's own variables (hardening, rate_law) must then be left at their defaults.
+  subroutine read_flow_stress(rd, io, v, m)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io
+    type(values_t), intent(inout) :: v
+    type(material_cfg_t), intent(inout) :: m
+    integer :: id
+    character(len=*), parameter :: jc = 'flow_stress = ''johnson_cook'''
+    id = chk_e(rd, io, v, 'flow_stress')
+    if (id > 0) then
+      m%flow_stress = flow_stress_names(id)
+      m%flow_stress_id = id
+    end if
+    if (chk_r(rd, io, v, 'jc_b')) m%jc_b = vreal(v, 'jc_b')
+    if (chk_r(rd, io, v, 'jc_n')) m%jc_n = vreal(v, 'jc_n')
+    if (chk_r(rd, io, v, 'jc_c')) m%jc_c = vreal(v, 'jc_c')
+    if (chk_r(rd, io, v, 'jc_rate0')) m%jc_rate0 = vreal(v, 'jc_rate0')
+    if (id == FLOW_JOHNSON_COOK) then
+      if (m%model_id /= MODEL_J2 .and. m%model_id > 0) call warn_var(rd, io, 'flow_stress', &
+        'used only by model = ''j2'' (model is '''//trim(m%model)//''')')
+      if (m%hardening > 0.0_wp) call err_var(rd, io, 'hardening', fmt_real(m%hardening), &
+        'has no effect with '//jc//' (jc_b and jc_n give its hardening)', &
+        '0 with '//jc//' (or flow_stress = ''linear'')')
+      if (m%rate_law_id == RATE_COWPER_SYMONDS) call err_var(rd, io, 'rate_law', &
+        '''cowper_symonds''', 'cannot be combined with '//jc//' (jc_c and jc_rate0 give '// &
+        'its rate effect)', '''none'' with '//jc//' (or flow_stress = ''linear'')')
+    else if (id == FLOW_LINEAR .and. (m%jc_b /= 0.0_wp .or. m%jc_n /= 1.0_wp .or. &
+             m%jc_c /= 0.0_wp .or. m%jc_rate0 /= 1.0_wp)) then
+      call warn_group(rd, io, 'jc_b, jc_n, jc_c, jc_rate0 are ignored with flow_stress = '// &
+        '''linear'' (set flow_stress = ''johnson_cook'' to use them)')
+    end if
+  end subroutine read_flow_stress
 
   !> &body
   subroutine check_body(rd, io, v, b)
@@ -576,6 +612,7 @@ contains
     allocate(cfg%materials(1), cfg%bodies(1), cfg%walls(1), cfg%probes(1))
     cfg%materials(1)%model_id = MODEL_J2
     cfg%materials(1)%rate_law_id = RATE_NONE
+    cfg%materials(1)%flow_stress_id = FLOW_LINEAR
     cfg%bodies(1)%shape_id = SHAPE_RING
     cfg%bodies(1)%sector_id = SECTOR_FULL
     cfg%bodies(1)%material_id = 1

@@ -11,7 +11,7 @@ module mpm_config_echo
   use mpm_kinds, only: wp
   use mpm_constants, only: EXIT_IO, max_table, SHAPE_RECT, basis_names, scheme_names, &
                            plane_names, model_names, rate_law_names, shape_names, sector_names, &
-                           contact_names
+                           contact_names, flow_stress_names, FLOW_JOHNSON_COOK
   use mpm_config_types, only: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, &
                               body_cfg_t, wall_cfg_t, probe_cfg_t, unset_real
   use mpm_config_text, only: itoa, quote, fmt_real, fill, fmt_vec, fmt_logical, finite
@@ -208,7 +208,7 @@ contains
     e%v%i(col(e, name)) = n
   end subroutine put_i
 
-  !> Leave out variables (one comment line names them and says why).
+  !> Leave out variables (one comment line names them and says why; no line when why is '').
   subroutine hide(e, names, why)
     type(echo_t), intent(inout) :: e
     character(len=*), intent(in) :: names(:), why
@@ -274,6 +274,13 @@ contains
     call put_c(e, 'rate_law', enum_name(m%rate_law_id, rate_law_names, m%rate_law))
     call put_r(e, 'cs_d', [m%cs_d])
     call put_r(e, 'cs_q', [m%cs_q])
+    call put_c(e, 'flow_stress', enum_name(m%flow_stress_id, flow_stress_names, m%flow_stress))
+    call put_r(e, 'jc_b', [m%jc_b])
+    call put_r(e, 'jc_n', [m%jc_n])
+    call put_r(e, 'jc_c', [m%jc_c])
+    call put_r(e, 'jc_rate0', [m%jc_rate0])
+    if (m%flow_stress_id /= FLOW_JOHNSON_COOK) call hide(e, [character(len=11) :: &
+      'flow_stress', 'jc_b', 'jc_n', 'jc_c', 'jc_rate0'], '')   ! the linear law: not written
   end subroutine pack_material
 
   subroutine pack_body(b, e)
@@ -360,7 +367,9 @@ contains
       if (e%hide(r)) then                      ! a run of rows left out: one comment line
         if (len(names) > 0) names = names//', '
         names = names//trim(specs(r)%name)
-        if (j == size(idx)) then
+        if (len_trim(e%why) == 0) then
+          continue
+        else if (j == size(idx)) then
           call w_line(w, '  ! '//names//': '//trim(e%why))
         else if (.not. e%hide(idx(j+1))) then
           call w_line(w, '  ! '//names//': '//trim(e%why))

@@ -14,7 +14,7 @@ module mpm_config_table
   use mpm_kinds, only: wp
   use mpm_constants, only: name_len, path_len, max_table, basis_names, scheme_names, &
                            plane_names, model_names, rate_law_names, shape_names, sector_names, &
-                           contact_names
+                           contact_names, flow_stress_names
   use mpm_config_types, only: unset_real, iunset
   use mpm_config_text, only: enum_text, join_list
   implicit none
@@ -52,7 +52,7 @@ module mpm_config_table
     character(len=48) :: comment = ''       !! echo comment: meaning [unit]; % = the names
   end type var_spec_t
 
-  integer, parameter :: n_specs = 52
+  integer, parameter :: n_specs = 57
   character(len=*), parameter :: s0 = 'a real number >= 0 [s] (default 0)'
   character(len=*), parameter :: v0 = '2 finite real numbers [m/s] (default 0, 0)'
   character(len=*), parameter :: lu = '2 real numbers [m] each for lower and upper, lower '// &
@@ -133,6 +133,16 @@ module mpm_config_table
       allowed='a real number > 0 [1/s] (default 40.4)', comment='Cowper-Symonds D [1/s]'), &
     var_spec_t('material', 'cs_q', r0=5.0_wp, lo=0.0_wp, lo_open=.true., &
       allowed='a real number > 0 (default 5)', comment='Cowper-Symonds q [-]'), &
+    var_spec_t('material', 'flow_stress', 'e', c0='linear', comment='%'), &
+    var_spec_t('material', 'jc_b', lo=0.0_wp, allowed='a real number >= 0 [Pa] (default 0)', &
+      comment='Johnson-Cook B [Pa]'), &
+    var_spec_t('material', 'jc_n', r0=1.0_wp, lo=0.0_wp, lo_open=.true., hi=1.0_wp, &
+      allowed='a real number with 0 < jc_n <= 1 (default 1)', comment='Johnson-Cook n [-]'), &
+    var_spec_t('material', 'jc_c', lo=0.0_wp, allowed='a real number >= 0 (default 0)', &
+      comment='Johnson-Cook C [-]'), &
+    var_spec_t('material', 'jc_rate0', r0=1.0_wp, lo=0.0_wp, lo_open=.true., &
+      allowed='a real number > 0 [1/s] (default 1)', &
+      comment='Johnson-Cook reference strain rate [1/s]'), &
     ! ---------------------------------------------------------------------------- &body
     var_spec_t('body', 'shape', 'e', c0='ring', comment='%'), &
     var_spec_t('body', 'material', 'c', unset='emp', unset_note='default: the first material', &
@@ -269,6 +279,8 @@ contains
       names = model_names
     case ('rate_law')
       names = rate_law_names
+    case ('flow_stress')
+      names = flow_stress_names
     case ('shape')
       names = shape_names
     case ('sector')

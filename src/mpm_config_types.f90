@@ -59,6 +59,12 @@ module mpm_config_types
     real(wp) :: hardening = 0.0_wp                 !! linear isotropic hardening modulus [Pa]
     real(wp) :: cs_d = 40.4_wp                     !! Cowper-Symonds D [1/s]
     real(wp) :: cs_q = 5.0_wp                      !! Cowper-Symonds q [-]
+    character(len=name_len) :: flow_stress = 'linear'  !! linear | johnson_cook
+    integer :: flow_stress_id = 0                  !! code of mpm_constants
+    real(wp) :: jc_b = 0.0_wp                      !! Johnson-Cook B [Pa]
+    real(wp) :: jc_n = 1.0_wp                      !! Johnson-Cook n [-]
+    real(wp) :: jc_c = 0.0_wp                      !! Johnson-Cook C [-]
+    real(wp) :: jc_rate0 = 1.0_wp                  !! Johnson-Cook reference strain rate [1/s]
   end type material_cfg_t
 
   !> &body (repeatable)

@@ -11,6 +11,7 @@ module mpm_constants
   public :: PLANE_STRAIN, PLANE_STRESS, plane_names
   public :: MODEL_ELASTIC, MODEL_NEOHOOKEAN, MODEL_J2, model_names
   public :: RATE_NONE, RATE_COWPER_SYMONDS, rate_law_names
+  public :: FLOW_LINEAR, FLOW_JOHNSON_COOK, flow_stress_names
   public :: SHAPE_RING, SHAPE_RECT, shape_names
   public :: SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER, sector_names
   public :: CONTACT_FRICTIONLESS, CONTACT_COULOMB, CONTACT_STICK, CONTACT_SLIP, contact_names
@@ -43,6 +44,9 @@ module mpm_constants
   integer, parameter :: RATE_NONE = 1, RATE_COWPER_SYMONDS = 2
   character(len=*), parameter :: rate_law_names(2) = [character(len=14) :: &
     'none', 'cowper_symonds']
+  integer, parameter :: FLOW_LINEAR = 1, FLOW_JOHNSON_COOK = 2
+  character(len=*), parameter :: flow_stress_names(2) = [character(len=12) :: &
+    'linear', 'johnson_cook']
   integer, parameter :: SHAPE_RING = 1, SHAPE_RECT = 2
   character(len=*), parameter :: shape_names(2) = [character(len=4) :: 'ring', 'rect']
   integer, parameter :: SECTOR_FULL = 1, SECTOR_HALF = 2, SECTOR_QUARTER = 3

@@ -1,4 +1,5 @@
-!> Constitutive models: hypoelastic (Jaumann rate), J2 plasticity (radial return), Neo-Hookean.
+!> Constitutive models: hypoelastic (Jaumann rate), J2 plasticity (radial return) with a linear
+!! or Johnson-Cook flow stress, Neo-Hookean.
 ! SPDX-License-Identifier: MIT
 !
 ! Stress storage: sig(4) = (xx, yy, xy, zz), Cauchy stress [Pa]; sig(3) is the tensor
@@ -9,7 +10,8 @@ module mpm_material
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
   use mpm_kinds, only: wp
   use mpm_constants, only: MODEL_ELASTIC, MODEL_NEOHOOKEAN, MODEL_J2, RATE_NONE, &
-                           RATE_COWPER_SYMONDS, PLANE_STRAIN, PLANE_STRESS
+                           RATE_COWPER_SYMONDS, PLANE_STRAIN, PLANE_STRESS, FLOW_LINEAR, &
+                           FLOW_JOHNSON_COOK
   implicit none
   private
   public :: material_new, material_wave_speed, material_stress_update, material_energy_density
@@ -29,6 +31,7 @@ module mpm_material
   type, public :: material_t
     integer :: model = MODEL_J2        !! MODEL_ELASTIC, MODEL_NEOHOOKEAN or MODEL_J2
     integer :: rate_law = RATE_NONE    !! RATE_NONE or RATE_COWPER_SYMONDS
+    integer :: flow = FLOW_LINEAR      !! FLOW_LINEAR or FLOW_JOHNSON_COOK (j2 only)
     real(wp) :: E          !! Young's modulus [Pa]
     real(wp) :: nu         !! Poisson's ratio [-]
     real(wp) :: rho        !! reference density [kg/m^3]
@@ -36,6 +39,10 @@ module mpm_material
     real(wp) :: hardening  !! linear isotropic plastic modulus H [Pa]
     real(wp) :: cs_d       !! Cowper-Symonds D [1/s]
     real(wp) :: cs_q       !! Cowper-Symonds q [-]
+    real(wp) :: jc_b = 0.0_wp      !! Johnson-Cook B [Pa] (A is sigma_y)
+    real(wp) :: jc_n = 1.0_wp      !! Johnson-Cook n [-]
+    real(wp) :: jc_c = 0.0_wp      !! Johnson-Cook C [-]
+    real(wp) :: jc_rate0 = 1.0_wp  !! Johnson-Cook reference plastic strain rate [1/s]
     real(wp) :: lambda     !! first Lame constant [Pa]
     real(wp) :: mu         !! shear modulus [Pa]
     real(wp) :: bulk       !! bulk modulus [Pa]
@@ -45,8 +52,10 @@ contains
 
   !> A material with its derived Lame constants and bulk modulus.
   !! Preconditions (checked by the input validation, not here): E > 0, -1 < nu < 0.5.
-  pure function material_new(model, rate_law, E, nu, rho, sigma_y, hardening, cs_d, cs_q) &
-      result(mat)
+  !! The Johnson-Cook arguments (flow stress (sigma_y + jc_b eqps^jc_n)(1 + jc_c ln(rate /
+  !! jc_rate0)) for model j2) are optional; without them the flow stress is linear.
+  pure function material_new(model, rate_law, E, nu, rho, sigma_y, hardening, cs_d, cs_q, &
+      flow, jc_b, jc_n, jc_c, jc_rate0) result(mat)
     integer, intent(in) :: model         !! MODEL_ELASTIC, MODEL_NEOHOOKEAN or MODEL_J2 [-]
     integer, intent(in) :: rate_law      !! RATE_NONE or RATE_COWPER_SYMONDS [-]
     real(wp), intent(in) :: E            !! Young's modulus [Pa]
@@ -56,6 +65,11 @@ contains
     real(wp), intent(in) :: hardening    !! linear isotropic plastic modulus H [Pa]
     real(wp), intent(in) :: cs_d         !! Cowper-Symonds D [1/s]
     real(wp), intent(in) :: cs_q         !! Cowper-Symonds q [-]
+    integer, intent(in), optional :: flow       !! FLOW_LINEAR or FLOW_JOHNSON_COOK [-]
+    real(wp), intent(in), optional :: jc_b      !! Johnson-Cook B [Pa]
+    real(wp), intent(in), optional :: jc_n      !! Johnson-Cook n [-]
+    real(wp), intent(in), optional :: jc_c      !! Johnson-Cook C [-]
+    real(wp), intent(in), optional :: jc_rate0  !! Johnson-Cook reference rate [1/s]
     type(material_t) :: mat
     mat%model = model
     mat%rate_law = rate_law
@@ -66,6 +80,11 @@ contains
     mat%hardening = hardening
     mat%cs_d = cs_d
     mat%cs_q = cs_q
+    if (present(flow)) mat%flow = flow
+    if (present(jc_b)) mat%jc_b = jc_b
+    if (present(jc_n)) mat%jc_n = jc_n
+    if (present(jc_c)) mat%jc_c = jc_c
+    if (present(jc_rate0)) mat%jc_rate0 = jc_rate0
     mat%lambda = E*nu/((1.0_wp + nu)*(1.0_wp - 2.0_wp*nu))  ! Lame lambda, isotropic elasticity
     mat%mu = E/(2.0_wp*(1.0_wp + nu))                       ! shear modulus
     mat%bulk = E/(3.0_wp*(1.0_wp - 2.0_wp*nu))              ! bulk modulus K = lambda + 2 mu / 3
@@ -113,7 +132,11 @@ contains
       call rotate_jaumann(L, dt, s)
       call add_elastic_increment(mat, plane, L, dt, s)
       if (mat%model == MODEL_J2) then
-        call j2_return(mat, plane, dt, eqps, s, deqps, dissipation, stat)
+        if (mat%flow == FLOW_JOHNSON_COOK) then
+          call jc_return(mat, plane, dt, eqps, s, deqps, dissipation, stat)
+        else
+          call j2_return(mat, plane, dt, eqps, s, deqps, dissipation, stat)
+        end if
         if (stat /= MATERIAL_OK) return
       end if
     case default
@@ -385,6 +408,151 @@ contains
       end if
     end if
   end subroutine multiplier_residual
+
+  ! ---------------------------------------------------------------------------------------
+  ! J2 plasticity with the Johnson-Cook flow stress
+
+  !> Return the trial stress s to the von Mises surface of radius
+  !! k = (A + B e^n)(1 + C ln(max(rate / rate0, 1))), e = eqps + deqps, rate = deqps / dt,
+  !! A = sigma_y (Johnson & Cook 1983, without the thermal term). One unknown for both planes,
+  !! x = deqps / q_end (as the Cowper-Symonds return): plane strain is the plane-stress form
+  !! with no first-invariant part (t1 = 0, t2 = q_trial^2).
+  pure subroutine jc_return(mat, plane, dt, eqps, s, deqps, dwp, stat)
+    type(material_t), intent(in) :: mat  !! material [-]
+    integer, intent(in) :: plane         !! PLANE_STRAIN or PLANE_STRESS [-]
+    real(wp), intent(in) :: dt           !! time step [s]
+    real(wp), intent(in) :: eqps         !! equivalent plastic strain at step start [-]
+    real(wp), intent(inout) :: s(4)      !! trial stress in, returned stress out [Pa]
+    real(wp), intent(out) :: deqps       !! equivalent plastic strain increment [-]
+    real(wp), intent(out) :: dwp         !! plastic dissipation per current volume [J/m^3]
+    integer, intent(out) :: stat         !! 0 ok, 1 not converged, 2 bad parameters [-]
+    real(wp) :: k0, dk, p, dev(4), q, a, t1, t2, x, x_hi, fa, fb, fac, k_end
+    deqps = 0.0_wp
+    dwp = 0.0_wp
+    stat = MATERIAL_BAD_INPUT
+    if (.not. (mat%sigma_y > 0.0_wp .and. mat%jc_b >= 0.0_wp .and. mat%jc_n > 0.0_wp .and. &
+               mat%jc_n <= 1.0_wp .and. mat%jc_c >= 0.0_wp .and. mat%jc_rate0 > 0.0_wp)) return
+    stat = MATERIAL_OK
+    call jc_flow(mat, eqps, 0.0_wp, dt, k0, dk)   ! static yield at step start
+    if (plane == PLANE_STRAIN) then
+      p = (s(1) + s(2) + s(4))/3.0_wp
+      dev = [s(1) - p, s(2) - p, s(3), s(4) - p]
+      q = sqrt(1.5_wp*(dev(1)**2 + dev(2)**2 + dev(4)**2 + 2.0_wp*dev(3)**2))  ! sqrt(3 J2)
+      a = 0.0_wp
+      t1 = 0.0_wp
+      t2 = q*q
+      x_hi = (q/k0 - 1.0_wp)/(3.0_wp*mat%mu)
+    else
+      fa = 0.5_wp*(s(1) + s(2))          ! (A, B, C) as in j2_return
+      fb = 0.5_wp*(s(1) - s(2))
+      t1 = fa**2
+      t2 = 3.0_wp*(fb**2 + s(3)**2)
+      q = sqrt(t1 + t2)
+      a = mat%E/(2.0_wp*(1.0_wp - mat%nu))
+      x_hi = (q/k0 - 1.0_wp)/min(a, 3.0_wp*mat%mu)
+    end if
+    if (q <= k0) return
+    if (dt == 0.0_wp .and. mat%jc_c > 0.0_wp) return   ! infinite rate: no flow in zero time
+    ! at x_hi the returned q is at most k0 and k >= k0: the root is in (0, x_hi]
+    call jc_solve(mat, dt, eqps, a, t1, t2, x_hi, x, stat)
+    if (stat /= MATERIAL_OK) return
+    fac = 1.0_wp/(1.0_wp + 3.0_wp*mat%mu*x)      ! deviatoric (B, C) part / (1 + 3 mu x)
+    if (plane == PLANE_STRAIN) then
+      deqps = x*q*fac
+      s(1) = p + fac*dev(1)
+      s(2) = p + fac*dev(2)
+      s(3) = fac*dev(3)
+      s(4) = p + fac*dev(4)
+    else
+      fa = fa/(1.0_wp + a*x)
+      fb = fb*fac
+      s(3) = s(3)*fac
+      s(1) = fa + fb
+      s(2) = fa - fb
+      s(4) = 0.0_wp
+      deqps = x*sqrt(fa**2 + 3.0_wp*(fb**2 + s(3)**2))
+    end if
+    call jc_flow(mat, eqps, deqps, dt, k_end, dk)
+    dwp = k_end*deqps    ! sigma_end : d eps_p = q_end deqps = yield_end deqps
+  end subroutine jc_return
+
+  !> Johnson-Cook flow stress k = (A + B e^n) r, r = 1 + C ln(max(d / (rate0 dt), 1)),
+  !! e = eqps + d, and dk/dd (where e > 0 or n = 1; 0 at e = 0 with n < 1, where it is
+  !! infinite: the solver never evaluates there).
+  pure subroutine jc_flow(mat, eqps, d, dt, k, dk)
+    type(material_t), intent(in) :: mat  !! material [-]
+    real(wp), intent(in) :: eqps         !! equivalent plastic strain at step start [-]
+    real(wp), intent(in) :: d            !! its increment over the step, >= 0 [-]
+    real(wp), intent(in) :: dt           !! time step [s]
+    real(wp), intent(out) :: k           !! flow stress [Pa]
+    real(wp), intent(out) :: dk          !! dk/dd [Pa]
+    real(wp) :: e, h, dh, r, dr
+    e = eqps + d
+    h = mat%sigma_y
+    dh = 0.0_wp
+    if (mat%jc_n == 1.0_wp) then
+      h = h + mat%jc_b*e
+      dh = mat%jc_b
+    else if (e > 0.0_wp) then
+      h = h + mat%jc_b*e**mat%jc_n
+      dh = mat%jc_b*mat%jc_n*e**(mat%jc_n - 1.0_wp)
+    end if
+    r = 1.0_wp
+    dr = 0.0_wp
+    if (mat%jc_c > 0.0_wp .and. d > mat%jc_rate0*dt) then
+      r = 1.0_wp + mat%jc_c*log(d/(mat%jc_rate0*dt))
+      dr = mat%jc_c/d
+    end if
+    k = h*r
+    dk = dh*r + h*dr
+  end subroutine jc_flow
+
+  !> Safeguarded Newton-bisection for x = deqps / q_end in (0, x_hi] on
+  !! g(x) = qbar(x) - k(x qbar(x)), qbar(x) = sqrt(t1/(1+a x)^2 + t2/(1+3 mu x)^2); g decreases
+  !! (qbar decreases, x qbar increases, k does not decrease), g(0) > 0 >= g(x_hi). Starts at
+  !! x_hi (never at 0, where dk/dd may be infinite); stops as solve_multiplier does.
+  pure subroutine jc_solve(mat, dt, eqps, a, t1, t2, x_hi, x, stat)
+    type(material_t), intent(in) :: mat  !! material [-]
+    real(wp), intent(in) :: dt           !! time step [s]
+    real(wp), intent(in) :: eqps         !! equivalent plastic strain at step start [-]
+    real(wp), intent(in) :: a            !! modulus of the first invariant part [Pa]
+    real(wp), intent(in) :: t1           !! trial A^2 [Pa^2]
+    real(wp), intent(in) :: t2           !! trial 3 (B^2 + C^2) [Pa^2]
+    real(wp), intent(in) :: x_hi         !! upper bracket [1/Pa]
+    real(wp), intent(out) :: x           !! root [1/Pa]
+    integer, intent(out) :: stat         !! 0 ok, 1 not converged [-]
+    real(wp) :: lo, hi, xn, g, dg, ea, eb, qb, dqb, k, dk
+    integer :: it
+    stat = MATERIAL_OK
+    lo = 0.0_wp
+    hi = x_hi
+    x = x_hi
+    do it = 1, return_max_iter
+      ea = 1.0_wp/(1.0_wp + a*x)
+      eb = 1.0_wp/(1.0_wp + 3.0_wp*mat%mu*x)
+      qb = sqrt(t1*ea**2 + t2*eb**2)
+      dqb = -(a*t1*ea**3 + 3.0_wp*mat%mu*t2*eb**3)/qb
+      call jc_flow(mat, eqps, x*qb, dt, k, dk)
+      g = qb - k
+      dg = dqb - dk*(t1*ea**3 + t2*eb**3)/qb     ! d(x qbar)/dx = (t1 ea^3 + t2 eb^3)/qbar
+      if (g > 0.0_wp) then
+        lo = x
+      else if (g < 0.0_wp) then
+        hi = x
+      else
+        return
+      end if
+      xn = x - g/dg                              ! Newton (dg < 0)
+      if (abs(xn - x) <= newton_step_tol*x) then
+        x = xn
+        return
+      end if
+      if (.not. (xn > lo .and. xn < hi)) xn = 0.5_wp*(lo + hi)   ! bisection safeguard
+      x = xn
+      if (hi - lo <= return_tol*hi) return
+    end do
+    stat = MATERIAL_NOT_CONVERGED
+  end subroutine jc_solve
 
   ! ---------------------------------------------------------------------------------------
   ! Neo-Hookean

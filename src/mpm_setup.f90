@@ -53,7 +53,8 @@ contains
       associate (m => cfg%materials(im))
         s%prm%mats(im) = material_new(m%model_id, m%rate_law_id, m%E, m%nu, &
                                   m%rho*cfg%solver%mass_scale, m%sigma_y, m%hardening, &
-                                  m%cs_d, m%cs_q)
+                                  m%cs_d, m%cs_q, flow=m%flow_stress_id, jc_b=m%jc_b, &
+                                  jc_n=m%jc_n, jc_c=m%jc_c, jc_rate0=m%jc_rate0)
         s%prm%c_max = max(s%prm%c_max, material_wave_speed(s%prm%mats(im)))
       end associate
     end do
