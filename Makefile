@@ -101,11 +101,13 @@ run: all
 	$(PYTHON) plots/plot_case.py --case $(CASE)
 
 ## bench: release build, then the fixed benchmark scenes (4-6 min, run it on an idle machine);
-##        table and plot in docs/bench/ (BENCH_FLAGS=--quick: up to 1e5 particles only)
+##        table and plot in docs/bench/ (BENCH_FLAGS=--quick: up to 1e5 particles only), and
+##        --check's throughput (tools/advice_tables.py writes src/mpm_bench_table.inc)
 BENCH_BLD := $(if $(filter command line,$(origin BLD)),$(BLD),build/release)
 bench: deps
 	@$(MAKE) --no-print-directory BUILD=release BLD=$(BENCH_BLD) $(BENCH_BLD)/bench
 	$(PYTHON) tools/bench.py --exe $(BENCH_BLD)/bench --out docs/bench $(BENCH_FLAGS)
+	$(PYTHON) tools/advice_tables.py --bench    # --check's wall-time estimate
 
 $(BLD)/bench: tools/bench.f90 $(LIBOBJ) | $(BLD) $(BLD)/tmod_bench
 	$(FC_ALL) $(HDF5_FFLAGS) -I$(BLD) -J$(BLD)/tmod_bench -o $@ $< $(LIBOBJ) $(HDF5_LIBS)

@@ -14,22 +14,30 @@
 module mpm_advice
   use mpm_kinds, only: wp
   use mpm_constants, only: SHAPE_RING, SECTOR_FULL, basis_names, scheme_names, PLANE_STRESS, &
-                           SCHEME_USL, BASIS_LINEAR, BASIS_UGIMP, BASIS_CPDI1, BASIS_CPDI2
+                           SCHEME_USL, BASIS_LINEAR, BASIS_UGIMP, BASIS_CPDI1, BASIS_CPDI2, &
+                           MODEL_J2
   use mpm_particles, only: ring_counts
   use mpm_config_types, only: config_t
   use mpm_walls, only: wall_t, wall_travel
   use mpm_errors, only: append_msg
-  use mpm_strings, only: rtoa
+  use mpm_strings, only: rtoa, itoa, hms
   implicit none
   private
 
   public :: study_advice, scene_of, advice_check, advice_end_of_run, wall_too_thin
+  public :: advice_units, advice_wall_time
 
   include 'mpm_advice_table.inc'
   include 'mpm_stability_table.inc'
+  include 'mpm_bench_table.inc'
 
   real(wp), parameter :: flip_trusted = 0.999_wp   !! flip below this dissipates visibly [-]
   real(wp), parameter :: delta_fold = 0.9_wp       !! delta/D from which CPDI domains fold [-]
+  real(wp), parameter :: length_max = 1.0_wp        !! lengths above this are suspect [m]
+  real(wp), parameter :: e_min = 1.0e6_wp, e_max = 1.0e13_wp  !! plausible E [Pa]
+  real(wp), parameter :: rho_min = 10.0_wp, rho_max = 30000.0_wp  !! plausible rho [kg/m^3]
+  real(wp), parameter :: yield_strain_max = 1.0_wp/50.0_wp  !! sigma_y / E above this is suspect
+  real(wp), parameter :: long_run = 3600.0_wp       !! runs longer than this are warned of [s]
 
 contains
 
@@ -54,6 +62,7 @@ contains
     character(len=:), allocatable, intent(out) :: warnings  !! warnings, one per line ('' none)
     character(len=512) :: line
     warnings = ''
+    call advice_units(cfg, warnings)
     call advice_walls(cfg, warnings)
     if (cfg%run%dt > 0.0_wp .and. cfg%run%dt > 0.3_wp*h/(c_max + vmax)) then
       write(line, '(a,es10.3,a,f5.2,a)') 'dt = ', cfg%run%dt, ' s is cfl ', &
@@ -63,6 +72,75 @@ contains
     call advice_stability(cfg, dt*(c_max + vmax)/h, warnings)
     call advice_full_crush(cfg, walls, warnings)
   end subroutine advice_check
+
+  !> Values that are possible but implausible for a tube, usually a number in the wrong unit
+  !! (the input is SI): lengths over 1 m, E outside 1 MPa .. 1e13 Pa, sigma_y above E/50,
+  !! density outside 10 .. 30 000 kg/m^3. Appends one line per value to `text`.
+  pure subroutine advice_units(cfg, text)
+    type(config_t), intent(in) :: cfg      !! the case
+    character(len=:), allocatable, intent(inout) :: text  !! lines so far (may be unallocated)
+    integer :: k
+    character(len=*), parameter :: mm = ' m is over 1 m: the input is in metres '// &
+      '(millimetres typed as metres?)'
+    if (.not. allocated(text)) text = ''
+    if (cfg%grid%h > length_max) call append_msg(text, '&grid h = '//rtoa(cfg%grid%h)//mm)
+    if (.not. cfg%grid%fitted) then
+      if (maxval(abs([cfg%grid%lower, cfg%grid%upper])) > length_max) call append_msg(text, &
+        '&grid lower, upper reach '//rtoa(maxval(abs([cfg%grid%lower, cfg%grid%upper])))//mm)
+    end if
+    do k = 1, size(cfg%bodies)
+      associate (b => cfg%bodies(k))
+        if (b%shape_id == SHAPE_RING) then
+          if (b%r_outer > length_max) call append_msg(text, '&body #'//itoa(k)// &
+            ': r_outer = '//rtoa(b%r_outer)//mm)
+          if (b%r_inner > length_max) call append_msg(text, '&body #'//itoa(k)// &
+            ': r_inner = '//rtoa(b%r_inner)//mm)
+        else if (maxval(b%size) > length_max) then
+          call append_msg(text, '&body #'//itoa(k)//': size = '//rtoa(maxval(b%size))//mm)
+        end if
+        if (maxval(abs(b%center)) > length_max) call append_msg(text, '&body #'//itoa(k)// &
+          ': center = '//rtoa(maxval(abs(b%center)))//mm)
+      end associate
+    end do
+    do k = 1, size(cfg%walls)
+      if (cfg%walls(k)%mirror) cycle
+      if (maxval(abs(cfg%walls(k)%point)) > length_max) call append_msg(text, '&wall #'// &
+        itoa(k)//': point = '//rtoa(maxval(abs(cfg%walls(k)%point)))//mm)
+    end do
+    do k = 1, size(cfg%materials)
+      associate (m => cfg%materials(k))
+        if (m%E < e_min .or. m%E > e_max) call append_msg(text, '&material #'//itoa(k)// &
+          ' ('''//trim(m%name)//'''): E = '//rtoa(m%E)//' Pa is outside 1e6 .. 1e13 Pa: '// &
+          'E is in Pa (steel 2.1e11, aluminium 7e10, rubber about 1e6 to 1e7)')
+        if (m%model_id == MODEL_J2 .and. m%sigma_y > yield_strain_max*m%E) call append_msg( &
+          text, '&material #'//itoa(k)//' ('''//trim(m%name)//'''): sigma_y = '// &
+          rtoa(m%sigma_y)//' Pa is above E/50 = '//rtoa(yield_strain_max*m%E)//' Pa: both '// &
+          'are in Pa (steel sigma_y about 2e8 to 1e9 against E = 2.1e11)')
+        if (m%rho < rho_min .or. m%rho > rho_max) call append_msg(text, '&material #'// &
+          itoa(k)//' ('''//trim(m%name)//'''): rho = '//rtoa(m%rho)//' kg/m^3 is outside '// &
+          '10 .. 30000 kg/m^3: rho is in kg/m^3 (steel 7800, aluminium 2700; g/cm^3 times 1000)')
+      end associate
+    end do
+  end subroutine advice_units
+
+  !> The wall time of a run of `work` particle-steps on `threads` threads of the release build
+  !! at the throughput `make bench` measured (src/mpm_bench_table.inc, docs/performance.md)
+  !! [s], and a warning line when it is beyond an hour ('' otherwise).
+  subroutine advice_wall_time(work, basis, threads, seconds, rate, warning)
+    real(wp), intent(in) :: work           !! particles x steps [-]
+    integer, intent(in) :: basis           !! BASIS_* code
+    integer, intent(in) :: threads         !! threads of the run
+    real(wp), intent(out) :: seconds       !! estimated wall time [s]
+    real(wp), intent(out) :: rate          !! throughput used [particle-steps/s]
+    character(len=:), allocatable, intent(out) :: warning  !! '' or the warning
+    rate = bench_rate(basis, min(max(threads, 1), 2))
+    seconds = work/rate
+    warning = ''
+    if (seconds > long_run) warning = 'the run will take about '//hms(seconds)// &
+      ' (h:mm:ss; '//rtoa(work)//' particle-steps at the '//rtoa(rate)//' per second that '// &
+      'make bench measured, docs/performance.md): check t_end, h and the particles, and set '// &
+      '&run checkpoint_every so that it can be continued (tubempm --restart)'
+  end subroutine advice_wall_time
 
   !> Per ring body: cells against the wall thickness, particles through the wall, and the
   !! platen speed against the ring's ovalling mode (METHOD.md sec. 7).

@@ -11,6 +11,7 @@ module mpm_config_check
   use mpm_config_lexer, only: reader_t
   use mpm_config_values, only: err_var, warn_var
   use mpm_advice, only: wall_too_thin
+  use mpm_symmetry, only: symmetry_checks
   implicit none
   private
   public :: cross_checks, advice_checks, body_box
@@ -115,6 +116,9 @@ contains
       if (all_ok) all_ok = rd%occ(occ_body(k))%ok
     end do
     if (all_ok) call check_fixed_dt(rd, cfg, io_run)
+
+    ! a half or quarter model: nothing may move across its mirror planes (mpm_symmetry)
+    call symmetry_checks(rd, cfg)
 
   end subroutine cross_checks
 

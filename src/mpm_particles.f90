@@ -13,7 +13,7 @@ module mpm_particles
   private
   public :: particles_t, particles_allocate, ring_counts, ring_fill, rect_counts, rect_fill, &
             quad_area_centroid, particles_memory_bytes, particles_write, particles_read, &
-            particle_corners
+            particle_corners, particles_copy
 
   !> All particles of all bodies. Component index first.
   type :: particles_t
@@ -257,6 +257,33 @@ contains
     xq(:, 3) = p%x(:, ip) + r1 + r2
     xq(:, 4) = p%x(:, ip) - r1 + r2
   end function particle_corners
+
+  !> dst = src, reusing dst's arrays when they have the sizes already (the driver copies the
+  !! particles every few steps as the last good state: no allocation each time).
+  subroutine particles_copy(dst, src)
+    type(particles_t), intent(inout) :: dst   !! the copy
+    type(particles_t), intent(in) :: src      !! the particles
+    if (.not. allocated(dst%x) .or. dst%np /= src%np .or. dst%nc /= src%nc) then
+      dst = src
+      return
+    end if
+    dst%x(:, :) = src%x
+    dst%v(:, :) = src%v
+    dst%mass(:) = src%mass
+    dst%vol0(:) = src%vol0
+    dst%vol(:) = src%vol
+    dst%F(:, :, :) = src%F
+    dst%stress(:, :) = src%stress
+    dst%eqps(:) = src%eqps
+    dst%wplastic(:) = src%wplastic
+    dst%r10(:, :) = src%r10
+    dst%r20(:, :) = src%r20
+    dst%half(:, :) = src%half
+    dst%corner(:, :) = src%corner
+    dst%xc(:, :) = src%xc
+    dst%mat(:) = src%mat
+    dst%body(:) = src%body
+  end subroutine particles_copy
 
   !> Write every particle array to the open unformatted stream unit u (a checkpoint record:
   !! the counts, then the arrays).

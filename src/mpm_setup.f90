@@ -7,16 +7,19 @@ module mpm_setup
                            SECTOR_QUARTER, CONTACT_SLIP, BASIS_LINEAR, basis_names, &
                            scheme_names, plane_names, sector_names
   use mpm_config, only: config_t
-  use mpm_particles, only: particles_allocate, ring_counts, ring_fill, rect_counts, rect_fill, &
-                           particles_memory_bytes
-  use mpm_grid, only: grid_init, grid_memory_bytes
-  use mpm_tiles, only: tiles_init, tiles_memory_bytes
+  use mpm_particles, only: particles_allocate, ring_counts, ring_fill, rect_counts, rect_fill
+  use mpm_grid, only: grid_init
+  use mpm_tiles, only: tiles_init
   use mpm_walls, only: wall_t
   use mpm_material, only: material_new, material_wave_speed
   use mpm_solver, only: sim_t, solver_stable_dt, solver_init_energy
   use mpm_errors, only: append_msg
-  use mpm_strings, only: itoa, plural
-  use mpm_advice, only: advice_check
+  use mpm_strings, only: itoa, rtoa, plural, hms
+  use mpm_weights, only: weights_compute
+  use mpm_advice, only: advice_check, advice_wall_time
+  use mpm_budget, only: budget_t, budget_estimate, budget_check, budget_threads, &
+                        budget_max_nodes, bytes_text
+  use mpm_sys, only: sys_memory_available
   implicit none
   private
   public :: setup_sim, setup_report, sector_factor
@@ -43,10 +46,19 @@ contains
     integer, intent(out) :: stat           !! 0 or EXIT_INPUT
     character(len=:), allocatable, intent(out) :: errmsg  !! what is inconsistent
     integer :: ib, im, k, np, nc, npb, ncb, nk, sector_id
-    real(wp) :: lo(2), hi(2), anchor(2), rho, margin
+    real(wp) :: lo(2), hi(2), anchor(2), mirror_at(2), rho, margin, avail
     type(wall_t), allocatable :: walls(:)
+    type(budget_t) :: bud
+    character(len=:), allocatable :: source
+    logical :: known
     stat = 0
     errmsg = ''
+    ! what the case will need, against what the machine has, before anything is allocated
+    bud = budget_estimate(cfg, budget_threads(cfg))
+    call sys_memory_available(avail, source, known)
+    call budget_check(cfg, bud, avail, source, known, stat, errmsg)
+    if (stat /= 0) return
+    s%prm%max_nodes = budget_max_nodes(bud, avail, known)
     ! materials, with the density scaled for quasi-static runs
     allocate(s%prm%mats(size(cfg%materials)))
     do im = 1, size(cfg%materials)
@@ -133,12 +145,54 @@ contains
       call grid_init(s%g, lo, hi, cfg%grid%h, anchor, s%nwall)
       s%g%fixed = .false.
     else
-      call grid_init(s%g, cfg%grid%lower, cfg%grid%upper, cfg%grid%h, cfg%grid%lower, s%nwall)
+      ! the given bounds, rounded outward to whole cells of a lattice through `lower`, or
+      ! through the mirror planes of a half or quarter model (a node line on each plane)
+      anchor = cfg%grid%lower
+      mirror_at = first_sector_center(cfg)
+      if (sector_id /= SECTOR_FULL) anchor(1) = mirror_at(1)      ! the plane x = cx
+      if (sector_id == SECTOR_QUARTER) anchor(2) = mirror_at(2)   ! and y = cy
+      call grid_init(s%g, cfg%grid%lower, cfg%grid%upper, cfg%grid%h, anchor, s%nwall)
       s%g%fixed = .true.
+      call fixed_grid_fits(cfg, s, stat, errmsg)
+      if (stat /= 0) return
     end if
     call tiles_init(s%tiles, s%g)
     call solver_init_energy(s)
   end subroutine setup_sim
+
+  !> A fixed grid must hold the node block of every particle at t = 0, or step 1 would stop
+  !! the run ("left the grid"): step 1's own test (weights_compute) run now, refused as an
+  !! input error with the bounds the blocks need.
+  subroutine fixed_grid_fits(cfg, s, stat, errmsg)
+    type(config_t), intent(in) :: cfg      !! the case
+    type(sim_t), intent(inout) :: s        !! particles and the fixed grid (basis cache filled)
+    integer, intent(out) :: stat           !! 0 or EXIT_INPUT
+    character(len=:), allocatable, intent(inout) :: errmsg  !! the bounds needed
+    character(len=:), allocatable :: msg
+    integer :: lo(2), hi(2)
+    real(wp) :: need_lo(2), need_hi(2)
+    call weights_compute(s%prm, s%state_t, s%g, s%wk, s%diag, stat, msg)
+    if (stat == 0) return
+    stat = EXIT_INPUT
+    lo = minval(s%wk%blk(:, 1:s%p%np), dim=2)
+    hi = maxval(s%wk%blk(:, 1:s%p%np), dim=2) + s%wk%nb - 1
+    need_lo = s%g%origin + s%g%h*real(lo, wp)
+    need_hi = s%g%origin + s%g%h*real(hi, wp)
+    errmsg = trim(cfg%file)//': &grid: lower = '//vec_text(cfg%grid%lower)//', upper = '// &
+      vec_text(cfg%grid%upper)//': the grid does not hold the support of every particle at '// &
+      't = 0 (its domain plus a cell, in blocks of '//itoa(s%wk%nb)//' x '//itoa(s%wk%nb)// &
+      ' nodes of h = '//rtoa(s%g%h)//' m), which reaches from ('//vec_text(need_lo)// &
+      ') to ('//vec_text(need_hi)//') m; allowed: lower <= '//vec_text(need_lo)// &
+      ' and upper >= '//vec_text(need_hi)//', plus room for the motion, or lower and upper '// &
+      'not given (the grid is fitted and grows with the material)'
+  end subroutine fixed_grid_fits
+
+  !> Two numbers as 'a, b' (5 significant digits).
+  function vec_text(v) result(text)
+    real(wp), intent(in) :: v(2)           !! the numbers
+    character(len=:), allocatable :: text
+    text = rtoa(v(1))//', '//rtoa(v(2))
+  end function vec_text
 
   !> The walls of the case: the input's, then the mirror planes of a half or quarter ring.
   subroutine setup_walls(cfg, sector_id, walls)
@@ -200,9 +254,13 @@ contains
     type(sim_t), intent(in) :: s           !! the simulation at t = 0
     character(len=:), allocatable, intent(out) :: report    !! the set-up, one item per line
     character(len=:), allocatable, intent(out) :: warnings  !! warnings, one per line ('' none)
-    integer :: ib, nk, npb, ncb
+    integer :: ib, nk, npb, ncb, nthreads
     real(wp) :: dt_stable, dt
-    integer(i8) :: steps, mem
+    integer(i8) :: steps
+    real(wp) :: seconds, rate, avail
+    type(budget_t) :: bud
+    character(len=:), allocatable :: long_run, source
+    logical :: known
     character(len=512) :: line
     report = ''
     write(line, '(a)') 'case '''//trim(cfg%run%title)//''' from '//trim(cfg%file)
@@ -251,12 +309,24 @@ contains
     write(line, '(a,es11.4,a,i0,a)') 'steps: about ', real(steps, wp), ' to t_end (', steps, &
       ' at the initial speeds)'
     call append_msg(report, line)
-    mem = particles_memory_bytes(s%p) + grid_memory_bytes(s%g, s%nwall) &
-          + tiles_memory_bytes(s%tiles) + int(s%p%np, i8)*8_i8*27_i8
-    write(line, '(a,f10.2,a)') 'memory estimate: ', real(mem, wp)/1048576.0_wp, ' MiB'
+    bud = budget_estimate(cfg, budget_threads(cfg))
+    call sys_memory_available(avail, source, known)
+    line = 'memory estimate: '//bytes_text(bud%total)//' (particles '// &
+      bytes_text(bud%particle_bytes)//', grid '//bytes_text(bud%grid_bytes)
+    if (cfg%grid%fitted) line = trim(line)//' with room to grow'
+    line = trim(line)//')'
+    if (known) line = trim(line)//' of '//bytes_text(avail)//' available'
     call append_msg(report, line)
     write(line, '(a,es11.4,a)') 'work estimate: ', real(steps, wp)*real(s%p%np, wp), &
       ' particle-steps'
+    call append_msg(report, line)
+    nthreads = bud%threads                 ! below parallel_min particles loops run serially
+    if (s%p%np < s%prm%parallel_min) nthreads = 1
+    call advice_wall_time(real(steps, wp)*real(s%p%np, wp), s%prm%basis, nthreads, &
+                          seconds, rate, long_run)
+    write(line, '(a,i0,a,es9.2,a)') 'wall-time estimate: about '//hms(seconds)// &
+      ' (h:mm:ss, release build, ', min(nthreads, 2), ' thread(s), at the ', rate, &
+      ' particle-steps/s of make bench, docs/performance.md)'
     call append_msg(report, line)
     if (sector_factor(cfg) > 1.0_wp) then
       write(line, '(a,f3.0,a)') 'outputs: energies and masses x ', sector_factor(cfg), &
@@ -265,6 +335,7 @@ contains
     end if
 
     call advice_check(cfg, s%g%h, s%prm%c_max, s%vmax, dt, s%walls(1:s%nwall), warnings)
+    if (len(long_run) > 0) call append_msg(warnings, long_run)
   end subroutine setup_report
 
 end module mpm_setup

@@ -54,6 +54,8 @@ module mpm_state
                                            !! speed: the energy scale of the start of a
                                            !! crush, when the work done is still tiny [J/m]
     logical :: deterministic = .false.     !! results independent of the thread count
+    real(wp) :: max_nodes = 2147483647.0_wp  !! most grid nodes a fitted grid may grow to:
+                                           !! what the memory available holds (mpm_budget) [-]
     integer :: parallel_min = 4096         !! particles from which loops run in parallel: below,
                                            !! OpenMP start-up and barriers cost more than they save
     integer :: colour_band = 32768         !! particles per band of the deterministic sweep

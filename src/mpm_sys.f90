@@ -2,10 +2,11 @@
 ! SPDX-License-Identifier: MIT
 module mpm_sys
   use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char
+  use mpm_kinds, only: wp
   implicit none
   private
   public :: sys_mkdir_p, sys_install_signals, sys_signal_received, sys_stdout_isatty, &
-            sys_rename, sys_exit
+            sys_rename, sys_exit, sys_memory_available
 
   interface
     function c_install_signals() result(r) bind(C, name='tubempm_install_signals')
@@ -50,6 +51,86 @@ contains
     flush(error_unit)
     call c_exit(int(code, c_int))
   end subroutine sys_exit
+
+  !> The memory this process may still take [bytes] and where the number comes from: the
+  !! environment variable TUBEMPM_MEMORY_LIMIT (MiB) when set, otherwise MemAvailable of
+  !! /proc/meminfo, lowered to what a cgroup (v2) memory limit leaves (memory.max minus
+  !! memory.current). known = .false. when none of them can be read (not Linux).
+  subroutine sys_memory_available(bytes, source, known)
+    real(wp), intent(out) :: bytes         !! memory available [bytes]
+    character(len=:), allocatable, intent(out) :: source  !! where the number comes from
+    logical, intent(out) :: known          !! a number was found
+    character(len=64) :: text
+    integer :: n, ios
+    real(wp) :: v, limit, used
+    bytes = huge(1.0_wp)
+    source = ''
+    known = .false.
+    call get_environment_variable('TUBEMPM_MEMORY_LIMIT', text, n, ios)
+    if (ios == 0 .and. n > 0) then
+      read(text, *, iostat=ios) v
+      if (ios == 0 .and. v > 0.0_wp) then
+        bytes = v*1048576.0_wp
+        source = 'TUBEMPM_MEMORY_LIMIT'
+        known = .true.
+        return
+      end if
+    end if
+    v = meminfo_kib('/proc/meminfo', 'MemAvailable:')
+    if (v >= 0.0_wp) then
+      bytes = 1024.0_wp*v
+      source = 'MemAvailable in /proc/meminfo'
+      known = .true.
+    end if
+    limit = file_number('/sys/fs/cgroup/memory.max')
+    used = file_number('/sys/fs/cgroup/memory.current')
+    if (limit > 0.0_wp .and. used >= 0.0_wp) then
+      if (limit - used < bytes) then
+        bytes = max(limit - used, 0.0_wp)
+        source = 'the cgroup limit /sys/fs/cgroup/memory.max less memory.current'
+        known = .true.
+      end if
+    end if
+  end subroutine sys_memory_available
+
+  !> The number (kiB) after `key` in a /proc/meminfo-like file; -1 when not found.
+  function meminfo_kib(path, key) result(v)
+    character(len=*), intent(in) :: path   !! file
+    character(len=*), intent(in) :: key    !! line start, e.g. 'MemAvailable:'
+    real(wp) :: v
+    character(len=256) :: line
+    integer :: u, ios
+    v = -1.0_wp
+    open(newunit=u, file=path, status='old', action='read', iostat=ios)
+    if (ios /= 0) return
+    do
+      read(u, '(a)', iostat=ios) line
+      if (ios /= 0) exit
+      if (index(line, key) == 1) then
+        read(line(len(key) + 1:), *, iostat=ios) v
+        if (ios /= 0) v = -1.0_wp
+        exit
+      end if
+    end do
+    close(u, iostat=ios)
+  end function meminfo_kib
+
+  !> The number a one-line file holds; -1 when unreadable or not a number ('max').
+  function file_number(path) result(v)
+    character(len=*), intent(in) :: path   !! file
+    real(wp) :: v
+    character(len=64) :: line
+    integer :: u, ios
+    v = -1.0_wp
+    open(newunit=u, file=path, status='old', action='read', iostat=ios)
+    if (ios /= 0) return
+    read(u, '(a)', iostat=ios) line
+    close(u)
+    if (ios /= 0) return
+    if (verify(trim(adjustl(line)), '0123456789') /= 0 .or. len_trim(line) == 0) return
+    read(line, *, iostat=ios) v
+    if (ios /= 0) v = -1.0_wp
+  end function file_number
 
   !> Create a directory and its parents; stat = errno (0 ok), errmsg the reason.
   subroutine sys_mkdir_p(path, stat, errmsg)

@@ -95,6 +95,17 @@ contains
       add(1) = max(0, -lo(1)); add(2) = max(0, -lo(2))
       add(3) = max(0, hi(1) - (nx - 1)); add(4) = max(0, hi(2) - (ny - 1))
       where (add > 0) add = add + 2 + max(nx, ny)/10
+      if (real(nx + add(1) + add(3), wp)*real(ny + add(2) + add(4), wp) > prm%max_nodes) then
+        stat = EXIT_NUMERIC
+        errmsg = 'the grid would grow to '//itoa(nx + add(1) + add(3))//' x '// &
+          itoa(ny + add(2) + add(4))//' nodes at '//state_context(st, prm, g%h)// &
+          ', more than the memory available holds (about '//itoa(nint(prm%max_nodes))// &
+          ' nodes): the material reaches from node ('//itoa(lo(1))//', '//itoa(lo(2))// &
+          ') to ('//itoa(hi(1))//', '//itoa(hi(2))//') of a '//itoa(nx)//' x '//itoa(ny)// &
+          ' grid. Remedy: if particles flew off, the time step was unstable: lower cfl; '// &
+          'otherwise a coarser &grid h, or a shorter t_end for bodies that travel far'
+        return
+      end if
       call grid_grow(g, add, st%nwall)
       diag%grown = diag%grown + 1
     end do

@@ -15,7 +15,7 @@ program tubempm
   use mpm_setup, only: setup_sim, setup_report, sector_factor
   use mpm_advice, only: study_advice, advice_end_of_run, scene_of
   use mpm_solver, only: sim_t, solver_step
-  use mpm_particles, only: particles_t
+  use mpm_particles, only: particles_t, particles_copy
   use mpm_output, only: history_t, history_open, history_write, history_close, write_summary, &
                         summary_t
   use mpm_io_hdf5, only: snapfile_t, snap_create, snap_reopen, snap_write, snap_close, xdmf_write
@@ -50,7 +50,8 @@ program tubempm
     real(wp) :: last_progress = 0.0_wp     !! elapsed at the last progress line [s]
     real(wp) :: last_ckpt = 0.0_wp         !! elapsed at the last checkpoint [s]
   end type run_t
-  integer, parameter :: backup_every = 50  !! steps between copies of the last good state
+  integer, parameter :: backup_every = 10  !! steps between copies of the last good state:
+                                           !! crash_<step>.h5 is 1 to 10 steps before a failure
 
   ! command line
   check_only = .false.
@@ -326,7 +327,7 @@ contains
   subroutine keep_good_state(s, r)
     type(sim_t), intent(in) :: s
     type(run_t), intent(inout) :: r
-    r%good = s%p
+    call particles_copy(r%good, s%p)
     r%t_good = s%t
     r%dt_good = s%dt
     r%step_good = s%step

@@ -101,7 +101,7 @@ contains
       ' t_end = '//e17(1.0e-300_wp), &
       ' cfl = '//e17(0.1_wp + 0.2_wp), &
       ' depth = '//e17(1.0e300_wp), &
-      ' gravity = '//e17(-9.81_wp)//', '//e17(third), &
+      ' gravity = -0.0, '//e17(-9.81_wp*third), &   ! along the mirror plane of body 2
       ' threads = 3, history_every = 1e-7 /', &
       '&solver basis = ''CPDI1'', scheme = ''Usf'', plane = ''STRESS''', &
       ' flip = '//e17(0.99_wp), &
@@ -113,7 +113,7 @@ contains
       '&material name = ''alu'', E = 7e10, nu = 0.499999, rho = 2.7e3', &
       ' sigma_y = 1.5e8, hardening = 4.9e-324, rate_law = ''Cowper_Symonds'' /', &
       '&body shape = ''rect'', material = ''ALU'', center = -0.5, 0.25', &
-      ' size = 0.5, 0.25, n_x = 7, n_y = 3, velocity = 1e-12, -0.0 /', &
+      ' size = 0.5, 0.25, n_x = 7, n_y = 3, velocity = -0.0, 1e-12 /', &
       '&body material = ''steel'', center = 1, 1, r_inner = 0.1, r_outer = 0.2', &
       ' n_thick = 3, n_circ = 10, sector = ''HALF'' /', &
       '&wall point = 0, -2, normal = 0.6, 0.8, contact = ''Coulomb''', &
