@@ -125,7 +125,7 @@ contains
       i = i + 4
     end do
     row(i + 1) = s%e_kin*h%depth*h%factor
-    row(i + 2) = s%e_strain*h%depth*h%factor
+    row(i + 2) = (s%e_strain + s%e_contact)*h%depth*h%factor   ! with the walls' contact
     row(i + 3) = s%e_plastic*h%depth*h%factor
     row(i + 4) = s%e_external*h%depth*h%factor
     call com_full(s, c, cv)

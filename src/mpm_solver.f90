@@ -32,7 +32,7 @@ module mpm_solver
   use mpm_weights, only: weights_compute
   use mpm_transfer, only: transfer_p2g, transfer_g2p, transfer_g2p_coloured
   use mpm_contact, only: grid_velocity_walls, grid_update_walls, contact_begin_step, &
-                         contact_reactions
+                         contact_reactions, contact_energy
   use mpm_deformation, only: deformation_update, domains_update
   use mpm_timers, only: clock_seconds, PHASE_BASIS, PHASE_P2G, PHASE_GRID, PHASE_G2P, &
                         PHASE_REMAP, PHASE_STRESS, PHASE_CORNERS, PHASE_OTHER
@@ -74,7 +74,8 @@ contains
     integer :: ip, k
     real(wp) :: vwall, f
     call solver_energies(s%prm, s%state_t, s%e_kin, s%e_strain)
-    s%e0 = s%e_kin + s%e_strain
+    call contact_energy(s%prm, s%state_t, s%g, s%wk)
+    s%e0 = s%e_kin + s%e_strain + s%e_contact
     vwall = 0.0_wp
     do k = 1, s%nwall
       f = 1.0_wp
@@ -173,6 +174,7 @@ contains
     s%t = s%t + dt
     s%step = s%step + 1_i8
     call contact_reactions(s%state_t, dt)
+    call contact_energy(s%prm, s%state_t, s%g, s%wk)
     call energy_balance(s%prm, s%state_t, s%g%h, dt, stat, errmsg)
     call tick(s%diag, PHASE_OTHER, clock)
   end subroutine solver_step
@@ -215,7 +217,7 @@ contains
     do k = 1, st%nwall
       st%e_external = st%e_external + st%walls(k)%work
     end do
-    emech = st%e_kin + st%e_strain + st%e_plastic + st%e_damped
+    emech = st%e_kin + st%e_strain + st%e_plastic + st%e_damped + st%e_contact
     ! energy_error as INTERFACE.md defines it: the largest imbalance over the run divided by
     ! max(E0, the largest external work), both maxima over the run so far
     excess = emech - st%e_external - st%e0

@@ -19,6 +19,7 @@ module mpm_state
   use mpm_grid, only: grid_t, buffers_t
   use mpm_tiles, only: tiles_t
   use mpm_walls, only: wall_t, walls_write_state, walls_read_state
+  use mpm_surface_contact, only: surface_work_t
   use mpm_material, only: material_t
   use mpm_timers, only: n_phases
   use mpm_strings, only: itoa, rtoa
@@ -74,6 +75,8 @@ module mpm_state
     real(wp) :: e_kin = 0.0_wp, e_strain = 0.0_wp, e_plastic = 0.0_wp
     real(wp) :: e_external = 0.0_wp, e_damped = 0.0_wp, e0 = 0.0_wp
     real(wp) :: w_gravity = 0.0_wp         !! work of gravity and body forces [J/m]
+    real(wp) :: e_contact = 0.0_wp         !! energy stored in the walls' contact now [J/m]
+                                           !! (recomputed from the positions: not written)
     real(wp) :: energy_error = 0.0_wp      !! largest |balance| / max(E0, largest |external|) [-]
     real(wp) :: bal_max = 0.0_wp           !! largest |kin + strain + plastic + damped - ext - E0|
                                            !! [J/m]
@@ -94,6 +97,7 @@ module mpm_state
     real(wp), allocatable :: chunk_sum(:,:) !! partial sums per chunk (2, nchunk)
     real(wp), allocatable :: wall_work(:,:) !! per wall: velocity over the step, point, normal
                                            !! (6, nwall) [m/s, m, -]
+    type(surface_work_t), allocatable :: surf(:)  !! per wall: surface points in contact
   end type work_t
 
   !> Diagnostics: measured, reported, never read back by the step. The extremes and the

@@ -1,150 +1,317 @@
-!> Rigid-wall contact at the material surface: a kinematic constraint on surface points.
+!> Rigid-wall contact at the material surface: penalty forces on the surface points, friction
+!! as a bounded tangential impulse.
 ! SPDX-License-Identifier: MIT
 !
-! The material surface is a set of points x_c (the CPDI2 domain corners, or the corners of the
-! CPDI1 parallelogram / uGIMP square of each particle). A point moves with the bilinear
-! interpolant of the node velocities, v_c = sum_i N_i(x_c) v_i, exactly as the CPDI2 corners
-! do. Against a wall with unit normal n (into the material), velocity v_w and a gap
-! g_c = (x_c - x_w) . n at the start of the step, the constraint is
+! The material surface is a set of points x_c: the CPDI2 domain corners, or the corners of each
+! particle's CPDI1 parallelogram (x -+ F r10 -+ F r20) or uGIMP / linear square (x -+ half).
+! Each point carries a share m_c of the particle mass (a quarter of each particle it is a
+! corner of). A CPDI2 corner moves with the bilinear interpolant of the node velocities,
+! v_c = sum_i N_i(x_c) v_i, so its force goes to the nodes with the weights N_i(x_c). The
+! corners of the other bases move with their particle (the square of uGIMP and linear
+! translates with it), so the forces of a particle's corners are summed and go to the nodes
+! with the particle's own weights S_ip: either way the force does work on exactly the
+! velocity that changes the gap, and the contact energy is conserved to the order of the time
+! integration (a corner force spread bilinearly on a uGIMP particle was not: 5 % energy error).
 !
-!     (v_c - v_w) . n >= -max(g_c, 0) / dt        (the point may close its gap, not cross)
+! Normal contact (docs/theory.md, "Wall contact"): a point whose gap to the plane
+! g_c = (x_c - x_w) . n is negative at the start of the step takes the force
 !
-! with an impulse lambda_c >= 0 along n (the wall pushes, never pulls: separation is free). The
-! impulse goes to the nodes in proportion to N_i / m_i: dv_i = lambda N_i / m_i. This is the
-! correction of least kinetic energy (mass-weighted least squares) that satisfies the
-! constraint, and the momentum given to the nodes is lambda * sum_i N_i, summed into the wall
-! reaction exactly. Friction adds a tangential impulse: 'stick' makes the tangential relative
-! velocity zero, 'coulomb' bounds |lambda_t| by mu lambda_n. Points that share nodes are
-! solved together by projected Gauss-Seidel sweeps, in a fixed order (results do not depend on
-! the thread count). Only nodes with mass above the cut-off take part.
+!     f_c = k_c (-g_c) n,        k_c = alpha m_c c^2 / h^2,
+!
+! spread to the active nodes as above, in the same grid update as the internal forces. k_c is the stiffness of the material a cell deep behind the point (for a
+! point of mass m_c the penalty frequency is sqrt(alpha) c / h, the grid's own highest), so the
+! stable time step is not lowered, the penetration under a pressure p is about p h / (alpha
+! rho c^2) (a strain of the wall pressure over the modulus, times a cell), and the force is
+! the gradient of the energy 1/2 k_c g_c^2: what the material puts into the contact it gets
+! back at separation. A kinematic constraint (the velocity of the point cut to what closes its
+! gap) loses the kinetic energy of the nodes it stops at every impact, which costs an elastic
+! bar a per cent of its rebound; that is why this code uses a penalty (docs/theory.md).
+!
+! Friction acts on the points that carry a normal force, after the velocity update: the
+! tangential impulse that stops the point's slip relative to the wall ('stick'), bounded by mu
+! times the normal impulse ('coulomb'), with the same N_i / m_i distribution. Points that share
+! nodes are solved together by projected Gauss-Seidel sweeps, in a fixed order.
+!
+! The momentum given to the material is sum_c lambda_c sum_i N_i over the active nodes,
+! summed into the wall's reaction exactly (impulse on the wall = momentum taken from the body).
 module mpm_surface_contact
   use mpm_kinds, only: wp
-  use mpm_constants, only: CONTACT_COULOMB, CONTACT_STICK
+  use mpm_constants, only: BASIS_CPDI1, BASIS_CPDI2, CONTACT_COULOMB, CONTACT_STICK
+  use mpm_particles, only: particles_t, particle_corners
   use mpm_basis, only: bilinear_at
   implicit none
   private
-  public :: surface_work_t, surface_constrain
+  public :: surface_work_t, surface_points, surface_energy, surface_push, surface_friction, &
+            contact_alpha
 
+  real(wp), parameter :: contact_alpha = 1.0_wp  !! penalty stiffness over the material's [-]
   integer, parameter :: max_sweeps = 200     !! Gauss-Seidel sweeps at most [-]
   real(wp), parameter :: sweep_tol = 1.0e-13_wp  !! relative change that ends the sweeps [-]
 
-  !> Work arrays of the constraint solve, grown as needed (no allocation in a steady run).
+  !> Points in contact with one wall and the work arrays of their solve, grown as needed (no
+  !! allocation in a steady run). A point is a CPDI2 corner or, for the other bases, a
+  !! particle (its corners behind the plane together).
   type :: surface_work_t
-    integer, allocatable :: node(:,:)      !! the 4 nodes of each point's cell (4, n)
-    real(wp), allocatable :: wt(:,:)       !! their weights N_i / m_i (4, n) [m/kg]
-    real(wp), allocatable :: nw(:,:)       !! their weights N_i (4, n) [-]
+    integer :: npt = 0                     !! points gathered
+    integer :: nnode = 4                   !! nodes per point (4, or the particle block nb^2)
+    real(wp), allocatable :: xs(:,:)       !! CPDI2 corner positions (2, n) [m]
+    integer, allocatable :: owner(:)       !! the particle of a point, or 0 (a corner) (n)
+    real(wp), allocatable :: fn(:)         !! normal penalty force (n) [N/m]
+    real(wp), allocatable :: en(:)         !! penalty energy (n) [J/m]
+    integer, allocatable :: node(:,:)      !! nodes of each point (nnode, n)
+    real(wp), allocatable :: wt(:,:)       !! their weights N_i / m_i (nnode, n) [m/kg]
+    real(wp), allocatable :: nw(:,:)       !! their weights N_i on active nodes (nnode, n) [-]
     real(wp), allocatable :: s(:)          !! sum_i N_i^2 / m_i of each point [m/kg]
     real(wp), allocatable :: lam(:,:)      !! normal and tangential impulses (2, n) [kg/s]
-    integer :: sweeps = 0                  !! sweeps taken by the last solve
+    real(wp), allocatable :: corner_mass(:)  !! CPDI2: mass share of each corner (nc) [kg/m]
+    integer :: sweeps = 0                  !! sweeps taken by the last friction solve
   end type surface_work_t
 
 contains
 
-  !> Apply one wall to the surface points xs(:, 1:npt) (those within reach), whose gaps at the
-  !! start of the step are gap(1:npt). Node velocities vel change in place; dvel (when
-  !! add_dvel) gets the same change; impulse is the momentum given to the material.
-  subroutine surface_constrain(npt, xs, gap, origin, h, nx, ny, mass, mass_cut, law, friction, &
-                               normal, vwall, dt, add_dvel, vel, dvel, impulse, wk)
-    integer, intent(in) :: npt             !! surface points
-    real(wp), intent(in) :: xs(:,:)        !! their positions (2, >= npt) [m]
-    real(wp), intent(in) :: gap(:)         !! their distances to the plane (>= npt) [m]
+  !> The surface points of particles p (basis `basis`) that lie behind the plane through xw
+  !! with unit normal `normal` (into the material), with their penalty forces and energies
+  !! (stiffness kf m_c per point), in wk (wk%npt of them), in corner or particle order.
+  subroutine surface_points(p, basis, xw, normal, kf, wk)
+    type(particles_t), intent(in) :: p     !! particles (positions, corners, F, masses)
+    integer, intent(in) :: basis           !! BASIS_* code
+    real(wp), intent(in) :: xw(2)          !! a point on the plane [m]
+    real(wp), intent(in) :: normal(2)      !! unit normal into the material [-]
+    real(wp), intent(in) :: kf             !! stiffness per unit point mass, alpha c^2/h^2 [1/s^2]
+    type(surface_work_t), intent(inout) :: wk  !! work arrays: the points
+    integer :: ip, ic, a
+    real(wp) :: d, xq(2, 4), r1(2), r2(2)
+    wk%npt = 0
+    if (basis == BASIS_CPDI2) then
+      call corner_masses(p, wk)
+      do ic = 1, p%nc
+        d = (p%xc(1, ic) - xw(1))*normal(1) + (p%xc(2, ic) - xw(2))*normal(2)
+        if (d < 0.0_wp) call push(0, p%xc(:, ic), -kf*wk%corner_mass(ic)*d, &
+                                  0.5_wp*kf*wk%corner_mass(ic)*d*d)
+      end do
+      return
+    end if
+    do ip = 1, p%np
+      ! the domain deformed with the particle: x -+ F r1 -+ F r2 (CPDI1: r = r10, r20; uGIMP
+      ! and linear: the half sizes), so that a corner moves as the grid's velocity field at
+      ! it to first order; the lowest corner first, in closed form
+      if (basis == BASIS_CPDI1) then
+        r1 = matmul(p%F(:, :, ip), p%r10(:, ip))
+        r2 = matmul(p%F(:, :, ip), p%r20(:, ip))
+      else
+        r1 = p%F(:, 1, ip)*p%half(1, ip)
+        r2 = p%F(:, 2, ip)*p%half(2, ip)
+      end if
+      d = dot_product(p%x(:, ip) - xw, normal)
+      if (d - abs(dot_product(r1, normal)) - abs(dot_product(r2, normal)) >= 0.0_wp) cycle
+      xq(:, 1) = p%x(:, ip) - r1 - r2
+      xq(:, 2) = p%x(:, ip) + r1 - r2
+      xq(:, 3) = p%x(:, ip) + r1 + r2
+      xq(:, 4) = p%x(:, ip) - r1 + r2
+      do a = 1, 4
+        d = dot_product(xq(:, a) - xw, normal)
+        if (d < 0.0_wp) call push(0, xq(:, a), -kf*0.25_wp*p%mass(ip)*d, &
+                                  0.125_wp*kf*p%mass(ip)*d*d)
+      end do
+    end do
+  contains
+    subroutine push(owner, xp, force, energy)
+      integer, intent(in) :: owner
+      real(wp), intent(in) :: xp(2), force, energy
+      if (wk%npt == 0) call grow(wk, 64)
+      if (wk%npt == size(wk%fn)) call grow(wk, 2*wk%npt)
+      wk%npt = wk%npt + 1
+      wk%owner(wk%npt) = owner
+      wk%xs(:, wk%npt) = xp
+      wk%fn(wk%npt) = force
+      wk%en(wk%npt) = energy
+    end subroutine push
+  end subroutine surface_points
+
+  !> The energy stored in the contact of the points gathered [J/m].
+  pure function surface_energy(wk) result(e)
+    type(surface_work_t), intent(in) :: wk !! points
+    real(wp) :: e
+    e = sum(wk%en(1:wk%npt))
+  end function surface_energy
+
+  !> The penalty forces of the points gathered, added to the node forces of the active nodes
+  !! (CPDI2 corners: the bilinear weights at the corner; particles: their own basis weights
+  !! w, blk, nb of this step); impulse = the momentum they give the material over dt. Sets
+  !! up the weights and the normal impulses that surface_friction reads.
+  subroutine surface_push(wk, origin, h, nx, ny, mass, mass_cut, nb, blk, w, normal, dt, &
+                          force, impulse)
+    type(surface_work_t), intent(inout) :: wk  !! points; weights and normal impulses set
     real(wp), intent(in) :: origin(2)      !! position of node (0, 0) [m]
     real(wp), intent(in) :: h              !! cell size [m]
     integer, intent(in) :: nx, ny          !! nodes along x and y
     real(wp), intent(in) :: mass(:)        !! node mass [kg/m]
     real(wp), intent(in) :: mass_cut       !! active nodes have mass above this [kg/m]
-    integer, intent(in) :: law             !! CONTACT_FRICTIONLESS, _COULOMB or _STICK
+    integer, intent(in) :: nb              !! particle block width (nodes per direction)
+    integer, intent(in) :: blk(:,:)        !! lower-left node of each particle's block (2, np)
+    real(wp), intent(in) :: w(:,:)         !! particle weights (nb*nb, np) [-]
+    real(wp), intent(in) :: normal(2)      !! unit normal into the material [-]
+    real(wp), intent(in) :: dt             !! time step [s]
+    real(wp), intent(inout) :: force(:,:)  !! node force (2, nn) [N/m]
+    real(wp), intent(out) :: impulse(2)    !! momentum given to the material [kg/s per m]
+    integer :: k, a, b, n, i0, j0, ip
+    real(wp) :: w4(4)
+    impulse = 0.0_wp
+    if (wk%npt == 0) return
+    wk%nnode = 4
+    if (wk%owner(1) > 0) wk%nnode = nb*nb
+    call grow_nodes(wk, size(wk%fn))
+    do k = 1, wk%npt
+      wk%s(k) = 0.0_wp
+      wk%lam(:, k) = 0.0_wp
+      wk%node(:, k) = 0
+      wk%wt(:, k) = 0.0_wp
+      wk%nw(:, k) = 0.0_wp
+      ip = wk%owner(k)
+      if (ip > 0) then
+        do b = 0, nb - 1
+          do a = 0, nb - 1
+            wk%node(1 + a + nb*b, k) = 1 + blk(1, ip) + a + nx*(blk(2, ip) + b)
+            wk%nw(1 + a + nb*b, k) = w(1 + a + nb*b, ip)
+          end do
+        end do
+      else
+        call bilinear_at(wk%xs(:, k), origin, h, i0, j0, w4)
+        if (i0 < 0 .or. j0 < 0 .or. i0 + 1 > nx - 1 .or. j0 + 1 > ny - 1) cycle
+        wk%node(:, k) = [1 + i0 + nx*j0, 2 + i0 + nx*j0, 1 + i0 + nx*(j0 + 1), &
+                         2 + i0 + nx*(j0 + 1)]
+        wk%nw(:, k) = w4
+      end if
+      do a = 1, wk%nnode
+        n = wk%node(a, k)
+        if (wk%nw(a, k) == 0.0_wp .or. .not. mass(n) > mass_cut) then
+          wk%nw(a, k) = 0.0_wp
+          cycle
+        end if
+        wk%wt(a, k) = wk%nw(a, k)/mass(n)
+        wk%s(k) = wk%s(k) + wk%nw(a, k)*wk%wt(a, k)
+      end do
+      if (.not. wk%s(k) > 0.0_wp) cycle
+      wk%lam(1, k) = wk%fn(k)*dt
+      do a = 1, wk%nnode
+        if (wk%nw(a, k) == 0.0_wp) cycle
+        n = wk%node(a, k)
+        force(:, n) = force(:, n) + (wk%nw(a, k)*wk%fn(k))*normal
+      end do
+      impulse = impulse + (wk%fn(k)*dt*sum(wk%nw(1:wk%nnode, k)))*normal
+    end do
+  end subroutine surface_push
+
+  !> Friction of the points surface_push pushed: the tangential impulse that stops each
+  !! point's slip relative to the wall ('stick'), bounded by friction times its normal impulse
+  !! ('coulomb'); node velocities change in place, and dvel by the same amount. impulse = the
+  !! momentum given to the material.
+  subroutine surface_friction(wk, law, friction, normal, vwall, vel, dvel, impulse)
+    type(surface_work_t), intent(inout) :: wk  !! points, weights, normal impulses
+    integer, intent(in) :: law             !! CONTACT_COULOMB or CONTACT_STICK
     real(wp), intent(in) :: friction       !! Coulomb coefficient [-]
     real(wp), intent(in) :: normal(2)      !! unit normal into the material [-]
     real(wp), intent(in) :: vwall(2)       !! wall velocity over the step [m/s]
-    real(wp), intent(in) :: dt             !! time step [s]
-    logical, intent(in) :: add_dvel        !! also add the change to dvel
     real(wp), intent(inout) :: vel(:,:)    !! node velocity (2, nn) [m/s]
     real(wp), intent(inout) :: dvel(:,:)   !! node velocity change of the step (2, nn) [m/s]
     real(wp), intent(out) :: impulse(2)    !! momentum given to the material [kg/s per m]
-    type(surface_work_t), intent(inout) :: wk  !! work arrays
-    integer :: c, k, n, i0, j0, sweep
-    real(wp) :: w4(4), tang(2), vc(2), vrel(2), target, ln, lt, dln, dlt, change, vscale, d(2)
+    integer :: k, a, n, sweep
+    real(wp) :: tang(2), vc(2), lt, dlt, change, vscale
     impulse = 0.0_wp
     wk%sweeps = 0
-    if (npt <= 0) return
-    call grow(wk, npt)
+    if (law /= CONTACT_COULOMB .and. law /= CONTACT_STICK) return
     tang = [-normal(2), normal(1)]
-    ! weights of each point; points outside the grid or on no active node are left out (s = 0)
     vscale = sqrt(dot_product(vwall, vwall))
-    do c = 1, npt
-      call bilinear_at(xs(:, c), origin, h, i0, j0, w4)
-      wk%s(c) = 0.0_wp
-      wk%lam(:, c) = 0.0_wp
-      wk%node(:, c) = 0
-      wk%wt(:, c) = 0.0_wp
-      wk%nw(:, c) = 0.0_wp
-      if (i0 < 0 .or. j0 < 0 .or. i0 + 1 > nx - 1 .or. j0 + 1 > ny - 1) cycle
-      wk%node(:, c) = [1 + i0 + nx*j0, 2 + i0 + nx*j0, 1 + i0 + nx*(j0 + 1), 2 + i0 + nx*(j0 + 1)]
-      do k = 1, 4
-        n = wk%node(k, c)
-        if (mass(n) > mass_cut) then
-          wk%nw(k, c) = w4(k)
-          wk%wt(k, c) = w4(k)/mass(n)
-          wk%s(c) = wk%s(c) + w4(k)*w4(k)/mass(n)
-          vscale = max(vscale, maxval(abs(vel(:, n))))
-        end if
+    do k = 1, wk%npt
+      wk%lam(2, k) = 0.0_wp
+      do a = 1, wk%nnode
+        if (wk%nw(a, k) /= 0.0_wp) vscale = max(vscale, maxval(abs(vel(:, wk%node(a, k)))))
       end do
     end do
     vscale = max(vscale, tiny(1.0_wp))
-    ! projected Gauss-Seidel over the points, in order
     do sweep = 1, max_sweeps
       change = 0.0_wp
-      do c = 1, npt
-        if (.not. wk%s(c) > 0.0_wp) cycle
+      do k = 1, wk%npt
+        if (.not. wk%s(k) > 0.0_wp .or. .not. wk%lam(1, k) > 0.0_wp) cycle
         vc = 0.0_wp
-        do k = 1, 4
-          if (wk%nw(k, c) /= 0.0_wp) vc = vc + wk%nw(k, c)*vel(:, wk%node(k, c))
+        do a = 1, wk%nnode
+          if (wk%nw(a, k) /= 0.0_wp) vc = vc + wk%nw(a, k)*vel(:, wk%node(a, k))
         end do
-        vrel = vc - vwall
-        target = -max(gap(c), 0.0_wp)/dt
-        ln = max(wk%lam(1, c) + (target - dot_product(vrel, normal))/wk%s(c), 0.0_wp)
-        dln = ln - wk%lam(1, c)
-        dlt = 0.0_wp
-        if (law == CONTACT_STICK .or. law == CONTACT_COULOMB) then
-          lt = wk%lam(2, c) - dot_product(vrel, tang)/wk%s(c)
-          if (law == CONTACT_COULOMB) lt = max(-friction*ln, min(friction*ln, lt))
-          if (ln == 0.0_wp) lt = 0.0_wp          ! no normal push, no friction
-          dlt = lt - wk%lam(2, c)
-        end if
-        if (dln == 0.0_wp .and. dlt == 0.0_wp) cycle
-        wk%lam(1, c) = wk%lam(1, c) + dln
-        wk%lam(2, c) = wk%lam(2, c) + dlt
-        d = dln*normal + dlt*tang
-        do k = 1, 4
-          if (wk%wt(k, c) == 0.0_wp) cycle
-          n = wk%node(k, c)
-          vel(:, n) = vel(:, n) + wk%wt(k, c)*d
-          if (add_dvel) dvel(:, n) = dvel(:, n) + wk%wt(k, c)*d
+        lt = wk%lam(2, k) - dot_product(vc - vwall, tang)/wk%s(k)
+        if (law == CONTACT_COULOMB) lt = max(-friction*wk%lam(1, k), &
+                                             min(friction*wk%lam(1, k), lt))
+        dlt = lt - wk%lam(2, k)
+        if (dlt == 0.0_wp) cycle
+        wk%lam(2, k) = lt
+        do a = 1, wk%nnode
+          if (wk%wt(a, k) == 0.0_wp) cycle
+          n = wk%node(a, k)
+          vel(:, n) = vel(:, n) + wk%wt(a, k)*dlt*tang
+          dvel(:, n) = dvel(:, n) + wk%wt(a, k)*dlt*tang
         end do
-        change = max(change, sqrt(dot_product(d, d))*wk%s(c))
+        change = max(change, abs(dlt)*wk%s(k))
       end do
       wk%sweeps = sweep
       if (change <= sweep_tol*vscale) exit
     end do
-    ! the momentum given to the nodes: lambda_c times the sum of its active weights
-    do c = 1, npt
-      if (.not. wk%s(c) > 0.0_wp) cycle
-      impulse = impulse + (wk%lam(1, c)*normal + wk%lam(2, c)*tang)*sum(wk%nw(:, c))
+    do k = 1, wk%npt
+      if (wk%s(k) > 0.0_wp) impulse = impulse + wk%lam(2, k)*sum(wk%nw(1:wk%nnode, k))*tang
     end do
-  end subroutine surface_constrain
+  end subroutine surface_friction
 
-  !> Make room for n points.
+  !> CPDI2: each corner's share of the particle mass, a quarter of each particle it belongs
+  !! to (computed once: particle masses do not change).
+  subroutine corner_masses(p, wk)
+    type(particles_t), intent(in) :: p     !! particles
+    type(surface_work_t), intent(inout) :: wk  !! corner_mass set
+    integer :: ip, a
+    if (allocated(wk%corner_mass)) then
+      if (size(wk%corner_mass) == p%nc) return
+      deallocate(wk%corner_mass)
+    end if
+    allocate(wk%corner_mass(p%nc))
+    wk%corner_mass = 0.0_wp
+    do ip = 1, p%np
+      do a = 1, 4
+        wk%corner_mass(p%corner(a, ip)) = wk%corner_mass(p%corner(a, ip)) + 0.25_wp*p%mass(ip)
+      end do
+    end do
+  end subroutine corner_masses
+
+  !> Make room for n points, keeping the points gathered so far.
   subroutine grow(wk, n)
     type(surface_work_t), intent(inout) :: wk  !! work arrays
     integer, intent(in) :: n               !! points
+    real(wp), allocatable :: tx(:,:), tf(:), te(:)
+    integer, allocatable :: to(:)
     integer :: m
-    if (allocated(wk%s)) then
-      if (size(wk%s) >= n) return
-      deallocate(wk%node, wk%wt, wk%nw, wk%s, wk%lam)
+    if (allocated(wk%fn)) then
+      if (size(wk%fn) >= n) return
     end if
     m = max(n, 64)
-    allocate(wk%node(4, m), wk%wt(4, m), wk%nw(4, m), wk%s(m), wk%lam(2, m))
+    allocate(tx(2, m), tf(m), te(m), to(m))
+    if (wk%npt > 0) then
+      tx(:, 1:wk%npt) = wk%xs(:, 1:wk%npt)
+      tf(1:wk%npt) = wk%fn(1:wk%npt)
+      te(1:wk%npt) = wk%en(1:wk%npt)
+      to(1:wk%npt) = wk%owner(1:wk%npt)
+    end if
+    call move_alloc(tx, wk%xs)
+    call move_alloc(tf, wk%fn)
+    call move_alloc(te, wk%en)
+    call move_alloc(to, wk%owner)
   end subroutine grow
+
+  !> Node lists for n points of wk%nnode nodes each.
+  subroutine grow_nodes(wk, n)
+    type(surface_work_t), intent(inout) :: wk  !! work arrays
+    integer, intent(in) :: n               !! points
+    if (allocated(wk%s)) then
+      if (size(wk%s) >= n .and. size(wk%node, 1) == wk%nnode) return
+      deallocate(wk%node, wk%wt, wk%nw, wk%s, wk%lam)
+    end if
+    allocate(wk%node(wk%nnode, n), wk%wt(wk%nnode, n), wk%nw(wk%nnode, n), wk%s(n), &
+             wk%lam(2, n))
+  end subroutine grow_nodes
 
 end module mpm_surface_contact

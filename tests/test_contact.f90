@@ -1,170 +1,217 @@
-!> The surface-point wall constraint (mpm_surface_contact) against closed forms: one point on a
-!! cell of four nodes (the impulse lambda = deficit / sum N^2/m and dv_i = lambda N_i / m_i,
-!! computed here independently), momentum given = impulse, separation, gaps, Coulomb bound,
-!! mu = 0 equal to frictionless, stick, and several points sharing nodes.
+!> The surface contact with rigid walls (mpm_surface_contact) against closed forms: which points
+!! are in contact and their penalty forces and energies (CPDI2 corners with their mass shares,
+!! the deformed domains of the other bases), the force spread to the nodes with the bilinear
+!! weights at the point and the impulse = momentum given to the active nodes, to round-off;
+!! a single point mass bouncing on the wall (half period pi / omega, rebound speed); friction:
+!! stick stops the slip, Coulomb is bounded by mu times the normal impulse, mu = 0 changes
+!! nothing; points that share nodes.
 ! SPDX-License-Identifier: MIT
 program test_contact
   use mpm_kinds, only: wp
-  use mpm_constants, only: CONTACT_FRICTIONLESS, CONTACT_COULOMB, CONTACT_STICK
-  use mpm_surface_contact, only: surface_work_t, surface_constrain
+  use mpm_constants, only: pi, BASIS_CPDI1, BASIS_CPDI2, BASIS_UGIMP, CONTACT_COULOMB, &
+                           CONTACT_STICK
+  use mpm_particles, only: particles_t, particles_allocate
+  use mpm_surface_contact, only: surface_work_t, surface_points, surface_push, surface_friction, &
+                                 surface_energy
   use testing, only: begin_test, check, check_close, finish_tests
   implicit none
   integer, parameter :: nx = 4, ny = 4, nn = nx*ny
-  real(wp) :: mass(nn), vel(2, nn), dvel(2, nn), v0(2, nn), imp(2), xs(2, 3), gap(3)
-  real(wp) :: w4(4), lam, s, vc(2), dt, mom0(2), mom1(2), tang(2), vt0, imp_f(2), vel_f(2, nn)
-  real(wp) :: n(2)
-  integer :: nodes(4), k
+  real(wp), parameter :: kf = 4.0e6_wp       ! stiffness per unit point mass [1/s^2]
+  real(wp) :: mass(nn), force(2, nn), vel(2, nn), dvel(2, nn), v0(2, nn), imp(2), dt
+  real(wp) :: nrm(2), w4(4), fsum(2)
+  integer :: nodes(4), k, blk(2, 1)
+  real(wp) :: wdummy(4, 1)
   type(surface_work_t) :: wk
+  type(particles_t) :: p
 
-  dt = 1.0e-3_wp
-  call setup()
-  ! ---- one point, frictionless, wall below (normal +y), approaching at -2 m/s, no gap
-  call begin_test('one point: closed-form impulse and node changes')
-  xs(:, 1) = [1.3_wp, 1.0_wp]                 ! on the node row j = 1, cell (1, 1)
-  gap(1) = 0.0_wp
-  n = [0.0_wp, 1.0_wp]
+  dt = 1.0e-4_wp
+  nrm = [0.0_wp, 1.0_wp]
+  blk = 0
+  wdummy = 0.0_wp
+
+  ! ---- CPDI2: the corners behind the plane, mass shares, forces, energies
+  call begin_test('CPDI2 corners in contact: forces and energies in closed form')
+  call two_squares(p)                        ! two unit squares side by side, y in [-0.01, 0.99]
+  call surface_points(p, BASIS_CPDI2, [0.0_wp, 0.0_wp], nrm, kf, wk)
+  call check(wk%npt == 3, 'the three bottom corners are in contact')
+  ! bottom corners x = 0, 1, 2 at y = -0.01; mass shares m/4, m/2, m/4 (m = 2 per square)
+  call check_close(wk%fn(1:3), kf*0.01_wp*[0.5_wp, 1.0_wp, 0.5_wp], 'f_c = kf m_c (-g_c)', &
+                   rtol=1e-13_wp)
+  call check_close(surface_energy(wk), 0.5_wp*kf*2.0_wp*0.01_wp**2, &
+                   'energy = sum 1/2 kf m_c g_c^2', rtol=1e-13_wp)
+  call surface_points(p, BASIS_CPDI2, [0.0_wp, -0.02_wp], nrm, kf, wk)
+  call check(wk%npt == 0, 'a plane below the body touches nothing')
+
+  ! ---- uGIMP / CPDI1: the domain deformed with F
+  call begin_test('uGIMP and CPDI1: the deformed domain touches')
+  call two_squares(p)
+  p%F(2, 2, :) = 0.9_wp                      ! compressed 10 % along y: half height 0.45
+  call surface_points(p, BASIS_UGIMP, [0.0_wp, 0.06_wp], nrm, kf, wk)
+  ! centres at y = 0.49, bottom at 0.49 - 0.45 = 0.04: 0.02 behind the plane at 0.06
+  call check(wk%npt == 4, 'two bottom corners of each particle')
+  call check_close(wk%fn(1:4), [(kf*0.5_wp*0.02_wp, k = 1, 4)], 'f = kf m/4 (-g)', rtol=1e-12_wp)
+  call surface_points(p, BASIS_UGIMP, [0.0_wp, 0.03_wp], nrm, kf, wk)
+  call check(wk%npt == 0, 'the undeformed square (bottom at -0.01) would touch, F r does not')
+  p%r10(:, 1:2) = reshape([0.5_wp, 0.0_wp, 0.5_wp, 0.0_wp], [2, 2])
+  p%r20(:, 1:2) = reshape([0.0_wp, 0.5_wp, 0.0_wp, 0.5_wp], [2, 2])
+  call surface_points(p, BASIS_CPDI1, [0.0_wp, 0.06_wp], nrm, kf, wk)
+  call check(wk%npt == 4, 'CPDI1: the same corners x -+ F r10 -+ F r20')
+
+  ! ---- the force on the nodes and the exact impulse
+  call begin_test('force spread with bilinear weights; impulse = momentum given')
+  call grid_setup()
+  call one_point([1.3_wp, 1.0_wp], -1.0e-3_wp, 2.0_wp)
+  call surface_push(wk, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, mass, 0.0_wp, 2, blk, wdummy, nrm, dt, &
+                    force, imp)
   nodes = [1 + 1 + nx*1, 2 + 1 + nx*1, 1 + 1 + nx*2, 2 + 1 + nx*2]
   w4 = [0.7_wp, 0.3_wp, 0.0_wp, 0.0_wp]
-  s = sum(w4**2/mass(nodes))
-  vc = matmul(vel(:, nodes), w4)
-  lam = (0.0_wp - vc(2))/s                     ! target 0: touch, do not cross
-  v0 = vel
-  call surface_constrain(1, xs, gap, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, mass, 0.0_wp, &
-                         CONTACT_FRICTIONLESS, 0.0_wp, n, [0.0_wp, 0.0_wp], dt, .true., vel, &
-                         dvel, imp, wk)
-  call check(lam > 0.0_wp, 'the wall pushes')
   do k = 1, 4
-    call check_close(vel(2, nodes(k)) - v0(2, nodes(k)), lam*w4(k)/mass(nodes(k)), &
-                     'dv_i = lambda N_i / m_i', rtol=1e-12_wp, atol=1e-14_wp)
+    call check_close(force(2, nodes(k)), w4(k)*kf*2.0_wp*1.0e-3_wp, 'node force = N_i f_c', &
+                     rtol=1e-12_wp, atol=1e-12_wp)
   end do
-  call check_close(vel(1, :), v0(1, :), 'frictionless: tangential velocities unchanged', &
-                   atol=0.0_wp)
-  call check_close(dot_product(matmul(vel(:, nodes), w4), n), 0.0_wp, &
-                   'the point no longer approaches the wall', atol=1e-13_wp)
-  call check_close(dvel(2, :) - 0.0_wp, vel(2, :) - v0(2, :), 'dvel gets the same change', &
-                   atol=1e-15_wp)
-  mom0 = matmul(v0, mass); mom1 = matmul(vel, mass)
-  call check_close(imp, mom1 - mom0, 'impulse = momentum given to the nodes', rtol=1e-13_wp, &
-                   atol=1e-16_wp)
-  call check_close(imp(2), lam*sum(w4), 'impulse = lambda sum N', rtol=1e-13_wp)
+  call check_close(force(1, :), [(0.0_wp, k = 1, nn)], 'no tangential force', atol=0.0_wp)
+  fsum = sum(force, dim=2)
+  call check_close(imp, fsum*dt, 'impulse = sum of node forces times dt', rtol=1e-14_wp)
+  call check_close(imp(2), kf*2.0_wp*1.0e-3_wp*dt, 'impulse = f_c dt (all nodes active)', &
+                   rtol=1e-12_wp)
+  ! an inactive node takes nothing and the impulse says so
+  call grid_setup()
+  mass(nodes(2)) = 0.0_wp
+  call surface_push(wk, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, mass, 0.0_wp, 2, blk, wdummy, nrm, dt, &
+                    force, imp)
+  call check_close(force(2, nodes(2)), 0.0_wp, 'inactive node: no force', atol=0.0_wp)
+  call check_close(imp(2), 0.7_wp*kf*2.0_wp*1.0e-3_wp*dt, 'impulse counts active nodes only', &
+                   rtol=1e-12_wp)
 
-  ! ---- separating point: nothing happens
-  call begin_test('separation and gap')
-  call setup()
-  vel(2, :) = 1.0_wp
-  v0 = vel
-  call surface_constrain(1, xs, gap, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, mass, 0.0_wp, &
-                         CONTACT_FRICTIONLESS, 0.0_wp, n, [0.0_wp, 0.0_wp], dt, .true., vel, &
-                         dvel, imp, wk)
-  call check_close(vel(2, :), v0(2, :), 'a separating point is not held', atol=0.0_wp)
-  call check_close(imp, [0.0_wp, 0.0_wp], 'no impulse when separating', atol=0.0_wp)
-  ! a gap of 1 mm closed at 2 m/s within 1 ms: the point may approach at 1 m/s only
-  call setup()
-  gap(1) = 1.0e-3_wp
-  call surface_constrain(1, xs, gap, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, mass, 0.0_wp, &
-                         CONTACT_FRICTIONLESS, 0.0_wp, n, [0.0_wp, 0.0_wp], dt, .true., vel, &
-                         dvel, imp, wk)
-  call check_close(dot_product(matmul(vel(:, nodes), w4), n), -gap(1)/dt, &
-                   'the point closes its gap exactly in the step', rtol=1e-12_wp)
-  ! a gap too wide to close: nothing happens
-  call setup()
-  gap(1) = 3.0e-3_wp
-  v0 = vel
-  call surface_constrain(1, xs, gap, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, mass, 0.0_wp, &
-                         CONTACT_FRICTIONLESS, 0.0_wp, n, [0.0_wp, 0.0_wp], dt, .true., vel, &
-                         dvel, imp, wk)
-  call check_close(reshape(vel, [2*nn]), reshape(v0, [2*nn]), 'a point that cannot reach the wall is free', atol=0.0_wp)
-  ! a moving wall: the relative velocity counts
-  call setup()
-  gap(1) = 0.0_wp
-  call surface_constrain(1, xs, gap, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, mass, 0.0_wp, &
-                         CONTACT_FRICTIONLESS, 0.0_wp, n, [0.5_wp, 3.0_wp], dt, .true., vel, &
-                         dvel, imp, wk)
-  call check_close(dot_product(matmul(vel(:, nodes), w4), n), 3.0_wp, &
-                   'a platen moving up at 3 m/s pushes the point at 3 m/s', rtol=1e-12_wp)
-
-  ! ---- friction
-  call begin_test('friction laws')
-  gap(1) = 0.0_wp
-  tang = [-n(2), n(1)]
-  call setup()
-  vt0 = dot_product(matmul(vel(:, nodes), w4), tang)
-  call surface_constrain(1, xs, gap, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, mass, 0.0_wp, &
-                         CONTACT_FRICTIONLESS, 0.0_wp, n, [0.0_wp, 0.0_wp], dt, .true., vel, &
-                         dvel, imp_f, wk)
-  vel_f = vel
-  call setup()
-  call surface_constrain(1, xs, gap, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, mass, 0.0_wp, &
-                         CONTACT_COULOMB, 0.0_wp, n, [0.0_wp, 0.0_wp], dt, .true., vel, dvel, &
-                         imp, wk)
-  call check_close(reshape(vel, [2*nn]), reshape(vel_f, [2*nn]), 'coulomb with mu = 0 equals frictionless', atol=0.0_wp)
-  call setup()
-  call surface_constrain(1, xs, gap, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, mass, 0.0_wp, &
-                         CONTACT_COULOMB, 0.1_wp, n, [0.0_wp, 0.0_wp], dt, .true., vel, dvel, &
-                         imp, wk)
-  call check(abs(vt0) > 0.0_wp, 'the point slides before contact')
-  call check_close(abs(dot_product(imp, tang)), 0.1_wp*dot_product(imp, n), &
-                   'sliding: |friction impulse| = mu * normal impulse', rtol=1e-12_wp)
-  call check(dot_product(imp, tang)*vt0 < 0.0_wp, 'friction opposes the sliding')
-  call check(abs(dot_product(matmul(vel(:, nodes), w4), tang)) < abs(vt0), &
-             'friction slows the sliding')
-  call setup()
-  call surface_constrain(1, xs, gap, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, mass, 0.0_wp, &
-                         CONTACT_COULOMB, 100.0_wp, n, [0.0_wp, 0.0_wp], dt, .true., vel, dvel, &
-                         imp, wk)
-  call check_close(dot_product(matmul(vel(:, nodes), w4), tang), 0.0_wp, &
-                   'mu large: the point sticks', atol=1e-12_wp)
-  call setup()
-  call surface_constrain(1, xs, gap, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, mass, 0.0_wp, &
-                         CONTACT_STICK, 0.0_wp, n, [0.0_wp, 0.0_wp], dt, .true., vel, dvel, &
-                         imp, wk)
-  call check_close(matmul(vel(:, nodes), w4), [0.0_wp, 0.0_wp], &
-                   'stick: the point moves with the wall', atol=1e-12_wp)
-
-  ! ---- three points sharing nodes, an inclined wall
-  call begin_test('points sharing nodes')
-  call setup()
-  n = [0.6_wp, 0.8_wp]
-  xs(:, 1) = [1.2_wp, 1.1_wp]
-  xs(:, 2) = [1.7_wp, 1.4_wp]
-  xs(:, 3) = [2.3_wp, 1.2_wp]
-  gap = [0.0_wp, 0.5e-3_wp, 0.0_wp]
-  v0 = vel
-  call surface_constrain(3, xs, gap, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, mass, 0.0_wp, &
-                         CONTACT_FRICTIONLESS, 0.0_wp, n, [0.0_wp, 0.0_wp], dt, .true., vel, &
-                         dvel, imp, wk)
-  do k = 1, 3
-    call check(point_vn(xs(:, k)) >= -max(gap(k), 0.0_wp)/dt - 1e-9_wp, &
-               'every point satisfies its constraint')
-  end do
-  call check(any([(abs(point_vn(xs(:, k)) + max(gap(k), 0.0_wp)/dt) < 1e-9_wp, k = 1, 3)]), &
-             'at least one point is held exactly at its limit')
-  mom0 = matmul(v0, mass); mom1 = matmul(vel, mass)
-  call check_close(imp, mom1 - mom0, 'impulse = momentum change of all nodes', rtol=1e-12_wp)
-  call check(abs(imp(1)*n(2) - imp(2)*n(1)) <= 1e-12_wp*sqrt(sum(imp**2)), &
-             'frictionless: the impulse is along the normal')
-  call check(wk%sweeps < 200, 'the sweeps converge')
+  call test_bounce()
+  call test_friction()
   call finish_tests('test_contact')
 
 contains
 
-  subroutine setup()
-    integer :: i
-    do i = 1, nn
-      mass(i) = 1.0_wp + 0.1_wp*real(mod(7*i, 5), wp)
-      vel(:, i) = [0.3_wp + 0.05_wp*real(mod(3*i, 4), wp), -2.0_wp - 0.1_wp*real(mod(i, 3), wp)]
-    end do
-    dvel = 0.0_wp
-  end subroutine setup
+  !> Two unit squares side by side (CPDI2 tiling: 6 corners), mass 2 each, bottom at -0.01.
+  subroutine two_squares(q)
+    type(particles_t), intent(inout) :: q
+    if (allocated(q%x)) deallocate(q%x, q%v, q%mass, q%vol0, q%vol, q%F, q%stress, q%eqps, &
+      q%wplastic, q%r10, q%r20, q%half, q%corner, q%xc, q%mat, q%body)
+    call particles_allocate(q, 2, 6)
+    q%xc = reshape([0.0_wp, -0.01_wp, 1.0_wp, -0.01_wp, 2.0_wp, -0.01_wp, &
+                    0.0_wp, 0.99_wp, 1.0_wp, 0.99_wp, 2.0_wp, 0.99_wp], [2, 6])
+    q%corner(:, 1) = [1, 2, 5, 4]
+    q%corner(:, 2) = [2, 3, 6, 5]
+    q%x(:, 1) = [0.5_wp, 0.49_wp]
+    q%x(:, 2) = [1.5_wp, 0.49_wp]
+    q%mass = 2.0_wp
+    q%half = 0.5_wp
+  end subroutine two_squares
 
-  real(wp) function point_vn(x) result(vn)
-    real(wp), intent(in) :: x(2)
-    integer :: i0, j0, ids(4)
-    real(wp) :: ww(4), fx, fy
-    i0 = floor(x(1)); j0 = floor(x(2))
-    fx = x(1) - real(i0, wp); fy = x(2) - real(j0, wp)
-    ww = [(1.0_wp - fx)*(1.0_wp - fy), fx*(1.0_wp - fy), (1.0_wp - fx)*fy, fx*fy]
-    ids = [1 + i0 + nx*j0, 2 + i0 + nx*j0, 1 + i0 + nx*(j0 + 1), 2 + i0 + nx*(j0 + 1)]
-    vn = dot_product(matmul(vel(:, ids), ww), n)
-  end function point_vn
+  !> A 4 x 4 grid of unit cells, node masses 1 to 2, no force, velocities set.
+  subroutine grid_setup()
+    integer :: n
+    do n = 1, nn
+      mass(n) = 1.0_wp + real(mod(7*n, 5), wp)/4.0_wp
+      vel(:, n) = [0.3_wp*real(mod(n, 3), wp), -2.0_wp + 0.1_wp*real(n, wp)]
+    end do
+    force = 0.0_wp
+    dvel = 0.0_wp
+  end subroutine grid_setup
+
+  !> The work arrays with one CPDI2-like point at x, gap g, mass m.
+  subroutine one_point(x, g, m)
+    real(wp), intent(in) :: x(2), g, m
+    type(particles_t) :: q
+    call particles_allocate(q, 1, 4)
+    q%xc = reshape([x(1), x(2), x(1) + 0.1_wp, x(2) + 5.0_wp, x(1) + 0.1_wp, x(2) + 5.1_wp, &
+                    x(1), x(2) + 5.1_wp], [2, 4])
+    q%corner(:, 1) = [1, 2, 3, 4]
+    q%mass = 4.0_wp*m                          ! the first corner's share is m
+    call surface_points(q, BASIS_CPDI2, [0.0_wp, x(2) - g], nrm, kf, wk)
+    call check(wk%npt == 1, 'one point in contact')
+  end subroutine one_point
+
+  !> A point mass m on one node bouncing on the wall, integrated as the solver does (force at
+  !! the start of the step, then velocity, then position): contact lasts half a period of
+  !! omega = sqrt(kf), and it leaves with its impact speed (the penalty is conservative).
+  subroutine test_bounce()
+    real(wp) :: y, v, t, t_on, t_off, hstep, m1(nn), f1(2, nn), imp1(2), e_max
+    type(particles_t) :: q
+    type(surface_work_t) :: wb               ! its own: the corner masses differ
+    integer :: it
+    call begin_test('a point mass bouncing on the wall: contact time pi/omega, rebound speed')
+    call particles_allocate(q, 1, 4)
+    q%corner(:, 1) = [1, 2, 3, 4]
+    q%mass = 4.0_wp                            ! corner 1 has mass 1, on node (1, 1) below
+    m1 = 1.0_wp
+    hstep = 2.0_wp*pi/sqrt(kf)/200.0_wp        ! 100 steps per contact
+    y = 0.01_wp
+    v = -1.0_wp
+    t = 0.0_wp
+    t_on = -1.0_wp
+    t_off = -1.0_wp
+    e_max = 0.0_wp
+    do it = 1, 100000
+      q%xc(:, 1) = [1.0_wp, 1.0_wp + y]         ! exactly on node (1, 1): N = 1 there
+      q%xc(:, 2:4) = reshape([1.5_wp, 9.0_wp, 1.5_wp, 9.5_wp, 1.0_wp, 9.5_wp], [2, 3])
+      call surface_points(q, BASIS_CPDI2, [0.0_wp, 1.0_wp], nrm, kf, wb)
+      f1 = 0.0_wp
+      call surface_push(wb, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, m1, 0.0_wp, 2, blk, wdummy, nrm, &
+                        hstep, f1, imp1)
+      v = v + hstep*f1(2, 1 + 1 + nx)/m1(1 + 1 + nx)
+      y = y + hstep*v
+      t = t + hstep
+      if (wb%npt > 0 .and. t_on < 0.0_wp) t_on = t - hstep
+      if (wb%npt > 0) t_off = t
+      e_max = max(e_max, abs(0.5_wp*v*v + surface_energy(wb)/1.0_wp - 0.5_wp))
+      if (t_on > 0.0_wp .and. y > 0.0_wp .and. v > 0.0_wp) exit
+    end do
+    call check_close(t_off - t_on, pi/sqrt(kf), 'contact time = pi / omega (2 steps)', &
+                     atol=2.0_wp*hstep)
+    call check_close(v, 1.0_wp, 'rebound speed = impact speed (0.5 %)', rtol=5.0e-3_wp)
+    call check(e_max < 0.05_wp, 'energy within 5 % through the contact (order omega dt)')
+  end subroutine test_bounce
+
+  !> Friction on one point: stick stops the slip; Coulomb is bounded by mu lambda_n;
+  !! mu = 0 changes nothing; the impulse is the momentum given.
+  subroutine test_friction()
+    real(wp) :: vc(2), lam_n, mom0(2), mom1(2), vt0
+    call begin_test('friction: stick, coulomb bound, mu = 0')
+    nodes = [1 + 1 + nx*1, 2 + 1 + nx*1, 1 + 1 + nx*2, 2 + 1 + nx*2]
+    w4 = [0.7_wp, 0.3_wp, 0.0_wp, 0.0_wp]
+    ! stick
+    call grid_setup()
+    call one_point([1.3_wp, 1.0_wp], -1.0e-3_wp, 2.0_wp)
+    call surface_push(wk, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, mass, 0.0_wp, 2, blk, wdummy, nrm, &
+                      dt, force, imp)
+    v0 = vel
+    call surface_friction(wk, CONTACT_STICK, 0.0_wp, nrm, [0.5_wp, 0.0_wp], vel, dvel, imp)
+    vc = matmul(vel(:, nodes), w4)
+    call check_close(vc(1), 0.5_wp, 'stick: the point moves with the wall', rtol=1e-12_wp)
+    call check_close(vel(2, :), v0(2, :), 'stick: normal velocities unchanged', atol=0.0_wp)
+    mom0 = matmul(v0, mass)
+    mom1 = matmul(vel, mass)
+    call check_close(imp, mom1 - mom0, 'impulse = momentum given', rtol=1e-12_wp, atol=1e-15_wp)
+    call check_close(reshape(dvel, [2*nn]), reshape(vel - v0, [2*nn]), 'dvel gets the same change', &
+                     atol=1e-15_wp)
+    ! coulomb with a small mu: the bound holds exactly, opposing the slip
+    call grid_setup()
+    call surface_push(wk, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, mass, 0.0_wp, 2, blk, wdummy, nrm, &
+                      dt, force, imp)
+    lam_n = wk%lam(1, 1)
+    v0 = vel
+    vt0 = dot_product(matmul(v0(:, nodes), w4), [1.0_wp, 0.0_wp]) - 0.5_wp
+    call surface_friction(wk, CONTACT_COULOMB, 1.0e-3_wp, nrm, [0.5_wp, 0.0_wp], vel, dvel, imp)
+    call check_close(abs(imp(1)), 1.0e-3_wp*lam_n*sum(w4), 'coulomb: |lambda_t| = mu lambda_n', &
+                     rtol=1e-12_wp)
+    call check(imp(1)*vt0 < 0.0_wp, 'coulomb: friction opposes the slip')
+    ! mu = 0: frictionless
+    call grid_setup()
+    call surface_push(wk, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, mass, 0.0_wp, 2, blk, wdummy, nrm, &
+                      dt, force, imp)
+    v0 = vel
+    call surface_friction(wk, CONTACT_COULOMB, 0.0_wp, nrm, [0.5_wp, 0.0_wp], vel, dvel, imp)
+    call check_close(reshape(vel, [2*nn]), reshape(v0, [2*nn]), &
+                     'coulomb mu = 0: velocities unchanged', atol=0.0_wp)
+    call check_close(imp, [0.0_wp, 0.0_wp], 'coulomb mu = 0: no impulse', atol=0.0_wp)
+  end subroutine test_friction
+
 end program test_contact

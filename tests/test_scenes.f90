@@ -52,20 +52,32 @@ contains
   !! thick-ring factors for hoop and shear deformation: delta = P R^3/(E I) (k1 pi/4 - 2 k2^2/pi),
   !! k1 = 1 - a + b, k2 = 1 - a, a = I/(A R^2), b = 2 F (1 + nu) a, F = 6/5 (Roark & Young,
   !! Formulas for Stress and Strain, table 9.2 case 1); plane strain E -> E/(1-nu^2),
-  !! nu -> nu/(1-nu). For R/t = 10 the factors raise the compliance by 1.6 %.
+  !! nu -> nu/(1-nu). For R/t = 10 the factors raise the compliance by 1.6 %. Roark's delta
+  !! is the change of the ring's diameter: the approach of its top corner (the mean over the
+  !! hold), not the platen's travel, which also holds the contact's own compliance (the
+  !! penalty of mpm_surface_contact, a few % of it at h = t/2: printed, not asserted).
   subroutine test_elastic_stiffness()
     type(config_t) :: cfg
     type(sim_t) :: s
-    real(wp) :: imp(2), t0, delta, force, R, t, E, nu, ei, a, b, k_expected, k_measured
+    real(wp) :: imp(2), t0, delta, force, R, t, E, nu, ei, a, b, k_expected, k_measured, &
+                ytop0, ysum, tsum, d_platen
     call begin_test('elastic ring between platens: diametral stiffness')
     call load('elastic_quarter.nml', cfg, s)
     imp = 0.0_wp
     t0 = 0.5e-3_wp                        ! the platen has stopped; average over the hold
+    ytop0 = maxval(s%p%xc(2, 1:s%p%nc))
+    ysum = 0.0_wp
+    tsum = 0.0_wp
     do while (s%t < s%prm%t_end)
       call step(s)
-      if (s%t > t0) imp = imp + s%walls(1)%impulse
+      if (s%t > t0) then
+        imp = imp + s%walls(1)%impulse
+        ysum = ysum + maxval(s%p%xc(2, 1:s%p%nc))*s%dt
+        tsum = tsum + s%dt
+      end if
     end do
-    delta = 2.0_wp*(-wall_travel(s%walls(1), s%t))      ! both platens in the full ring
+    d_platen = 2.0_wp*(-wall_travel(s%walls(1), s%t))   ! both platens in the full ring
+    delta = 2.0_wp*(ytop0 - ysum/tsum)                   ! the ring's diameter change
     force = dot_product(full_force(s, 1, -imp/(s%t - t0)), [0.0_wp, 1.0_wp])*cfg%run%depth
     associate (b1 => cfg%bodies(1), m => cfg%materials(1))
       R = 0.5_wp*(b1%r_inner + b1%r_outer)
@@ -80,7 +92,10 @@ contains
     k_measured = force/delta
     print '(a,es12.4,a,es12.4,a,f7.4)', '  stiffness measured ', k_measured, ' N/m/m, Roark ', &
       k_expected, ', ratio ', k_measured/k_expected
-    call check_close(delta, 0.5e-3_wp, 'relative platen approach 0.5 mm', rtol=1.0e-9_wp)
+    print '(a,f7.4)', '  platen approach / ring diameter change ', d_platen/delta
+    call check_close(d_platen, 0.5e-3_wp, 'relative platen approach 0.5 mm', rtol=1.0e-9_wp)
+    call check(delta > 0.0_wp .and. delta < d_platen, &
+               'the ring is compressed by less than the platens approach')
     call check_close(k_measured, k_expected, 'stiffness within 3 % of the closed form', &
                      rtol=0.03_wp)
   end subroutine test_elastic_stiffness
@@ -231,16 +246,17 @@ contains
       ' J/m (solver ', s%e_external, '), plastic ', e(3), ' J/m (solver ', s%e_plastic
     print '(a,f8.5,a,f8.5)', '  independent largest imbalance / work ', &
       ind_bal_max/ind_wmax, ', solver energy_error ', s%energy_error
-    ! Measured 1.062, 1.041, 1.068, 1.093 (mean 1.066): at this resolution (n_t = 6, h = t/3)
-    ! the crush force lies 4-9 % above DeRuntz-Hodge and falls towards it under refinement
-    ! (1.05 at n_t = 8, h = t/4; docs/verification.md); the hardening of 1 MPa adds < 0.1 %.
-    ! Asserted: every bin in 1.02-1.12 (the measured band with a margin of 2-3 % for the
-    ! grid-crossing ripple of the bins) and the mean 1.066 +- 0.02, so a systematic shift of
-    ! 2 %, larger than a resolution step of the study, fails.
-    call check(all(ratio > 1.02_wp .and. ratio < 1.12_wp), &
-               'force / DeRuntz-Hodge in 1.02-1.12 in every delta/D bin of 0.1-0.3')
-    call check_close(sum(ratio)/real(nbin, wp), 1.066_wp, &
-                     'mean force / DeRuntz-Hodge = 1.066 +- 0.02', atol=0.02_wp)
+    ! Measured 1.031, 1.044, 1.044, 1.059 (mean 1.044) with the surface contact; the node
+    ! contact of before read 1.062, 1.041, 1.068, 1.093 (mean 1.066): its frozen layer at the
+    ! platen stiffened the hinge there by about 2 %. At this resolution (n_t = 6, h = t/3) the
+    ! crush force lies 3-6 % above DeRuntz-Hodge; the hardening of 1 MPa adds < 0.1 %.
+    ! Asserted: every bin in 1.01-1.10 (the measured band with a margin of 2-3 % for the
+    ! grid-crossing ripple of the bins) and the mean 1.044 +- 0.015, so a systematic shift of
+    ! 2 % (the old contact's) fails.
+    call check(all(ratio > 1.01_wp .and. ratio < 1.10_wp), &
+               'force / DeRuntz-Hodge in 1.01-1.10 in every delta/D bin of 0.1-0.3')
+    call check_close(sum(ratio)/real(nbin, wp), 1.044_wp, &
+                     'mean force / DeRuntz-Hodge = 1.044 +- 0.015', atol=0.015_wp)
     call check(kmax < 0.05_wp, 'kinetic energy under 5 % of plastic work')
     call check(bal < 0.02_wp*wmax, 'energy balance within 2 % of the work put in')
     ! the independent accounts: plastic work from each particle's equivalent plastic strain

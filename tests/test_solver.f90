@@ -24,6 +24,8 @@ program test_solver
     real(wp) :: impulse = 0.0_wp       !! impulse on the wall over it [N s/m]
     real(wp) :: plateau = 0.0_wp       !! mean wall force over its middle half [N/m]
     real(wp) :: vrebound = 0.0_wp      !! speed of the mass centre at the end [m/s]
+    real(wp) :: t_half_on = -1.0_wp    !! first time the force exceeds half rho c V A [s]
+    real(wp) :: t_half_off = -1.0_wp   !! last time it does, in the first contact [s]
   end type bar_result_t
 
   call test_transfer_conservation()
@@ -170,10 +172,14 @@ contains
     call check_close(s%p%v(1, s%p%np), v(1), 'velocity unchanged', rtol=1.0e-12_wp)
   end subroutine test_free_translation
 
-  !> Slender elastic bar on a rigid frictionless target (METHOD.md sec. 9): contact lasts
-  !! 2 L / c, the bar leaves with its impact speed, c = sqrt(E / rho) (plane stress), and the
-  !! wall takes the impulse 2 m V at the constant force rho c V A of the 1-D wave (A = 2 h per
-  !! unit depth). L / h = 160; the rebound deficit is first order in h (test_bar_order).
+  !> Slender elastic bar on a rigid frictionless target (docs/verification.md): the 1-D wave
+  !! solution (c = sqrt(E / rho), plane stress) is a force rho c V A (A = 2 h per unit depth)
+  !! for 2 L / c, after which the bar leaves with its impact speed: impulse 2 m V. L / h = 100,
+  !! every basis. The contact time is read where the force crosses half the plateau (the
+  !! penalty contact rises and falls over a few steps, and a vibrating bar taps the wall
+  !! lightly after leaving it). Measured: rebound 0.994-0.996 V, contact time 1.007-1.008
+  !! (2L/c), plateau within 0.1 %, energy error 0.1-0.4 %; with the node contact of before
+  !! the rebound was 0.967 V at this L/h.
   subroutine test_bar_impact(b)
     integer, intent(in) :: b
     real(wp), parameter :: L = 1.0_wp, V = 0.01_wp, gap0 = 0.002_wp, E = 100.0_wp, rho = 1.0_wp
@@ -181,51 +187,42 @@ contains
     real(wp) :: c, mass, h
     call begin_test('elastic bar on a rigid target, '//trim(basis_names(b)))
     c = sqrt(E/rho)
-    h = L/160.0_wp
+    h = L/100.0_wp
     mass = rho*L*2.0_wp*h
-    r = bar_run(b, 160)
+    r = bar_run(b, 100)
     call check(r%stat == 0, 'run ok')
     call check_close(r%t_first, gap0/V, 'contact begins at gap / V (within 2 steps)', &
                      atol=2.0_wp*r%dt_contact)
-    call check_close(r%t_last - r%t_first, 2.0_wp*L/c, 'contact duration = 2 L / c', &
-                     rtol=0.03_wp)
-    call check_close(r%vrebound, V, 'rebound speed = impact speed', rtol=0.03_wp)
-    ! closed forms of the 1-D elastic impact, not the scheme's momentum balance: the impulse
-    ! falls short by half the rebound deficit (0.6 to 1.25 % at L/h = 160), the mean force
-    ! over the middle half of the contact is within 0.25 % of the plateau for every basis
-    call check_close(r%impulse, 2.0_wp*mass*V, 'impulse on the wall = 2 m V (1-D theory, 2 %)', &
-                     rtol=0.02_wp)
+    call check_close(r%t_half_off - r%t_half_on, 2.0_wp*L/c, &
+                     'contact duration = 2 L / c (1 %, at half force)', rtol=0.01_wp)
+    call check_close(r%vrebound, V, 'rebound speed = impact speed (1 %)', rtol=0.01_wp)
+    call check_close(r%impulse, 2.0_wp*mass*V, 'impulse on the wall = 2 m V (1-D theory, 1 %)', &
+                     rtol=0.01_wp)
     call check_close(r%plateau, rho*c*V*2.0_wp*h, 'contact force = rho c V A (1-D theory, 1 %)', &
                      rtol=0.01_wp)
     print '(a,a8,a,f8.4,a,f8.4,a,f8.4,a,f8.4)', '  bar ', trim(basis_names(b)), &
-      ': contact time / (2L/c) = ', (r%t_last - r%t_first)/(2.0_wp*L/c), ', rebound / V = ', &
-      r%vrebound/V, ', impulse / 2mV = ', r%impulse/(2.0_wp*mass*V), ', force / rho c V A = ', &
-      r%plateau/(rho*c*V*2.0_wp*h)
+      ': contact time / (2L/c) = ', (r%t_half_off - r%t_half_on)/(2.0_wp*L/c), &
+      ', rebound / V = ', r%vrebound/V, ', impulse / 2mV = ', r%impulse/(2.0_wp*mass*V), &
+      ', force / rho c V A = ', r%plateau/(rho*c*V*2.0_wp*h)
   end subroutine test_bar_impact
 
-  !> The elastic bar with CPDI2 at L/h = 80, 160, 320: the rebound deficit 1 - Vr/V is first
-  !! order in h (the unloading front is smeared over a few cells, leaving the bar end briefly
-  !! in tension, which a unilateral wall cannot resist). Measured: 4.2, 2.5, 1.3 %, orders
-  !! 0.76 (coarse pair, pre-asymptotic) and 0.98 (fine pair). Asserted: fine-pair order
-  !! 1 +- 0.2, coarse-pair order above 0.5, and a deficit between 0 and 1.5 % at L/h = 320.
+  !> The elastic bar with CPDI2 at L/h = 80, 160, 320: the rebound stays within 1 % of V at
+  !! every resolution (the node contact of before lost 4.2, 2.5, 1.3 %, first order in h: the
+  !! energy of the nodes it stopped). Measured 0.73, 0.51, 0.45 %.
   subroutine test_bar_order()
     integer, parameter :: nl(3) = [80, 160, 320]
-    real(wp) :: deficit(3), order(2)
+    real(wp) :: deficit(3)
     type(bar_result_t) :: r
     integer :: k
-    call begin_test('elastic bar: rebound deficit first order in h (cpdi2)')
+    call begin_test('elastic bar: rebound within 1 % at L/h = 80, 160, 320 (cpdi2)')
     do k = 1, 3
       r = bar_run(BASIS_CPDI2, nl(k))
       call check(r%stat == 0, 'run ok')
       deficit(k) = 1.0_wp - r%vrebound/0.01_wp
     end do
-    order = log(deficit(1:2)/deficit(2:3))/log(2.0_wp)
-    print '(a,3f8.4,a,2f7.3)', '  bar cpdi2 rebound deficit at L/h = 80, 160, 320:', deficit, &
-      ', orders', order
-    call check_close(order(2), 1.0_wp, 'deficit order 1 +- 0.2 (L/h = 160, 320)', atol=0.2_wp)
-    call check(order(1) > 0.5_wp, 'deficit order above 0.5 (L/h = 80, 160)')
-    call check(deficit(3) > 0.0_wp .and. deficit(3) < 0.015_wp, &
-               'deficit at L/h = 320 between 0 and 1.5 %')
+    print '(a,3f8.4)', '  bar cpdi2 rebound deficit at L/h = 80, 160, 320:', deficit
+    call check(all(abs(deficit) < 0.01_wp), 'rebound within 1 % of V at every L/h')
+    call check(deficit(3) <= deficit(1), 'the deficit does not grow under refinement')
   end subroutine test_bar_order
 
   !> Run the bar (L = 1, width 2 h, E = 100, rho = 1, nu = 0.3, plane stress, 2 particles per
@@ -276,6 +273,10 @@ contains
         in_contact = .false.
       end if
       if (in_contact) r%impulse = r%impulse + s%walls(1)%impulse(1)
+      if (in_contact .and. abs(s%walls(1)%force(1)) > 0.5_wp*rho*c*V*2.0_wp*h) then
+        if (r%t_half_on < 0.0_wp) r%t_half_on = s%t - 0.5_wp*s%dt
+        r%t_half_off = s%t - 0.5_wp*s%dt
+      end if
       if (s%t - 0.5_wp*s%dt > t_mid .and. s%t - 0.5_wp*s%dt < t_mid + L/c) then
         fsum = fsum - s%walls(1)%force(1)*s%dt     ! force(1) < 0: the bar pushes the wall
         tsum = tsum + s%dt
