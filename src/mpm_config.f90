@@ -11,13 +11,10 @@ module mpm_config
   use, intrinsic :: ieee_exceptions, only: ieee_overflow, ieee_get_halting_mode, &
                                            ieee_set_halting_mode, ieee_get_flag, ieee_set_flag
   use mpm_kinds, only: wp
-  use mpm_constants, only: EXIT_INPUT, EXIT_IO, &
-                           basis_names, scheme_names, plane_names, model_names, rate_law_names, &
-                           shape_names, sector_names, contact_names, &
-                           BASIS_CPDI2, SCHEME_MUSL, PLANE_STRAIN, MODEL_J2, RATE_NONE, &
+  use mpm_constants, only: EXIT_INPUT, EXIT_IO, sector_names, BASIS_CPDI2, SCHEME_MUSL, PLANE_STRAIN, MODEL_J2, RATE_NONE, &
                            RATE_COWPER_SYMONDS, SHAPE_RING, SHAPE_RECT, SECTOR_FULL, SECTOR_HALF, &
-                           SECTOR_QUARTER, CONTACT_FRICTIONLESS, CONTACT_COULOMB, &
-                           flow_stress_names, FLOW_LINEAR, FLOW_JOHNSON_COOK
+                           SECTOR_QUARTER, CONTACT_FRICTIONLESS, CONTACT_COULOMB, FLOW_LINEAR, &
+                           FLOW_JOHNSON_COOK
   use mpm_config_types, only: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, &
                               body_cfg_t, wall_cfg_t, probe_cfg_t, unset_real, iunset
   use mpm_config_text, only: itoa, fmt_real, fmt_short, fmt_vec, fmt_list
@@ -25,7 +22,7 @@ module mpm_config
   use mpm_config_lexer, only: reader_t, load_lines, has_content, scan_source, check_groups, &
                               join_msgs, open_occ
   use mpm_config_values, only: values_t, read_group, vreal, vvec, vtab, vint, vtext, vlog, &
-                               set_int, chk_r, chk_i, chk_v, chk_e, chk_t, table_count, &
+                               set_int, chk_r, chk_i, chk_v, chk_e, chk_t, take_e, table_count, &
                                err_var, err_missing, warn_var, warn_group
   use mpm_config_check, only: cross_checks, advice_checks
   use mpm_config_echo, only: write_config, write_config_unit, config_values
@@ -220,12 +217,15 @@ contains
     if (present(warnings)) warnings = join_msgs(rd%warn, rd%n_warn)
   end subroutine config_resolve
 
-  !> Validate the values of the k-th occurrence of group ig into cfg.
+  !> Validate the values of the k-th occurrence of group ig into cfg; the occurrence is ok
+  !! when it added no error.
   subroutine check_group(rd, io, ig, k, v, cfg)
     type(reader_t), intent(inout) :: rd
     integer, intent(in) :: io, ig, k
     type(values_t), intent(inout) :: v
     type(config_t), intent(inout) :: cfg
+    integer :: n0
+    n0 = rd%n_err
     select case (ig)
     case (1)
       call check_run(rd, io, v, cfg%run)
@@ -242,6 +242,7 @@ contains
     case (7)
       call check_probe(rd, io, v, cfg%probes(k))
     end select
+    rd%occ(io)%ok = rd%n_err == n0
   end subroutine check_group
 
   ! ------------------------------------------------------------------------ the groups
@@ -252,8 +253,6 @@ contains
     integer, intent(in) :: io
     type(values_t), intent(inout) :: v
     type(run_cfg_t), intent(inout) :: r
-    integer :: n0
-    n0 = rd%n_err
     if (chk_t(rd, io, v, 'title')) r%title = trim(adjustl(vtext(v, 'title')))
     if (chk_t(rd, io, v, 'output_dir')) r%output_dir = trim(adjustl(vtext(v, 'output_dir')))
     if (chk_r(rd, io, v, 't_end')) r%t_end = vreal(v, 't_end')
@@ -269,7 +268,6 @@ contains
     if (chk_r(rd, io, v, 'depth')) r%depth = vreal(v, 'depth')
     if (chk_v(rd, io, v, 'gravity') == 2) r%gravity = vvec(v, 'gravity')
     if (chk_i(rd, io, v, 'threads')) r%threads = vint(v, 'threads')
-    rd%occ(io)%ok = rd%n_err == n0
   end subroutine check_run
 
   !> &solver
@@ -278,28 +276,13 @@ contains
     integer, intent(in) :: io
     type(values_t), intent(inout) :: v
     type(solver_cfg_t), intent(inout) :: s
-    integer :: n0, id
-    n0 = rd%n_err
-    id = chk_e(rd, io, v, 'basis')
-    if (id > 0) then
-      s%basis = basis_names(id)
-      s%basis_id = id
-    end if
-    id = chk_e(rd, io, v, 'scheme')
-    if (id > 0) then
-      s%scheme = scheme_names(id)
-      s%scheme_id = id
-    end if
-    id = chk_e(rd, io, v, 'plane')
-    if (id > 0) then
-      s%plane = plane_names(id)
-      s%plane_id = id
-    end if
+    call take_e(rd, io, v, 'basis', s%basis, s%basis_id)
+    call take_e(rd, io, v, 'scheme', s%scheme, s%scheme_id)
+    call take_e(rd, io, v, 'plane', s%plane, s%plane_id)
     if (chk_r(rd, io, v, 'flip')) s%flip = vreal(v, 'flip')
     if (chk_r(rd, io, v, 'mass_scale')) s%mass_scale = vreal(v, 'mass_scale')
     if (chk_r(rd, io, v, 'damping')) s%damping = vreal(v, 'damping')
     s%deterministic = vlog(v, 'deterministic')
-    rd%occ(io)%ok = rd%n_err == n0
   end subroutine check_solver
 
   !> &grid
@@ -308,9 +291,8 @@ contains
     integer, intent(in) :: io
     type(values_t), intent(inout) :: v
     type(grid_cfg_t), intent(inout) :: g
-    integer :: n0, nl, nu
+    integer :: nl, nu
     real(wp) :: lower(2), upper(2)
-    n0 = rd%n_err
     if (chk_r(rd, io, v, 'h')) g%h = vreal(v, 'h')
     nl = chk_v(rd, io, v, 'lower')
     nu = chk_v(rd, io, v, 'upper')
@@ -331,7 +313,6 @@ contains
     else if (nu == 2 .and. nl == 0) then
       call err_var(rd, io, 'upper', fmt_vec(upper), 'given without lower')
     end if
-    rd%occ(io)%ok = rd%n_err == n0
   end subroutine check_grid
 
   !> &material
@@ -340,18 +321,14 @@ contains
     integer, intent(in) :: io
     type(values_t), intent(inout) :: v
     type(material_cfg_t), intent(inout) :: m
-    integer :: n0, id
-    n0 = rd%n_err
+    integer :: id
     if (len_trim(vtext(v, 'name')) == 0) then
       call err_missing(rd, io, 'name')
     else if (chk_t(rd, io, v, 'name')) then
       m%name = trim(adjustl(vtext(v, 'name')))
     end if
-    id = chk_e(rd, io, v, 'model')
-    if (id > 0) then
-      m%model = model_names(id)
-      m%model_id = id
-    end if
+    call take_e(rd, io, v, 'model', m%model, m%model_id)
+    id = m%model_id
     if (chk_r(rd, io, v, 'E')) m%E = vreal(v, 'E')
     if (chk_r(rd, io, v, 'nu')) m%nu = vreal(v, 'nu')
     if (chk_r(rd, io, v, 'rho')) m%rho = vreal(v, 'rho')
@@ -361,17 +338,12 @@ contains
         'used only by model = ''j2'' (model is '''//trim(m%model)//''')')
     end if
     if (chk_r(rd, io, v, 'hardening')) m%hardening = vreal(v, 'hardening')
-    id = chk_e(rd, io, v, 'rate_law')
-    if (id > 0) then
-      m%rate_law = rate_law_names(id)
-      m%rate_law_id = id
-      if (id == RATE_COWPER_SYMONDS .and. m%model_id /= MODEL_J2) call warn_var(rd, io, &
-        'rate_law', 'used only by model = ''j2'' (it scales the yield stress)')
-    end if
+    call take_e(rd, io, v, 'rate_law', m%rate_law, m%rate_law_id)
+    if (m%rate_law_id == RATE_COWPER_SYMONDS .and. m%model_id /= MODEL_J2) call warn_var(rd, &
+      io, 'rate_law', 'used only by model = ''j2'' (it scales the yield stress)')
     if (chk_r(rd, io, v, 'cs_d')) m%cs_d = vreal(v, 'cs_d')
     if (chk_r(rd, io, v, 'cs_q')) m%cs_q = vreal(v, 'cs_q')
     call read_flow_stress(rd, io, v, m)
-    rd%occ(io)%ok = rd%n_err == n0
   end subroutine check_material
 
   !> The flow stress law of a material and its Johnson-Cook parameters (A is sigma_y); the
@@ -383,11 +355,8 @@ contains
     type(material_cfg_t), intent(inout) :: m
     integer :: id
     character(len=*), parameter :: jc = 'flow_stress = ''johnson_cook'''
-    id = chk_e(rd, io, v, 'flow_stress')
-    if (id > 0) then
-      m%flow_stress = flow_stress_names(id)
-      m%flow_stress_id = id
-    end if
+    call take_e(rd, io, v, 'flow_stress', m%flow_stress, m%flow_stress_id)
+    id = m%flow_stress_id
     if (chk_r(rd, io, v, 'jc_b')) m%jc_b = vreal(v, 'jc_b')
     if (chk_r(rd, io, v, 'jc_n')) m%jc_n = vreal(v, 'jc_n')
     if (chk_r(rd, io, v, 'jc_c')) m%jc_c = vreal(v, 'jc_c')
@@ -414,13 +383,9 @@ contains
     integer, intent(in) :: io
     type(values_t), intent(inout) :: v
     type(body_cfg_t), intent(inout) :: b
-    integer :: n0, id
-    n0 = rd%n_err
-    id = chk_e(rd, io, v, 'shape')
-    if (id > 0) then
-      b%shape = shape_names(id)
-      b%shape_id = id
-    end if
+    integer :: id
+    call take_e(rd, io, v, 'shape', b%shape, b%shape_id)
+    id = b%shape_id
     if (chk_t(rd, io, v, 'material')) b%material = trim(adjustl(vtext(v, 'material')))
     if (chk_v(rd, io, v, 'center') == 2) b%center = vvec(v, 'center')
     if (chk_v(rd, io, v, 'velocity') == 2) b%velocity = vvec(v, 'velocity')
@@ -431,7 +396,6 @@ contains
     else if (id == SHAPE_RECT) then
       call read_rect(rd, io, v, b)
     end if
-    rd%occ(io)%ok = rd%n_err == n0
   end subroutine check_body
 
   !> The variables of a ring body.
@@ -507,9 +471,8 @@ contains
     integer, intent(in) :: io
     type(values_t), intent(inout) :: v
     type(wall_cfg_t), intent(inout) :: w
-    integer :: n0, id
+    integer :: id
     real(wp) :: normal(2), friction, length
-    n0 = rd%n_err
     if (chk_v(rd, io, v, 'point') == 2) w%point = vvec(v, 'point')
     normal = vvec(v, 'normal')
     if (chk_v(rd, io, v, 'normal') == 2) then
@@ -523,11 +486,8 @@ contains
         w%normal = normal
       end if
     end if
-    id = chk_e(rd, io, v, 'contact')
-    if (id > 0) then
-      w%contact = contact_names(id)
-      w%contact_id = id
-    end if
+    call take_e(rd, io, v, 'contact', w%contact, w%contact_id)
+    id = w%contact_id
     friction = vreal(v, 'friction')
     if (chk_r(rd, io, v, 'friction')) then
       if (friction > 0.0_wp .and. id > 0 .and. id /= CONTACT_COULOMB) then
@@ -540,7 +500,6 @@ contains
     if (chk_v(rd, io, v, 'velocity') == 2) w%velocity = vvec(v, 'velocity')
     if (chk_r(rd, io, v, 'ramp')) w%ramp = vreal(v, 'ramp')
     call read_motion(rd, io, v, w)
-    rd%occ(io)%ok = rd%n_err == n0
   end subroutine check_wall
 
   !> The motion table of a wall: the entries given are the leading non-sentinel ones.
@@ -595,10 +554,7 @@ contains
     integer, intent(in) :: io
     type(values_t), intent(inout) :: v
     type(probe_cfg_t), intent(inout) :: p
-    integer :: n0
-    n0 = rd%n_err
     if (chk_v(rd, io, v, 'point') == 2) p%point = vvec(v, 'point')
-    rd%occ(io)%ok = rd%n_err == n0
   end subroutine check_probe
 
   !> A case with one group of each kind and every default; the required numbers are left

@@ -7,7 +7,7 @@
 ! r0/i0/c0, so that a group can tell a value that was not given from one that was.
 module mpm_config_values
   use mpm_kinds, only: wp
-  use mpm_constants, only: max_table
+  use mpm_constants, only: max_table, name_len
   use mpm_config_types, only: unset_real, iunset
   use mpm_config_text, only: lower, itoa, quote, unquote, suggestion, fmt_real, fmt_vec, &
                              fmt_list, finite
@@ -18,7 +18,7 @@ module mpm_config_values
   private
   public :: values_t, read_group, long_len
   public :: vreal, vvec, vtab, vint, vtext, vlog, set_int
-  public :: chk_r, chk_i, chk_v, chk_e, chk_t, chk_real, chk_int, table_count
+  public :: chk_r, chk_i, chk_v, chk_e, chk_t, take_e, table_count
   public :: err_var, err_missing, warn_var, warn_group
 
   integer, parameter :: long_len = 1024         !! text buffers (longer than allowed)
@@ -321,115 +321,6 @@ contains
 
   ! ------------------------------------------------------------------------ validators
 
-  !> Check a real: finite, given (when required), in range. True when usable and given.
-  logical function chk_real(rd, io, var, x, required, lo, hi, lo_open, hi_open) result(good)
-    type(reader_t), intent(inout) :: rd
-    integer, intent(in) :: io
-    character(len=*), intent(in) :: var
-    real(wp), intent(in) :: x
-    logical, intent(in) :: required
-    real(wp), intent(in) :: lo, hi              !! range
-    logical, intent(in) :: lo_open, hi_open     !! lo < x, x < hi (else <=)
-    logical :: bad
-    good = .false.
-    if (.not. finite(x)) then
-      call err_var(rd, io, var, fmt_real(x), 'not a finite number')
-      return
-    end if
-    if (x == unset_real) then
-      if (required) call err_missing(rd, io, var)
-      return
-    end if
-    if (lo_open) then
-      bad = .not. (x > lo)
-    else
-      bad = .not. (x >= lo)
-    end if
-    if (hi_open) then
-      bad = bad .or. .not. (x < hi)
-    else
-      bad = bad .or. .not. (x <= hi)
-    end if
-    if (bad) then
-      call err_var(rd, io, var, fmt_real(x), 'out of range')
-      return
-    end if
-    good = .true.
-  end function chk_real
-
-  !> Check an integer: given (when required), >= ge. True when usable and given.
-  logical function chk_int(rd, io, var, n, required, ge) result(good)
-    type(reader_t), intent(inout) :: rd
-    integer, intent(in) :: io
-    character(len=*), intent(in) :: var
-    integer, intent(in) :: n
-    logical, intent(in) :: required
-    integer, intent(in) :: ge
-    good = .false.
-    if (n == iunset) then
-      if (required) call err_missing(rd, io, var)
-      return
-    end if
-    if (n < ge) then
-      call err_var(rd, io, var, itoa(n), 'out of range')
-      return
-    end if
-    good = .true.
-  end function chk_int
-
-  !> Check a 2-vector: finite, both components or none. Returns 2 (given), 0 (not given,
-  !! reported when required) or -1 (error reported).
-  integer function chk_vec(rd, io, var, v, required) result(n_given)
-    type(reader_t), intent(inout) :: rd
-    integer, intent(in) :: io
-    character(len=*), intent(in) :: var
-    real(wp), intent(in) :: v(2)
-    logical, intent(in) :: required
-    n_given = -1
-    if (.not. all(finite(v))) then
-      call err_var(rd, io, var, fmt_vec(v), 'not finite numbers')
-      return
-    end if
-    n_given = count(v /= unset_real)
-    if (n_given == 1) then
-      call err_var(rd, io, var, fmt_vec(v), 'needs 2 values, only one was given')
-      n_given = -1
-    else if (n_given == 0 .and. required) then
-      call err_missing(rd, io, var)
-    end if
-  end function chk_vec
-
-  !> Check an enumeration value (case-insensitive); returns its code or 0 (error reported).
-  integer function chk_enum(rd, io, var, text, names) result(id)
-    type(reader_t), intent(inout) :: rd
-    integer, intent(in) :: io
-    character(len=*), intent(in) :: var
-    character(len=*), intent(in) :: text
-    character(len=*), intent(in) :: names(:)
-    integer :: k
-    character(len=:), allocatable :: t
-    t = lower(trim(adjustl(text)))
-    id = 0
-    do k = 1, size(names)
-      if (t == trim(names(k))) id = k
-    end do
-    if (id == 0) call err_var(rd, io, var, quote(trim(adjustl(text))), 'not an allowed value'// &
-      suggestion(t, names))
-  end function chk_enum
-
-  !> Check the length of a text value.
-  logical function chk_text(rd, io, var, text, max_len) result(good)
-    type(reader_t), intent(inout) :: rd
-    integer, intent(in) :: io
-    character(len=*), intent(in) :: var
-    character(len=*), intent(in) :: text
-    integer, intent(in) :: max_len
-    good = len_trim(adjustl(text)) <= max_len
-    if (.not. good) call err_var(rd, io, var, quote(trim(adjustl(text))), 'too long ('// &
-      itoa(len_trim(adjustl(text)))//' characters)')
-  end function chk_text
-
-
   !> Number of table entries given (leading, without gaps); reports gaps and non-finite values.
   subroutine table_count(rd, io, var, t, n, ok)
     type(reader_t), intent(inout) :: rd
@@ -523,27 +414,50 @@ contains
     character(len=*), intent(in) :: name
     logical, intent(in), optional :: required
     integer :: k
-    logical :: req
+    logical :: bad
+    real(wp) :: x, lo, hi
+    character(len=:), allocatable :: var
     k = spec_index(v%group, name)
-    req = specs(k)%required
-    if (present(required)) req = required
-    good = chk_real(rd, io, trim(specs(k)%name), v%r(1, k), req, specs(k)%lo, specs(k)%hi, &
-                    specs(k)%lo_open, specs(k)%hi_open)
+    var = trim(specs(k)%name)
+    x = v%r(1, k)
+    lo = specs(k)%lo
+    hi = specs(k)%hi
+    good = .false.
+    if (.not. finite(x)) then
+      call err_var(rd, io, var, fmt_real(x), 'not a finite number')
+    else if (x == unset_real) then
+      if (merge_opt(required, specs(k)%required)) call err_missing(rd, io, var)
+    else
+      bad = .not. (x >= lo) .or. .not. (x <= hi)
+      if (specs(k)%lo_open) bad = bad .or. .not. (x > lo)
+      if (specs(k)%hi_open) bad = bad .or. .not. (x < hi)
+      if (bad) call err_var(rd, io, var, fmt_real(x), 'out of range')
+      good = .not. bad
+    end if
   end function chk_r
 
-  !> Check integer `name` of v against its row (given when required, >= lo).
+  !> Check integer `name` of v against its row: given when required, >= lo. True when usable
+  !! and given.
   logical function chk_i(rd, io, v, name) result(good)
     type(reader_t), intent(inout) :: rd
     integer, intent(in) :: io
     type(values_t), intent(in) :: v
     character(len=*), intent(in) :: name
-    integer :: k
+    integer :: k, n
     k = spec_index(v%group, name)
-    good = chk_int(rd, io, trim(specs(k)%name), v%i(k), specs(k)%required, &
-                   nint(max(specs(k)%lo, -1.0e9_wp)))
+    n = v%i(k)
+    good = .false.
+    if (n == iunset) then
+      if (specs(k)%required) call err_missing(rd, io, trim(specs(k)%name))
+    else if (n < nint(max(specs(k)%lo, -1.0e9_wp))) then
+      call err_var(rd, io, trim(specs(k)%name), itoa(n), 'out of range')
+    else
+      good = .true.
+    end if
   end function chk_i
 
-  !> Check 2-vector `name` of v: 2 (given), 0 (not given; reported when required), -1 (error
+  !> Check 2-vector `name` of v: finite, both components or none. Returns 2 (given), 0 (not
+  !! given; reported when required: the row's, or `required` when present) or -1 (error
   !! reported).
   integer function chk_v(rd, io, v, name, required) result(n_given)
     type(reader_t), intent(inout) :: rd
@@ -552,23 +466,61 @@ contains
     character(len=*), intent(in) :: name
     logical, intent(in), optional :: required
     integer :: k
-    logical :: req
+    real(wp) :: x(2)
     k = spec_index(v%group, name)
-    req = specs(k)%required
-    if (present(required)) req = required
-    n_given = chk_vec(rd, io, trim(specs(k)%name), v%r(1:2, k), req)
+    x = v%r(1:2, k)
+    n_given = -1
+    if (.not. all(finite(x))) then
+      call err_var(rd, io, trim(specs(k)%name), fmt_vec(x), 'not finite numbers')
+      return
+    end if
+    n_given = count(x /= unset_real)
+    if (n_given == 1) then
+      call err_var(rd, io, trim(specs(k)%name), fmt_vec(x), 'needs 2 values, only one was given')
+      n_given = -1
+    else if (n_given == 0 .and. merge_opt(required, specs(k)%required)) then
+      call err_missing(rd, io, trim(specs(k)%name))
+    end if
   end function chk_v
 
-  !> Check the name given for `name` against its list; its code, or 0 (error reported).
+  !> Check the name given for `name` against its list (case-insensitive); its code, or 0
+  !! (error reported).
   integer function chk_e(rd, io, v, name) result(id)
     type(reader_t), intent(inout) :: rd
     integer, intent(in) :: io
     type(values_t), intent(in) :: v
     character(len=*), intent(in) :: name
-    integer :: k
+    integer :: k, j
+    character(len=:), allocatable :: t
+    character(len=name_len), allocatable :: names(:)
     k = spec_index(v%group, name)
-    id = chk_enum(rd, io, trim(specs(k)%name), v%c(k), enum_names(trim(specs(k)%name)))
+    names = enum_names(trim(specs(k)%name))
+    t = lower(trim(adjustl(v%c(k))))
+    id = 0
+    do j = 1, size(names)
+      if (t == trim(names(j))) id = j
+    end do
+    if (id == 0) call err_var(rd, io, trim(specs(k)%name), quote(trim(adjustl(v%c(k)))), &
+      'not an allowed value'//suggestion(t, names))
   end function chk_e
+
+  !> chk_e, and for an allowed name its spelling in the list and its code into text and code
+  !! (both left alone otherwise).
+  subroutine take_e(rd, io, v, name, text, code)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io
+    type(values_t), intent(in) :: v
+    character(len=*), intent(in) :: name
+    character(len=*), intent(inout) :: text
+    integer, intent(inout) :: code
+    integer :: id
+    character(len=name_len), allocatable :: names(:)
+    id = chk_e(rd, io, v, name)
+    if (id == 0) return
+    names = enum_names(name)
+    text = names(id)
+    code = id
+  end subroutine take_e
 
   !> Check the length of text `name`.
   logical function chk_t(rd, io, v, name) result(good)
@@ -576,10 +528,21 @@ contains
     integer, intent(in) :: io
     type(values_t), intent(in) :: v
     character(len=*), intent(in) :: name
-    integer :: k
+    integer :: k, n
     k = spec_index(v%group, name)
-    good = chk_text(rd, io, trim(specs(k)%name), v%c(k), specs(k)%max_len)
+    n = len_trim(adjustl(v%c(k)))
+    good = n <= specs(k)%max_len
+    if (.not. good) call err_var(rd, io, trim(specs(k)%name), quote(trim(adjustl(v%c(k)))), &
+      'too long ('//itoa(n)//' characters)')
   end function chk_t
+
+  !> The optional flag when present, else the default.
+  pure logical function merge_opt(flag, default)
+    logical, intent(in), optional :: flag
+    logical, intent(in) :: default
+    merge_opt = default
+    if (present(flag)) merge_opt = flag
+  end function merge_opt
 
   ! ------------------------------------------------------------------------ accessors
 
