@@ -64,8 +64,9 @@ FAKE_SQUEUE = "#!/bin/bash\nprintf '%s' \"${FAKE_QUEUE:-}\"\n"
 
 
 def sweep_cli(args: list[str], env: dict | None = None) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, str(ROOT / "tools" / "sweep.py")] + args,
-                          capture_output=True, text=True, env=env)
+    # the binary under test (make test builds only the debug one; bin/ may not exist)
+    return subprocess.run([sys.executable, str(ROOT / "tools" / "sweep.py")] + args
+                          + ["--binary", str(EXE)], capture_output=True, text=True, env=env)
 
 
 def test_dry_run(tmp: Path) -> None:
