@@ -99,6 +99,18 @@ def test_dry_run(tmp: Path) -> None:
     s = batch.sbatch_script(Path("/x/slurm/a.tasks"), 5, 1, batch.Slurm(), "tubempm-x")
     check("#SBATCH --array=0-4" in s.splitlines() and "--partition" not in s and
           "--time" not in s and "--account" not in s, "default script: no cluster options")
+    # more runs than one array may hold: several arrays, each numbered from 0
+    import contextlib
+    import io
+    buf = io.StringIO()
+    cases = [batch.Case(f"r{i}", WAVE, {"run.cfl": 0.1 + 0.01 * i}) for i in range(5)]
+    with contextlib.redirect_stdout(buf):
+        batch.run_batch(cases, tmp / "chunks", binary=tmp / "none",
+                        backend=batch.Slurm(dry_run=True, array_max=2))
+    arrays = [ln for ln in buf.getvalue().splitlines() if ln.startswith("#SBATCH --array=")]
+    check(arrays == ["#SBATCH --array=0-1", "#SBATCH --array=0-1", "#SBATCH --array=0-0"],
+          f"5 runs, at most 2 per array: {arrays}")
+    check(not (tmp / "chunks").exists(), "dry run: no folder made")
     # the Slurm options without --backend slurm are refused (exit 2, the option named)
     p = sweep_cli([str(WAVE), "--out", str(out), "--vary", "run.cfl=0.1", "--partition", "x"])
     check(p.returncode == 2 and "--partition" in p.stderr and "--backend slurm" in p.stderr,

@@ -273,6 +273,9 @@ class Slurm:
     wait: bool = True
     poll: float = 10.0
     python: str = "python3"
+    #: most tasks in one array (Slurm's MaxArraySize is 1001 by default): more runs are
+    #: submitted as several arrays
+    array_max: int = 1000
 
 
 def _slurm_cmd(args: list[str]) -> subprocess.CompletedProcess:
@@ -341,42 +344,44 @@ def _slurm_batch(cases: list[Case], root: Path, threads: int, timeout: float | N
                 continue
         todo.append(case)
     stamp = time.strftime("%Y%m%d-%H%M%S")
-    tasks_file = (root / "slurm" / f"{stamp}-{os.getpid()}.tasks").resolve()
-    script = sbatch_script(tasks_file, len(todo), threads, slurm, f"tubempm-{root.name}") \
-        if todo else ""
+    chunks = [todo[k:k + slurm.array_max] for k in range(0, len(todo), slurm.array_max)]
+    files = [(root / "slurm" / f"{stamp}-{os.getpid()}{f'-{n}' if n else ''}.tasks").resolve()
+             for n in range(len(chunks))]
+    scripts = [sbatch_script(f, len(c), threads, slurm, f"tubempm-{root.name}")
+               for f, c in zip(files, chunks)]
     if slurm.dry_run:
         print(f"# {len(cases)} runs: {len(results)} finished, {len(waiting)} still queued, "
               f"{len(todo)} to submit")
-        if todo:
+        for tasks_file, chunk, script in zip(files, chunks, scripts):
             print(f"# {tasks_file} (one run folder per line):")
-            for c in todo:
+            for c in chunk:
                 print(f"#   {(root / c.name).resolve()}")
             print(script, end="")
         return [results.get(c.name, {"name": c.name, "exit_code": None, "dry_run": True})
                 for c in cases]
-    if todo:
+    for tasks_file, chunk, script in zip(files, chunks, scripts):
         tasks_file.parent.mkdir(parents=True, exist_ok=True)
-        for i, case in enumerate(todo):
+        for i, case in enumerate(chunk):
             folder = root / case.name
             _prepare(case, folder)
             (folder / "slurm.json").write_text(json.dumps(
                 {"name": case.name, "input_hash": input_hash(case), "labels": case.labels,
                  "threads": threads, "timeout": timeout, "binary": str(binary.resolve()),
                  "index": i}, indent=1) + "\n")
-        tasks_file.write_text("".join(f"{(root / c.name).resolve()}\n" for c in todo))
+        tasks_file.write_text("".join(f"{(root / c.name).resolve()}\n" for c in chunk))
         script_file = tasks_file.with_suffix(".sbatch")
         script_file.write_text(script)
         p = _slurm_cmd(["sbatch", "--parsable", str(script_file)])
         if p.returncode != 0:
             raise RuntimeError(f"sbatch {script_file} failed: {p.stderr.strip()}")
         job = p.stdout.strip().split(";")[0]
-        for i, case in enumerate(todo):
+        for i, case in enumerate(chunk):
             path = root / case.name / "slurm.json"
             sub = json.loads(path.read_text())
             sub.update(job_id=job, task_id=f"{job}_{i}")
             path.write_text(json.dumps(sub, indent=1) + "\n")
             waiting[case.name] = f"{job}_{i}"
-        say(f"submitted job array {job}: {len(todo)} run{'s' if len(todo) > 1 else ''} "
+        say(f"submitted job array {job}: {len(chunk)} run{'s' if len(chunk) > 1 else ''} "
             f"({script_file})")
     if waiting and not slurm.wait:
         shown = ", ".join(sorted(set(waiting.values()))[:4]) + (" ..." if len(waiting) > 4
@@ -397,6 +402,9 @@ def _slurm_batch(cases: list[Case], root: Path, threads: int, timeout: float | N
             say(f"stopped waiting; the {len(pending)} queued or running tasks go on "
                 "(scancel them to stop them); run the batch again to wait for them and collect")
             raise
+    if slurm.wait and any(_finished(c, root / c.name) is None for c in cases
+                          if c.name in waiting):
+        time.sleep(min(slurm.poll, 5.0))           # a shared file system may show it late
     for case in cases:
         if case.name in results:
             continue
@@ -573,8 +581,9 @@ def main(argv: list[str] | None = None) -> int:
     import argparse  # noqa: PLC0415 (only the command line needs it)
     ap = argparse.ArgumentParser(
         description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter,
-        epilog=__doc__.split("\n\n", 1)[1] + "\nOn its own, it reads a batch folder and writes "
-        "nothing:\n    python3 tools/batch.py --status build/stability")
+        epilog=__doc__.split("\n\n", 1)[1] + "\nOn its own, it lists a batch folder (and writes "
+        "nothing):\n    python3 tools/batch.py --status build/stability\nor runs one task of a "
+        "Slurm job array (--task, what its sbatch script runs).")
     mode = ap.add_mutually_exclusive_group(required=True)
     mode.add_argument("--status", metavar="ROOT",
                       help="list the case folders under ROOT with their exit code, CPU seconds "

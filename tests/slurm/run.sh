@@ -5,11 +5,16 @@
 # runs a small sweep through it and checks it against the local backend (docs/batch.md).
 # Every daemon started here is stopped on exit, also on failure. Needs root and Debian's
 # slurm-wlm and munge (tools/install-deps.sh --slurm, which make test-slurm calls).
-#   usage: tests/slurm/run.sh [BINARY]   (default bin/tubempm)
+#   usage: tests/slurm/run.sh [BINARY] [-- COMMAND ...]   (default bin/tubempm)
+#   With a COMMAND, runs it (SLURM_CONF set) instead of the checks, then stops the cluster:
+#     tests/slurm/run.sh -- python3 tools/stability.py --parts flip --backend slurm --poll 1
 #   KEEP=1 keeps the temporary folder (logs, run folders) for a look afterwards.
 set -u
 here=$(cd "$(dirname "$0")/../.." && pwd)
-binary=${1:-$here/bin/tubempm}
+binary=$here/bin/tubempm
+if [ $# -gt 0 ] && [ "$1" != "--" ]; then binary=$1; shift; fi
+[ $# -gt 0 ] && [ "$1" = "--" ] && shift
+command=("$@")
 export PATH="$PATH:/usr/sbin:/sbin"
 say() { echo "test-slurm: $*"; }
 fail() { echo "ERROR [test-slurm]: $*" >&2; exit 1; }
@@ -121,4 +126,8 @@ done
 [ "$state" = idle ] || fail "the node did not come up (sinfo says '${state:-nothing}')"
 say "munged, slurmctld and slurmd up in $tmp (node $host, 2 CPUs, partition test)"
 
-python3 "$here/tests/slurm/check_slurm.py" --binary "$binary" --scratch "$tmp/runs"
+if [ ${#command[@]} -gt 0 ]; then
+  "${command[@]}"
+else
+  python3 "$here/tests/slurm/check_slurm.py" --binary "$binary" --scratch "$tmp/runs"
+fi
