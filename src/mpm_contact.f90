@@ -154,7 +154,7 @@ contains
     tol = 1.0e-6_wp*g%h
   end subroutine wall_setup
 
-  !> The walls, in order, on active node n = (i, j) (METHOD.md sec. 5). With k > 0 (step 3)
+  !> The walls, in order, on active node n = (i, j) (docs/theory.md). With k > 0 (step 3)
   !! the velocity change also enters dvel and the momentum added is summed into the partial
   !! sums of span k. A wall other than 'slip' cannot act where no material is within reach
   !! (gap = huge); a 'slip' wall acts on the nodes on or behind its plane. (Called per node:

@@ -170,10 +170,11 @@ contains
     call check_close(s%p%v(1, s%p%np), v(1), 'velocity unchanged', rtol=1.0e-12_wp)
   end subroutine test_free_translation
 
-  !> Slender elastic bar on a rigid frictionless target (METHOD.md sec. 9): contact lasts
-  !! 2 L / c, the bar leaves with its impact speed, c = sqrt(E / rho) (plane stress), and the
-  !! wall takes the impulse 2 m V at the constant force rho c V A of the 1-D wave (A = 2 h per
-  !! unit depth). L / h = 160; the rebound deficit is first order in h (test_bar_order).
+  !> Slender elastic bar on a rigid frictionless target (1-D waves; docs/verification.md):
+  !! contact lasts 2 L / c, the bar leaves with its impact speed, c = sqrt(E / rho) (plane
+  !! stress), and the wall takes the impulse 2 m V at the constant force rho c V A of the 1-D
+  !! wave (A = 2 h per unit depth). L / h = 160; the rebound deficit is first order in h
+  !! (test_bar_order).
   subroutine test_bar_impact(b)
     integer, intent(in) :: b
     real(wp), parameter :: L = 1.0_wp, V = 0.01_wp, gap0 = 0.002_wp, E = 100.0_wp, rho = 1.0_wp
