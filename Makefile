@@ -17,9 +17,14 @@ FFLAGS_common  := -std=f2008 -fimplicit-none -Wall -Wextra -Wimplicit-interface 
 FFLAGS_release := -O2 -g
 FFLAGS_debug   := -Og -g -fcheck=all -fbacktrace -ffpe-trap=invalid,zero,overflow \
                   -finit-real=snan -finit-integer=-99999999
+# the sanitizer profile (make test BUILD=asan): AddressSanitizer and UndefinedBehaviorSanitizer
+# in the Fortran and the C code
+SANITIZE       := -fsanitize=address,undefined -fno-omit-frame-pointer
+FFLAGS_asan    := -Og -g $(SANITIZE)
+CFLAGS_asan    := -g $(SANITIZE)
 HDF5_FFLAGS ?= $(shell pkg-config --cflags hdf5 2>/dev/null)
 HDF5_LIBS   ?= $(shell pkg-config --libs-only-L hdf5 2>/dev/null) -lhdf5_fortran -lhdf5
-CFLAGS_shim := -O2 -std=c99 -Wall -Wextra
+CFLAGS_shim := -O2 -std=c99 -Wall -Wextra $(CFLAGS_$(BUILD))
 
 BLD     ?= build/$(BUILD)
 SRC     := $(wildcard src/*.f90)
@@ -31,7 +36,7 @@ TESTS   := $(patsubst tests/%.f90,$(BLD)/%,$(TESTSRC))
 FC_ALL  := $(FC) $(FFLAGS_common) $(FFLAGS_$(BUILD))
 
 .PHONY: all deps test run clean help check-namelists check-paraview bench study stability figures \
-        fuzz fe-reference test-slurm
+        fuzz fuzz-scenes fe-reference test-slurm
 
 # HDF5 flags come from pkg-config when make reads this file, so everything that compiles runs
 # in a sub-make started after `deps` has installed what was missing (a fresh machine).
@@ -81,10 +86,12 @@ ifneq ($(MAKECMDGOALS),help)
 endif
 endif
 
-## test: debug build (-fcheck=all, FP traps), then every test program and script
+## test: debug build (-fcheck=all, FP traps), then every test program and script;
+##       BUILD=asan: the same with the sanitizer build (-fsanitize=address,undefined)
+TEST_BUILD := $(if $(filter asan,$(BUILD)),asan,debug)
 test: deps
-	@$(MAKE) --no-print-directory BUILD=debug build/debug/tubempm test-programs
-	@bash tools/run-tests.sh build/debug
+	@$(MAKE) --no-print-directory BUILD=$(TEST_BUILD) build/$(TEST_BUILD)/tubempm test-programs
+	@bash tools/run-tests.sh build/$(TEST_BUILD)
 
 test-programs: $(TESTS)
 
@@ -169,6 +176,13 @@ check-namelists: all
 fuzz: all
 	$(PYTHON) tools/fuzz_namelists.py --bin bin/tubempm --count $(or $(N),5000) --seed $(or $(SEED),1) --out build/fuzz
 
+## fuzz-scenes: run N (default 200) valid but extreme scenes to their end (tools/fuzz_scenes.py)
+##              on the debug build (BUILD=asan: the sanitizer build); failures kept in build/
+fuzz-scenes: deps
+	@$(MAKE) --no-print-directory BUILD=$(TEST_BUILD) build/$(TEST_BUILD)/tubempm
+	$(PYTHON) tools/fuzz_scenes.py --bin build/$(TEST_BUILD)/tubempm --count $(or $(N),200) \
+	  --seed $(or $(SEED),1) --out build/fuzz_scenes
+
 ## clean: remove build/ and bin/
 clean:
 	rm -rf build bin
@@ -177,5 +191,5 @@ clean:
 help:
 	@echo "tubempm make targets:"
 	@grep -E '^## ' Makefile | sed 's/^## /  /'
-	@echo "variables: BUILD=release|debug  CASE=file.nml  FC=compiler  PYTHON=python3"
+	@echo "variables: BUILD=release|debug|asan  CASE=file.nml  FC=compiler  PYTHON=python3"
 	@echo "           LEVEL=quick|full|all  BACKEND=local|slurm  BATCH_FLAGS=... (study, stability)"

@@ -143,7 +143,8 @@ contains
   end subroutine advice_wall_time
 
   !> Per ring body: cells against the wall thickness, particles through the wall, and the
-  !! platen speed against the ring's ovalling mode (METHOD.md sec. 7).
+  !! platen speed against the ring's ovalling mode (inextensional in-plane mode n = 2 of a thin
+  !! ring: omega_n^2 = E I n^2 (n^2 - 1)^2 / (rho A R^4 (n^2 + 1)); Love 1927, Blevins 1979).
   subroutine advice_walls(cfg, warnings)
     type(config_t), intent(in) :: cfg
     character(len=:), allocatable, intent(inout) :: warnings
@@ -182,7 +183,7 @@ contains
             'Use h <= t/4 with n_thick >= 2 t/h for about 5 %'
           call append_msg(warnings, line)
         end if
-        ! quasi-static crushing: platen speed against the ovalling mode (METHOD.md sec. 7)
+        ! quasi-static crushing: platen speed against the ovalling mode (Love 1927, n = 2)
         rm = 0.5_wp*(b%r_inner + b%r_outer)
         associate (m => cfg%materials(b%material_id))
           ei = m%E*t**3/12.0_wp

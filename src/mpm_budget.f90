@@ -161,7 +161,8 @@ contains
     if (cfg%grid%fitted) errmsg = errmsg//', with room to grow'
     errmsg = errmsg//').'
     if (b%grid_bytes >= b%particle_bytes) then
-      errmsg = errmsg//' Change: a larger &grid h (the nodes grow as 1/h^2), the size of the bodies '// &
+      errmsg = errmsg//' Change: a larger &grid h (the nodes grow as 1/h^2), the size of '// &
+        'the bodies '// &
         '(&body r_inner, r_outer, size, center: lengths are in metres), or give &grid '// &
         'lower, upper closer around the material'
     else

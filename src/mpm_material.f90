@@ -94,7 +94,7 @@ contains
   pure function material_wave_speed(mat) result(c)
     type(material_t), intent(in) :: mat  !! material [-]
     real(wp) :: c
-    c = sqrt((mat%lambda + 2.0_wp*mat%mu)/mat%rho)  ! METHOD.md section 2 (c_d)
+    c = sqrt((mat%lambda + 2.0_wp*mat%mu)/mat%rho)  ! c_d, docs/theory.md (time step)
   end function material_wave_speed
 
   !> Update the Cauchy stress of one particle over one step.
@@ -587,7 +587,7 @@ contains
     b12 = F(1,1)*F(2,1) + F(1,2)*F(2,2)
     c = mat%lambda*lnj/jac
     m = mat%mu/jac
-    s(1) = c + m*(b11 - 1.0_wp)                 ! METHOD.md section 9 (Neo-Hookean)
+    s(1) = c + m*(b11 - 1.0_wp)                 ! docs/material.md, Neo-Hookean
     s(2) = c + m*(b22 - 1.0_wp)
     s(3) = m*b12
     if (plane == PLANE_STRAIN) s(4) = c         ! B_zz = 1

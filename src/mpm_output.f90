@@ -1,4 +1,4 @@
-!> Text outputs of a run: history.csv rows and summary.nml (shared/INTERFACE.md).
+!> Text outputs of a run: history.csv rows and summary.nml (docs/output.md).
 ! SPDX-License-Identifier: MIT
 !
 ! Forces, energies and masses are reported for `depth` and for the full structure: with a half

@@ -1,7 +1,7 @@
 !> Material points as a structure of arrays, and the bodies that create them (rings, rectangles).
 ! SPDX-License-Identifier: MIT
 !
-! Every particle is a quadrilateral domain. Ring particles follow METHOD.md sec. 6: radii
+! Every particle is a quadrilateral domain. Ring particles (docs/input.md, &body): radii
 ! r_j = r_in + j t / n_t, angles theta_k; particle (j, k) has the corners (r_j, theta_k),
 ! (r_j+1, theta_k), (r_j+1, theta_k+1), (r_j, theta_k+1), counter-clockwise. The corners are
 ! stored once and shared by neighbours (CPDI2 keeps the tiling conforming); the other bases
@@ -85,7 +85,7 @@ contains
     end if
   end subroutine ring_counts
 
-  !> Fill particles ip0+1.. and corners ic0+1.. of a ring (METHOD.md sec. 6).
+  !> Fill particles ip0+1.. and corners ic0+1.. of a ring (the layout in the header above).
   !! half: the part x >= cx; quarter: x >= cx and y >= cy.
   subroutine ring_fill(p, ip0, ic0, center, r_inner, r_outer, n_thick, nk, sector, rho, &
                        velocity, imat, ibody)
@@ -185,7 +185,7 @@ contains
     ! CPDI1 parallelogram: mean edge vectors (exact for parallelograms and isosceles trapezia)
     p%r10(:, ip) = 0.25_wp*(xq(:, 2) - xq(:, 1) + xq(:, 3) - xq(:, 4))
     p%r20(:, ip) = 0.25_wp*(xq(:, 4) - xq(:, 1) + xq(:, 3) - xq(:, 2))
-    p%half(:, ip) = 0.5_wp*sqrt(area)          ! uGIMP square of side sqrt(V0), METHOD.md sec. 3
+    p%half(:, ip) = 0.5_wp*sqrt(area)          ! uGIMP square of side sqrt(V0), docs/basis.md
     p%mat(ip) = imat
     p%body(ip) = ibody
   end subroutine set_particle

@@ -1,4 +1,4 @@
-!> One explicit MPM time step (METHOD.md sec. 2), as a page of numbered calls that match
+!> One explicit MPM time step (docs/theory.md), as a page of numbered calls that match
 !! docs/algorithm.md; the initial energies, the stable time step and the energy balance.
 ! SPDX-License-Identifier: MIT
 !
@@ -44,7 +44,7 @@ module mpm_solver
 
 contains
 
-  !> Stable time step cfl * h / (c_d + max particle speed) [s] (METHOD.md sec. 2).
+  !> Stable time step cfl * h / (c_d + max particle speed) [s] (docs/theory.md, One explicit step).
   pure function solver_stable_dt(s) result(dt)
     type(sim_t), intent(in) :: s           !! simulation
     real(wp) :: dt
@@ -202,7 +202,7 @@ contains
   end subroutine time_step
 
   !> Step 7: external work, the balance kin + strain + plastic + damped - external - E0, the
-  !! energy error of INTERFACE.md, and the growth check (stat = EXIT_NUMERIC past step 10).
+  !! energy error of docs/output.md, and the growth check (stat = EXIT_NUMERIC past step 10).
   subroutine energy_balance(prm, st, h, dt, stat, errmsg)
     type(params_t), intent(in) :: prm      !! parameters (tolerances, wave speed)
     type(state_t), intent(inout) :: st     !! state: energies and their extremes
@@ -218,7 +218,7 @@ contains
       st%e_external = st%e_external + st%walls(k)%work
     end do
     emech = st%e_kin + st%e_strain + st%e_plastic + st%e_damped + st%e_contact
-    ! energy_error as INTERFACE.md defines it: the largest imbalance over the run divided by
+    ! energy_error as docs/output.md defines it: the largest imbalance over the run divided by
     ! max(E0, the largest external work), both maxima over the run so far
     excess = emech - st%e_external - st%e0
     st%bal_max = max(st%bal_max, abs(excess))

@@ -72,12 +72,14 @@ contains
             fmt_vec(b%velocity), 'moves across the mirror plane '//trim(plane(m))//' of '// &
             model//': the mirror holds the body there, and its mirror image would move the '// &
             'other way', 'velocity('//itoa(m)//') = 0 (motion along the mirror '// &
-            trim(merge('planes', 'plane ', nm == 2))//'), or sector = ''full'' for the whole structure')
+            trim(merge('planes', 'plane ', nm == 2))//'), or sector = ''full'' for the '// &
+            'whole structure')
         end do
         if (k /= first .and. b%shape_id == SHAPE_RING .and. b%sector_id /= SECTOR_FULL) then
           if (b%center(1) /= center(1) .or. (nm == 2 .and. b%center(2) /= center(2))) &
             call err_var(rd, io, 'center', fmt_vec(b%center), 'not on the mirror '// &
-              trim(merge('planes', 'plane ', nm == 2))//' of '//model, 'the centre of &body #'//itoa(first)// &
+              trim(merge('planes', 'plane ', nm == 2))//' of '//model, &
+              'the centre of &body #'//itoa(first)// &
               ' ('//fmt_vec(center)//'), or sector = ''full''')
         end if
       end associate

@@ -7,7 +7,7 @@
 ! into buffers added on the live tiles); with `deterministic` it is a four-colour sweep over the
 ! tiles instead (mpm_tiles), whose sums do not depend on the thread count. Particle sums
 ! (energies) are formed per fixed chunk of particles and added in order. The kernels take plain
-! arrays: OpenMP clauses cannot name structure components (STYLE.md B.11), and explicit-shape
+! arrays: OpenMP clauses cannot name structure components (gfortran 12), and explicit-shape
 ! dummies keep the inner loops as fast as before.
 module mpm_transfer
   !$ use omp_lib, only: omp_get_thread_num, omp_get_num_threads, omp_get_max_threads
@@ -119,7 +119,7 @@ contains
   end subroutine p2g_coloured
 
   !> Scatter of particles k0..k1 (perm(k0..k1) when sorted): mass m_p phi, momentum
-  !! m_p v_p phi, force -V sigma . grad phi + phi m_p (g + b_p) (METHOD.md sec. 2, step 1).
+  !! m_p v_p phi, force -V sigma . grad phi + phi m_p (g + b_p) (docs/theory.md, step 1).
   subroutine p2g_kernel(k0, k1, sorted, perm, np, nn, nb, nx, blk, w, gw, mass, v, vol, &
                         stress, gravity, has_bacc, bacc, do_mass, do_force, &
                         gmass, gmom, gforce)
@@ -226,7 +226,7 @@ contains
     !$omp end parallel do
   end subroutine zero_momentum
 
-  !> Active nodes: mass above 1e-12 of the largest (METHOD.md sec. 2).
+  !> Active nodes: mass above 1e-12 of the largest (docs/theory.md, step 1).
   subroutine set_mass_cut(g, tl, par)
     type(grid_t), intent(inout) :: g       !! grid
     type(tiles_t), intent(in) :: tl        !! live spans
@@ -246,7 +246,7 @@ contains
     g%mass_cut = 1.0e-12_wp*mmax
   end subroutine set_mass_cut
 
-  !> Step 4: FLIP/PIC velocity blend and position update (METHOD.md sec. 2, step 3); also the
+  !> Step 4: FLIP/PIC velocity blend and position update (docs/theory.md, step 3); also the
   !! kinetic energy, the largest speed and the work of body forces. With remap (MUSL, not
   !! deterministic), the new momenta go straight back to the grid (step 5) in the same pass,
   !! accumulated per thread like p2g_threads.

@@ -1,4 +1,4 @@
-!> Rigid straight walls (platens, targets, mirror planes) acting on grid nodes (METHOD.md sec. 5).
+!> Rigid straight walls (platens, targets, mirror planes) acting on grid nodes (docs/theory.md).
 ! SPDX-License-Identifier: MIT
 !
 ! Contact engages when the material surface reaches the plane, not when a node with mass does:

@@ -3,7 +3,7 @@
 !
 !   bin/tubempm CASE.nml | --check CASE.nml | --restart DIR | --defaults | --help | --version
 !   [--quiet]
-! The driver is the only place that stops the program (exit codes of shared/INTERFACE.md).
+! The driver is the only place that stops the program (exit codes of docs/output.md).
 program tubempm
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit, compiler_version, &
                                            compiler_options

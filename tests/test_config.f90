@@ -157,7 +157,7 @@ contains
 
   ! ---------------------------------------------------------------------- defaults
 
-  !> A minimal file gets every default of INTERFACE.md.
+  !> A minimal file gets every default of docs/input.md.
   subroutine test_defaults()
     type(config_t) :: c
     integer :: stat

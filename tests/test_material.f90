@@ -11,7 +11,8 @@ program test_material
                           material_stress_update, material_energy_density, MATERIAL_OK
   implicit none
 
-  ! Steel-like parameters (METHOD.md section 1) with a stronger hardening for visible slopes.
+  ! Steel-like parameters (the steel tube of Sinaie et al. 2018) with a stronger hardening
+  ! for visible slopes.
   real(wp), parameter :: E = 210.0e9_wp, nu = 0.3_wp, rho = 7800.0_wp, sy = 310.0e6_wp
   real(wp), parameter :: H = 2.0e9_wp, cs_d = 40.4_wp, cs_q = 5.0_wp
   real(wp), parameter :: eye(2,2) = reshape([1.0_wp, 0.0_wp, 0.0_wp, 1.0_wp], [2, 2])

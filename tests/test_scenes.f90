@@ -48,7 +48,7 @@ contains
     end if
   end subroutine step
 
-  !> Elastic diametral stiffness: thin-ring closed form (METHOD.md sec. 7) with Roark's
+  !> Elastic diametral stiffness: thin-ring closed form (Roark, k1 = k2 = 1) with Roark's
   !! thick-ring factors for hoop and shear deformation: delta = P R^3/(E I) (k1 pi/4 - 2 k2^2/pi),
   !! k1 = 1 - a + b, k2 = 1 - a, a = I/(A R^2), b = 2 F (1 + nu) a, F = 6/5 (Roark & Young,
   !! Formulas for Stress and Strain, table 9.2 case 1); plane strain E -> E/(1-nu^2),

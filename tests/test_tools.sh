@@ -6,7 +6,8 @@
 # `git status --porcelain` is unchanged (when this is a git work tree). Also: run_scenes.sh
 # refuses an unknown scene (exit 2) without touching docs/figures/scenes.txt, and
 # tools/stability.py defaults to the level `make stability` uses (quick); README.md, Makefile,
-# namelists/, docs/, plots/ and tools/ cite no internal document (METHOD.md, INTERFACE.md, ...).
+# namelists/, docs/, plots/, tools/, src/ and tests/*.f90 cite no internal document (METHOD.md,
+# INTERFACE.md, ...).
 #   usage: bash tests/test_tools.sh SCRATCH
 set -u
 if [ -n "${TUBEMPM_TEST_TOOLS:-}" ]; then   # a tool that ignored --help ran the test suite
@@ -66,7 +67,9 @@ make -n --no-print-directory stability 2>/dev/null | grep -q "plots/plot_stabili
 
 # the product cites its own docs and the literature, not the project's internal notes
 cites=$(grep -rnE "(METHOD|INTERFACE|STYLE)\.md|shared/" README.md Makefile namelists docs plots tools \
-        --include='*.md' --include='*.nml' --include='*.py' --include='*.sh' --include=Makefile 2>/dev/null)
+        --include='*.md' --include='*.nml' --include='*.py' --include='*.sh' --include=Makefile 2>/dev/null;
+       grep -rnE "(METHOD|INTERFACE|STYLE)\.md|shared/" src tests --include='*.f90' --include='*.c' \
+        --include='*.inc' 2>/dev/null)
 [ -z "$cites" ] && ok || bad "internal documents cited: $(echo "$cites" | head -3)"
 
 # nothing written into the repository

@@ -1,4 +1,4 @@
-!> Generalized vortex: a manufactured large-deformation solution (METHOD.md sec. 9; Kamojjala,
+!> Generalized vortex: a manufactured large-deformation solution (docs/verification.md; Kamojjala,
 !! Brannon, Sadeghirad & Guilkey 2015). The library is driven with the manufactured body force;
 !! the mass-weighted L2 particle displacement error is measured at three grid sizes with the
 !! particles per cell fixed, for every basis: the convergence order of CPDI2, CPDI1 and uGIMP
@@ -13,8 +13,8 @@
 ! sigma_tt = mu gamma^2. With m = mu / rho0, the body force per unit mass b = a - div(sigma)/rho,
 ! in the CURRENT radial and hoop directions, is
 !   b_r = m R (g h')^2 - R (g' h)^2,      b_t = R g'' h - m (3 g h' + R g h'').
-! (METHOD.md lists these rotated by alpha into the reference frame, with the opposite sign on
-! the (g' h)^2 term of b_theta; the exact acceleration a_r = -R (g' h)^2, a_t = R g'' h agrees
+! (A version rotated by alpha into the reference frame has the opposite sign on the (g' h)^2
+! term of b_theta; the exact acceleration a_r = -R (g' h)^2, a_t = R g'' h agrees
 ! with the form above, which the check in this test confirms numerically.)
 program test_vortex
   use mpm_kinds, only: wp
@@ -122,7 +122,7 @@ contains
     bxy = br*[cos(th + a), sin(th + a)] + bt*[-sin(th + a), cos(th + a)]
   end function body_force
 
-  !> The frame check METHOD.md asks for: with m = 0 the body force must equal the exact
+  !> The frame check: with m = 0 the body force must equal the exact
   !! acceleration d2x/dt2 (central differences of x_exact).
   subroutine test_body_force_frame()
     real(wp) :: xref(2), t, dtt, acc(2), b(2), m_save

@@ -6,12 +6,20 @@
 #   usage: tools/run-tests.sh BLD
 set -u
 case "${1:-}" in
-  -h|--help) echo "usage: tools/run-tests.sh [BLD]   (default build/debug; make test builds it first)"
+  -h|--help) echo "usage: tools/run-tests.sh [BLD]   (default build/debug; make test builds it first;"
+             echo "  build/asan: the sanitizer build of make test BUILD=asan)"
              echo "  runs BLD/test_* and tests/test_*.sh, tests/test_*.py; last line: N passed, M failed"
              exit 0 ;;
 esac
 bld=${1:-build/debug}
 [ -d "$bld" ] || { echo "ERROR [run-tests]: $bld is not a build folder (make test builds build/debug)" >&2; exit 2; }
+case "$bld" in
+  *asan*)  # the sanitizer build: any report stops the program (exit 1, counted as a failure);
+           # no leak report: the variables of a Fortran main program live until exit by design
+           # and the error exits end through exit(), so every run would report them
+    export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0:halt_on_error=1}
+    export UBSAN_OPTIONS=${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1} ;;
+esac
 scratch=$(mktemp -d "${TMPDIR:-/tmp}/tubempm-tests.XXXXXX")
 trap 'rm -rf "$scratch"' EXIT
 total_pass=0; total_fail=0; t0=$(date +%s)
