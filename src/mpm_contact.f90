@@ -13,17 +13,18 @@
 ! gathered and pushed in corner (or particle) order.
 module mpm_contact
   use mpm_kinds, only: wp
-  use mpm_constants, only: CONTACT_SLIP
+  use mpm_constants, only: CONTACT_SLIP, EXIT_NUMERIC
   use mpm_grid, only: grid_t
   use mpm_tiles, only: tiles_t, tiles_span
   use mpm_walls, only: wall_t, wall_velocity, wall_constrain_node, wall_travel
   use mpm_surface_contact, only: surface_points, surface_push, surface_friction, surface_energy, &
                                  contact_alpha
   use mpm_state, only: params_t, state_t, work_t
+  use mpm_strings, only: itoa, rtoa
   implicit none
   private
   public :: grid_velocity_walls, grid_update_walls, contact_begin_step, contact_reactions, &
-            contact_energy
+            contact_energy, contact_check
 
 contains
 
@@ -231,6 +232,31 @@ contains
     real(wp) :: kf
     kf = contact_alpha*(prm%c_max/g%h)**2
   end function stiffness
+
+  !> After step 3: a wall whose surface points lie more than half a cell behind it moves
+  !! faster than its contact can push the material away (the penalty acts within about h / c):
+  !! stat = EXIT_NUMERIC with a message, before the energies overflow.
+  subroutine contact_check(st, wk, h, stat, errmsg)
+    type(state_t), intent(in) :: st        !! state (walls)
+    type(work_t), intent(in) :: wk         !! surface points of the step
+    real(wp), intent(in) :: h              !! cell size [m]
+    integer, intent(out) :: stat           !! 0 or EXIT_NUMERIC
+    character(len=:), allocatable, intent(inout) :: errmsg  !! what failed (set on failure)
+    integer :: iw
+    stat = 0
+    if (.not. allocated(wk%surf)) return
+    do iw = 1, st%nwall
+      if (st%walls(iw)%contact == CONTACT_SLIP) cycle
+      if (wk%surf(iw)%gmin >= -0.5_wp*h) cycle
+      stat = EXIT_NUMERIC
+      errmsg = 'wall '//itoa(iw)//': the material lies '//rtoa(-wk%surf(iw)%gmin)// &
+        ' m behind the wall (more than half a cell, h = '//rtoa(h)//' m) at t = '// &
+        rtoa(st%t)//' s: the wall moves into the material faster than its contact can push '// &
+        'the material away (it acts within about h / c; docs/theory.md). Lower the wall''s '// &
+        'speed, or cfl if the material itself moves that fast'
+      return
+    end do
+  end subroutine contact_check
 
   !> One set of surface points per wall.
   subroutine surface_allocate(st, wk)

@@ -32,7 +32,7 @@ module mpm_solver
   use mpm_weights, only: weights_compute
   use mpm_transfer, only: transfer_p2g, transfer_g2p, transfer_g2p_coloured
   use mpm_contact, only: grid_velocity_walls, grid_update_walls, contact_begin_step, &
-                         contact_reactions, contact_energy
+                         contact_reactions, contact_energy, contact_check
   use mpm_deformation, only: deformation_update, domains_update
   use mpm_timers, only: clock_seconds, PHASE_BASIS, PHASE_P2G, PHASE_GRID, PHASE_G2P, &
                         PHASE_REMAP, PHASE_STRESS, PHASE_CORNERS, PHASE_OTHER
@@ -148,6 +148,8 @@ contains
     call tick(s%diag, PHASE_P2G, clock)
     ! 3. grid update, damping and walls
     call grid_update_walls(s%prm, s%state_t, s%g, s%tiles, s%wk, dt)
+    call contact_check(s%state_t, s%wk, s%g%h, stat, errmsg)
+    if (stat /= 0) return
     call tick(s%diag, PHASE_GRID, clock)
     ! 4. G2P (and 5. the MUSL momentum map in the same pass)
     remap = s%prm%scheme == SCHEME_MUSL
@@ -224,7 +226,9 @@ contains
     st%bal_max = max(st%bal_max, abs(excess))
     st%ext_max = max(st%ext_max, abs(st%e_external))
     scale = max(st%e0, st%ext_max, tiny(1.0_wp))
-    st%energy_error = st%bal_max/scale
+    ! with no energy at all yet (a body at rest before a wall's first impulse is counted) the
+    ! ratio is undefined: it waits for a scale (bal/tiny would overflow)
+    if (st%bal_max*epsilon(1.0_wp) < scale) st%energy_error = st%bal_max/scale
     if (st%step > 10_i8 .and. (excess > prm%energy_tol*scale .or. &
                                excess > prm%growth_tol*max(scale, prm%e_floor))) then
       stat = EXIT_NUMERIC

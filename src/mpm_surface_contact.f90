@@ -53,6 +53,7 @@ module mpm_surface_contact
   !! particle (its corners behind the plane together).
   type :: surface_work_t
     integer :: npt = 0                     !! points gathered
+    real(wp) :: gmin = 0.0_wp              !! the deepest gap among them (<= 0) [m]
     integer :: nnode = 4                   !! nodes per point (4, or the particle block nb^2)
     real(wp), allocatable :: xs(:,:)       !! CPDI2 corner positions (2, n) [m]
     integer, allocatable :: owner(:)       !! the particle of a point, or 0 (a corner) (n)
@@ -82,12 +83,14 @@ contains
     integer :: ip, ic, a
     real(wp) :: d, xq(2, 4), r1(2), r2(2)
     wk%npt = 0
+    wk%gmin = 0.0_wp
     if (basis == BASIS_CPDI2) then
       call corner_masses(p, wk)
       do ic = 1, p%nc
         d = (p%xc(1, ic) - xw(1))*normal(1) + (p%xc(2, ic) - xw(2))*normal(2)
         if (d < 0.0_wp) call push(0, p%xc(:, ic), -kf*wk%corner_mass(ic)*d, &
                                   0.5_wp*kf*wk%corner_mass(ic)*d*d)
+        wk%gmin = min(wk%gmin, d)
       end do
       return
     end if
@@ -112,6 +115,7 @@ contains
         d = dot_product(xq(:, a) - xw, normal)
         if (d < 0.0_wp) call push(0, xq(:, a), -kf*0.25_wp*p%mass(ip)*d, &
                                   0.125_wp*kf*p%mass(ip)*d*d)
+        wk%gmin = min(wk%gmin, d)
       end do
     end do
   contains
