@@ -146,7 +146,12 @@ contains
   end subroutine grid_update_walls
 
   !> The penalty forces of every wall but 'slip' on the surface points behind it at the start
-  !! of the step, added to the node forces; their momentum over dt is the wall's impulse.
+  !! of the step, added to the node forces; their momentum over dt is the wall's impulse. The
+  !! energy stored in the contact, st%e_contact, is that of the start of the step: the walls'
+  !! work is counted from the impulses, which act one step after the penetration that causes
+  !! them, and the energy is counted with the same lag (counted at the end of the step, a wall
+  !! meeting a body at rest would show energy before any work, which the growth check of a
+  !! body with E0 = 0 takes for an instability).
   subroutine surface_forces(prm, st, g, wk, dt)
     type(params_t), intent(in) :: prm      !! parameters (basis, wave speed)
     type(state_t), intent(inout) :: st     !! state: particles, wall impulses
@@ -156,10 +161,12 @@ contains
     integer :: iw
     real(wp) :: imp(2)
     call surface_allocate(st, wk)
+    st%e_contact = 0.0_wp
     do iw = 1, st%nwall
       if (st%walls(iw)%contact == CONTACT_SLIP) cycle
       call surface_points(st%p, prm%basis, wk%wall_work(3:4, iw), wk%wall_work(5:6, iw), &
                           stiffness(prm, g), wk%surf(iw))
+      st%e_contact = st%e_contact + surface_energy(wk%surf(iw))
       call surface_push(wk%surf(iw), g%origin, g%h, g%nx, g%ny, g%mass, g%mass_cut, wk%nb, &
                         wk%blk, wk%w, wk%wall_work(5:6, iw), dt, g%force, imp)
       st%walls(iw)%impulse = st%walls(iw)%impulse + imp

@@ -176,7 +176,6 @@ contains
     s%t = s%t + dt
     s%step = s%step + 1_i8
     call contact_reactions(s%state_t, dt)
-    call contact_energy(s%prm, s%state_t, s%g, s%wk)
     call energy_balance(s%prm, s%state_t, s%g%h, dt, stat, errmsg)
     call tick(s%diag, PHASE_OTHER, clock)
   end subroutine solver_step
@@ -234,12 +233,24 @@ contains
       stat = EXIT_NUMERIC
       errmsg = 'energy growth (instability) at step '//itoa(st%step)//', t = '//rtoa(st%t)// &
         ' s: kinetic + elastic + plastic + damped energy exceeds the initial energy plus the '// &
-        'work put in by '//rtoa(100.0_wp*excess/scale)//' % (runs below the stable time '// &
+        'work put in by '//growth_text(excess, max(scale, prm%e_floor))//' (runs below the stable time '// &
         'step lose energy or gain a few %). The time step dt = '//rtoa(dt)//' s (cfl = '// &
         rtoa(dt*(prm%c_max + st%vmax)/h)//') is probably above the stable limit of this '// &
         'basis and scheme (docs/stability.md): lower cfl (0.1 to 0.3) or dt'
     end if
   end subroutine energy_balance
+
+  !> The growth as a percentage of the energy scale, or in J/m while there is none.
+  function growth_text(excess, scale) result(text)
+    real(wp), intent(in) :: excess         !! energy gained [J/m]
+    real(wp), intent(in) :: scale          !! energy scale [J/m]
+    character(len=:), allocatable :: text
+    if (excess*epsilon(1.0_wp) < scale) then
+      text = rtoa(100.0_wp*excess/scale)//' %'
+    else
+      text = rtoa(excess)//' J/m (before any energy or work to compare it with)'
+    end if
+  end function growth_text
 
   !> Add the time since `clock` to phase `phase`; clock becomes now.
   subroutine tick(diag, phase, clock)
