@@ -16,7 +16,7 @@ module mpm_setup
   use mpm_solver, only: sim_t, solver_stable_dt, solver_init_energy
   use mpm_errors, only: append_msg
   use mpm_strings, only: itoa, plural
-  use mpm_advice, only: advice_check
+  use mpm_advice, only: advice_check, cfl_in_use, cfl_automatic, cfl_text
   implicit none
   private
   public :: setup_sim, setup_report, sector_factor
@@ -115,7 +115,7 @@ contains
     s%prm%flip = cfg%solver%flip
     s%prm%damping = cfg%solver%damping
     s%prm%deterministic = cfg%solver%deterministic
-    s%prm%cfl = cfg%run%cfl
+    s%prm%cfl = cfl_in_use(cfg)            ! the input's, or the automatic value (cfl = 0)
     s%prm%dt_fixed = cfg%run%dt
     s%prm%t_end = cfg%run%t_end
     s%prm%gravity = cfg%run%gravity
@@ -200,8 +200,9 @@ contains
     character(len=:), allocatable, intent(out) :: report    !! the set-up, one item per line
     character(len=:), allocatable, intent(out) :: warnings  !! warnings, one per line ('' none)
     integer :: ib, nk, npb, ncb
-    real(wp) :: dt_stable, dt
+    real(wp) :: dt_stable, dt, cfl_auto
     integer(i8) :: steps, mem
+    character(len=:), allocatable :: why
     character(len=512) :: line
     report = ''
     write(line, '(a)') 'case '''//trim(cfg%run%title)//''' from '//trim(cfg%file)
@@ -247,6 +248,14 @@ contains
       s%g%h/(s%prm%c_max + s%vmax), ' s (cfl = 1), used ', dt, ' s (cfl ', &
       dt*(s%prm%c_max + s%vmax)/s%g%h, '), wave speed ', s%prm%c_max, ' m/s'
     call append_msg(report, line)
+    if (s%prm%dt_fixed > 0.0_wp) then
+      call append_msg(report, 'cfl: not used (fixed dt)')
+    else if (cfg%run%cfl > 0.0_wp) then
+      call append_msg(report, 'cfl: '//cfl_text(cfg%run%cfl)//', as given')
+    else
+      call cfl_automatic(cfg, cfl_auto, why)
+      call append_msg(report, 'cfl: '//why)
+    end if
     write(line, '(a,es11.4,a,i0,a)') 'steps: about ', real(steps, wp), ' to t_end (', steps, &
       ' at the initial speeds)'
     call append_msg(report, line)
