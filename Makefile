@@ -15,6 +15,8 @@ CASE ?= namelists/default.nml
 FFLAGS_common  := -std=f2008 -fimplicit-none -Wall -Wextra -Wimplicit-interface \
                   -Wconversion-extra -Wno-compare-reals -fopenmp
 FFLAGS_release := -O2 -g
+# native: this machine's instruction set (AVX2, FMA); results differ at round-off (tests/test_native.py)
+FFLAGS_native  := -O2 -g -march=native
 FFLAGS_debug   := -Og -g -fcheck=all -fbacktrace -ffpe-trap=invalid,zero,overflow \
                   -finit-real=snan -finit-integer=-99999999
 HDF5_FFLAGS ?= $(shell pkg-config --cflags hdf5 2>/dev/null)
@@ -166,4 +168,4 @@ clean:
 help:
 	@echo "tubempm make targets:"
 	@grep -E '^## ' Makefile | sed 's/^## /  /'
-	@echo "variables: BUILD=release|debug  CASE=file.nml  FC=compiler  PYTHON=python3"
+	@echo "variables: BUILD=release|debug|native  CASE=file.nml  FC=compiler  PYTHON=python3"

@@ -5,6 +5,7 @@ program test_material
                                            ieee_is_nan
   use testing, only: begin_test, check, check_close, finish_tests
   use mpm_kinds, only: wp
+  use mpm_strings, only: rtoa
   use mpm_constants, only: pi, MODEL_ELASTIC, MODEL_NEOHOOKEAN, MODEL_J2, RATE_NONE, &
                            RATE_COWPER_SYMONDS, PLANE_STRAIN, PLANE_STRESS
   use mpm_material, only: material_t, material_new, material_wave_speed, &
@@ -574,6 +575,8 @@ contains
     integer :: ip, im, n
     integer, parameter :: models(2) = [MODEL_ELASTIC, MODEL_J2]
     character(len=7), parameter :: model_label(2) = ['elastic', 'j2     ']
+    real(wp), parameter :: small(6) = [1.0e-7_wp, -2.5e-5_wp, 1.0e-3_wp, -3.0e-3_wp, &
+                                       3.9e-3_wp, 4.0e-3_wp]
     s0 = [120.0e6_wp, -40.0e6_wp, 75.0e6_wp, 30.0e6_wp]
     dt = 1.0e-4_wp
     w = pi/200.0_wp/dt
@@ -618,6 +621,18 @@ contains
     call check(ok, 'stat = 0')
     call check_close(sig, [m(1,1), m(2,2), m(1,2), s0(4)], 'matches Q sigma Q^T', &
                      rtol=1e-14_wp, atol=1e-14_wp*maxval(abs(s0)))
+    ! small angles (a typical step turns by about 1e-4) to a few units of round-off
+    do n = 1, size(small)
+      th = small(n)
+      q = reshape([cos(th), sin(th), -sin(th), cos(th)], [2, 2])
+      m = matmul(q, matmul(reshape([s0(1), s0(3), s0(3), s0(2)], [2, 2]), transpose(q)))
+      sig = s0
+      call update(mat, PLANE_STRAIN, reshape([0.0_wp, th, -th, 0.0_wp], [2, 2]), 1.0_wp, &
+                  sig, eqps, dwp, ok)
+      call check(ok, 'stat = 0')
+      call check_close(sig, [m(1,1), m(2,2), m(1,2), s0(4)], 'small angle '//rtoa(th)// &
+                       ': matches Q sigma Q^T', rtol=0.0_wp, atol=1e-15_wp*maxval(abs(s0)))
+    end do
 
     call begin_test('rotating a state on the yield surface adds no plastic strain')
     mat = material_new(MODEL_J2, RATE_NONE, E, nu, rho, sy, H, cs_d, cs_q)
