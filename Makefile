@@ -15,6 +15,8 @@ CASE ?= namelists/default.nml
 FFLAGS_common  := -std=f2008 -fimplicit-none -Wall -Wextra -Wimplicit-interface \
                   -Wconversion-extra -Wno-compare-reals -fopenmp
 FFLAGS_release := -O2 -g
+# native: this machine's instruction set (AVX2, FMA); results differ at round-off (tests/test_native.py)
+FFLAGS_native  := -O2 -g -march=native
 FFLAGS_debug   := -Og -g -fcheck=all -fbacktrace -ffpe-trap=invalid,zero,overflow \
                   -finit-real=snan -finit-integer=-99999999
 # the sanitizer profile (make test BUILD=asan): AddressSanitizer and UndefinedBehaviorSanitizer
@@ -191,5 +193,5 @@ clean:
 help:
 	@echo "tubempm make targets:"
 	@grep -E '^## ' Makefile | sed 's/^## /  /'
-	@echo "variables: BUILD=release|debug|asan  CASE=file.nml  FC=compiler  PYTHON=python3"
+	@echo "variables: BUILD=release|debug|asan|native  CASE=file.nml  FC=compiler  PYTHON=python3"
 	@echo "           LEVEL=quick|full|all  BACKEND=local|slurm  BATCH_FLAGS=... (study, stability)"

@@ -7,7 +7,8 @@
 !! The data are compiled in from two generated tables (tools/advice_tables.py writes both):
 !! src/mpm_advice_table.inc (the refinement study, docs/study/study_full.csv) and
 !! src/mpm_stability_table.inc (the largest stable cfl per scheme and basis,
-!! docs/stability/cfl_limits_ppc*.csv). The errors hold for the studies' scenes; for other
+!! docs/stability/cfl_limits_ppc*.csv), which also gives the automatic cfl (`cfl = 0`:
+!! cfl_margin times the largest stable cfl). The errors hold for the studies' scenes; for other
 !! tubes they are a guide in the dimensionless settings (h/t, n_t, particle aspect ratio), not a
 !! guarantee. The input reader's own warnings (a value that is ignored, cfl above 1) stay with
 !! the reader (mpm_config), which asks wall_too_thin for the one rule they share.
@@ -26,6 +27,7 @@ module mpm_advice
 
   public :: study_advice, scene_of, advice_check, advice_end_of_run, wall_too_thin
   public :: advice_units, advice_wall_time
+  public :: cfl_in_use, cfl_automatic, cfl_text, wall_particles_per_cell, cfl_margin
 
   include 'mpm_advice_table.inc'
   include 'mpm_stability_table.inc'
@@ -38,6 +40,11 @@ module mpm_advice
   real(wp), parameter :: rho_min = 10.0_wp, rho_max = 30000.0_wp  !! plausible rho [kg/m^3]
   real(wp), parameter :: yield_strain_max = 1.0_wp/50.0_wp  !! sigma_y / E above this is suspect
   real(wp), parameter :: long_run = 3600.0_wp       !! runs longer than this are warned of [s]
+  !> The automatic cfl is this fraction of the largest cfl at which the stability study found
+  !! the basis and scheme stable (docs/stability.md, "The automatic cfl") [-]
+  real(wp), parameter :: cfl_margin = 0.5_wp
+  !> Below this many particles per cell through the wall the 1-per-cell limits apply [-]
+  real(wp), parameter :: ppc_low = 1.5_wp
 
 contains
 
@@ -48,6 +55,87 @@ contains
     real(wp), intent(in) :: t   !! wall thickness [m]
     wall_too_thin = h >= t
   end function wall_too_thin
+
+  !> Particles per cell through the wall, n_thick h / t, the fewest over the ring bodies
+  !! (huge when there is no ring: the stability limits of 2 per cell apply).
+  pure real(wp) function wall_particles_per_cell(cfg) result(ppc)
+    type(config_t), intent(in) :: cfg      !! the case
+    integer :: ib
+    ppc = huge(1.0_wp)
+    do ib = 1, size(cfg%bodies)
+      if (cfg%bodies(ib)%shape_id /= SHAPE_RING) cycle
+      ppc = min(ppc, real(cfg%bodies(ib)%n_thick, wp)*cfg%grid%h/ &
+                (cfg%bodies(ib)%r_outer - cfg%bodies(ib)%r_inner))
+    end do
+  end function wall_particles_per_cell
+
+  !> The cfl a run uses: the input's, or the automatic value when the input's is 0.
+  pure real(wp) function cfl_in_use(cfg) result(cfl)
+    type(config_t), intent(in) :: cfg      !! the case
+    cfl = cfg%run%cfl
+    if (cfl <= 0.0_wp) call cfl_automatic(cfg, cfl)
+  end function cfl_in_use
+
+  !> The automatic cfl (`&run cfl = 0`): cfl_margin times the largest cfl at which the
+  !! stability study's impact scene was stable (energy error under 5 %, no failure detected)
+  !! for the basis and scheme, at the input's particles per cell through the wall (the 1-per-
+  !! cell limits below 1.5); where the study found no stable cfl, cfl_margin times the smallest
+  !! cfl it tried. `why` says which, in one line.
+  pure subroutine cfl_automatic(cfg, cfl, why)
+    type(config_t), intent(in) :: cfg      !! the case
+    real(wp), intent(out) :: cfl           !! the automatic cfl [-]
+    character(len=:), allocatable, intent(out), optional :: why  !! how it was chosen
+    real(wp) :: ppc, limit
+    character(len=160) :: density
+    character(len=16) :: c_margin, c_ppc
+    character(len=:), allocatable :: method
+    integer :: scheme, basis
+    scheme = cfg%solver%scheme_id
+    basis = cfg%solver%basis_id
+    ppc = wall_particles_per_cell(cfg)
+    if (ppc < ppc_low) then
+      limit = cfl_stable_ppc1(scheme, basis)
+      write(c_ppc, '(f9.2)') ppc
+      density = 'at 1 particle per cell through the wall (this input: '// &
+        trim(adjustl(c_ppc))//' < 1.5)'
+    else
+      limit = cfl_stable_ppc2(scheme, basis)
+      if (ppc < huge(1.0_wp)) then
+        write(c_ppc, '(f9.2)') ppc
+        density = 'at 2 particles per cell through the wall (this input: '// &
+          trim(adjustl(c_ppc))//' >= 1.5)'
+      else
+        density = 'at 2 particles per cell through the wall (the input has no ring)'
+      end if
+    end if
+    if (limit > 0.0_wp) then
+      cfl = cfl_margin*limit
+    else
+      cfl = cfl_margin*cfl_tried_min
+    end if
+    if (.not. present(why)) return
+    write(c_margin, '(f4.2)') cfl_margin
+    method = 'basis '''//trim(basis_names(basis))//''' with scheme '''// &
+             trim(scheme_names(scheme))//''''
+    if (limit > 0.0_wp) then
+      why = cfl_text(cfl)//', automatic (cfl = 0): '//trim(c_margin)//' x '// &
+        cfl_text(limit)//', the largest cfl at which the stability study found '// &
+        method//' stable '//trim(density)//' (docs/stability.md)'
+    else
+      why = cfl_text(cfl)//', automatic (cfl = 0): '//trim(c_margin)//' x '// &
+        cfl_text(cfl_tried_min)//', the smallest cfl the stability study tried; it found '// &
+        method//' stable at no cfl '//trim(density)//' (docs/stability.md)'
+    end if
+  end subroutine cfl_automatic
+
+  !> A cfl as text with six decimals (the study's limits are multiples of 1/32, exact here).
+  pure function cfl_text(cfl) result(str)
+    real(wp), intent(in) :: cfl            !! a cfl number [-]
+    character(len=:), allocatable :: str
+    character(len=16) :: buf
+    write(buf, '(f9.6)') cfl
+    str = trim(adjustl(buf))
+  end function cfl_text
 
   !> The warnings a mechanics expert would give about the set-up, one per line ('' none):
   !! resolution of the wall, quasi-static crushing, the fixed time step, and where the
@@ -214,29 +302,25 @@ contains
     type(config_t), intent(in) :: cfg
     real(wp), intent(in) :: cfl              !! the cfl in use [-]
     character(len=:), allocatable, intent(inout) :: warnings
-    real(wp) :: cfl_stable(3, 4), ppc, flip
-    integer :: ib, scheme, basis
+    real(wp) :: cfl_stable(3, 4), ppc, flip, cfl_auto
+    integer :: scheme, basis
     character(len=512) :: line
     character(len=32) :: flip_text
     scheme = cfg%solver%scheme_id
     basis = cfg%solver%basis_id
     flip = cfg%solver%flip
-    ppc = huge(1.0_wp)                    ! fewest particles per cell through a ring wall
-    do ib = 1, size(cfg%bodies)
-      if (cfg%bodies(ib)%shape_id /= SHAPE_RING) cycle
-      ppc = min(ppc, real(cfg%bodies(ib)%n_thick, wp)*cfg%grid%h/ &
-                (cfg%bodies(ib)%r_outer - cfg%bodies(ib)%r_inner))
-    end do
+    ppc = wall_particles_per_cell(cfg)    ! fewest particles per cell through a ring wall
+    call cfl_automatic(cfg, cfl_auto)
     cfl_stable = cfl_ppc2
-    if (ppc < 1.5_wp) cfl_stable = cfl_ppc1
-    if (ppc < 1.5_wp) then
+    if (ppc < ppc_low) cfl_stable = cfl_ppc1
+    if (ppc < ppc_low) then
       write(line, '(a,f5.2,a)') 'only ', ppc, ' particle(s) per cell through the wall '// &
         '(n_thick h / t): the wall comes out too stiff (crush force +28 to +32 % with CPDI '// &
         'and uGIMP, +174 % linear, at h = t/4, n_thick = 4; +146 to +425 % at h = t/2, '// &
         'n_thick = 2) and the force noisy (docs/stability.md). Use n_thick >= 2 t/h'
       call append_msg(warnings, line)
     end if
-    if (ppc < 1.5_wp .and. scheme /= SCHEME_USL .and. basis /= BASIS_UGIMP .and. &
+    if (ppc < ppc_low .and. scheme /= SCHEME_USL .and. basis /= BASIS_UGIMP .and. &
         flip > 0.99_wp) then
       write(line, '(a,f5.2,a)') 'with ', ppc, ' particle(s) per cell through the wall, '// &
         'FLIP with this basis and scheme gained energy slowly on the impact scene (5 % '// &
@@ -255,7 +339,7 @@ contains
         rtoa(cfl_stable(scheme, basis))//', the largest stable cfl the stability study '// &
         'found for basis '''//trim(basis_names(basis))//''' with scheme '''// &
         trim(scheme_names(scheme))//''' (impact scene, docs/stability.md): expect energy '// &
-        'growth and exit 4. Use cfl 0.2')
+        'growth and exit 4. Use cfl = 0 (automatic: '//cfl_text(cfl_auto)//')')
     end if
     if (scheme == SCHEME_USL) call append_msg(warnings, 'scheme ''usl'' loses 5 to 8 % of '// &
       'the energy in an impact at any cfl (docs/stability.md). Use scheme = ''musl''')
@@ -398,7 +482,7 @@ contains
     do i = 1, n_study
       if (study_scene(i) /= scene) cycle
       d = abs(log(study_h_over_t(i)/hot)) + abs(log(real(study_n_t(i), wp)/real(nt, wp))) + &
-          abs(log(study_aspect(i)/aspect)) + abs(log(study_cfl(i)/cfg%run%cfl))
+          abs(log(study_aspect(i)/aspect)) + abs(log(study_cfl(i)/cfl_in_use(cfg)))
       if (study_basis(i) /= basis) d = d + 10.0_wp
       if (d < dbest) then
         dbest = d
@@ -406,7 +490,7 @@ contains
       end if
     end do
     write(line, '(a,g0.3,a,i0,a,f4.2,a,a,a,f4.2)') '  this input: h/t ', hot, ', n_thick ', &
-      nt, ', aspect ', aspect, ', ', trim(basis), ', cfl ', cfg%run%cfl
+      nt, ', aspect ', aspect, ', ', trim(basis), ', cfl ', cfl_in_use(cfg)
     call append_msg(text, trim(line))
     if (best > 0) then
       write(line, '(a,g0.3,a,i0,a,f4.2,a,a,a,f4.2,a,f6.2,a)') '  nearest study run: h/t ', &

@@ -16,7 +16,7 @@ module mpm_config_types
     character(len=name_len) :: title = ''          !! label of the case
     character(len=path_len) :: output_dir = ''     !! folder for all outputs
     real(wp) :: t_end = -1.0_wp                    !! simulated time [s]
-    real(wp) :: cfl = 0.2_wp                       !! Courant number [-]
+    real(wp) :: cfl = 0.0_wp                       !! Courant number (0 = automatic) [-]
     real(wp) :: dt = 0.0_wp                        !! fixed time step if > 0 [s]
     real(wp) :: history_every = 0.0_wp             !! history interval [s]
     real(wp) :: snapshot_every = 0.0_wp            !! snapshot interval [s]

@@ -8,7 +8,7 @@ module mpm_deformation
   use mpm_constants, only: EXIT_NUMERIC, BASIS_CPDI2
   use mpm_particles, only: particles_t, quad_area_centroid
   use mpm_grid, only: grid_t
-  use mpm_material, only: material_t, material_stress_update, material_energy_density
+  use mpm_material, only: material_t, material_stress_update
   use mpm_basis, only: bilinear_at
   use mpm_state, only: params_t, state_t, work_t, diag_t, chunk, state_context
   use mpm_strings, only: itoa, rtoa
@@ -89,7 +89,7 @@ contains
     real(wp), intent(out) :: csum(2)       !! plastic dissipation, elastic energy [J/m]
     integer, intent(inout) :: bad(3)       !! failing particles (see above)
     integer :: ip, a, b, k, n, mstat
-    real(wp) :: L(2, 2), Fn(2, 2), J, dwp, vn(2)
+    real(wp) :: L(2, 2), Fn(2, 2), J, dwp, vn(2), wel
     csum = 0.0_wp
     do ip = ip0, ip1
       L = 0.0_wp
@@ -116,20 +116,19 @@ contains
       F(:, :, ip) = Fn
       vol(ip) = J*vol0(ip)
       call material_stress_update(mats(mat(ip)), plane, L, dt, Fn, stress(:, ip), eqps(ip), &
-                                  dwp, mstat)
+                                  dwp, mstat, wel)
       if (mstat /= 0) then
         bad(2) = max(bad(2), ip)
         cycle
       end if
-      if (.not. (ieee_is_finite(stress(1, ip)) .and. ieee_is_finite(stress(2, ip)) &
-                 .and. ieee_is_finite(stress(3, ip)) .and. ieee_is_finite(v(1, ip)) &
-                 .and. ieee_is_finite(v(2, ip)))) then
+      ! the stress is finite when the update succeeds (material_stress_update checks it)
+      if (.not. (ieee_is_finite(v(1, ip)) .and. ieee_is_finite(v(2, ip)))) then
         bad(3) = max(bad(3), ip)
         cycle
       end if
       wplastic(ip) = wplastic(ip) + vol(ip)*dwp
       csum(1) = csum(1) + vol(ip)*dwp
-      csum(2) = csum(2) + vol(ip)*material_energy_density(mats(mat(ip)), plane, stress(:, ip), Fn)
+      csum(2) = csum(2) + vol(ip)*wel
     end do
   end subroutine deformation_kernel
 

@@ -102,7 +102,7 @@ contains
   !! then (j2) radial return; neohookean: stress from F, L and eqps ignored.
   !! stat: 0 ok, 1 return mapping or thickness iteration not converged, 2 non-finite or
   !! invalid input (or a non-finite result); on stat /= 0 sig and eqps are unchanged, dwp = 0.
-  pure subroutine material_stress_update(mat, plane, L, dt, F, sig, eqps, dwp, stat)
+  pure subroutine material_stress_update(mat, plane, L, dt, F, sig, eqps, dwp, stat, w)
     type(material_t), intent(in) :: mat   !! material [-]
     integer, intent(in) :: plane          !! PLANE_STRAIN or PLANE_STRESS [-]
     real(wp), intent(in) :: L(2,2)        !! velocity gradient, L(i,j) = dv_i/dx_j [1/s]
@@ -112,6 +112,9 @@ contains
     real(wp), intent(inout) :: eqps       !! equivalent plastic strain [-]
     real(wp), intent(out) :: dwp          !! plastic dissipation per current volume [J/m^3]
     integer, intent(out) :: stat          !! 0 ok, 1 not converged, 2 bad input [-]
+    !> stored elastic energy per current volume at the end of the step, as
+    !! material_energy_density gives it (set when stat = 0) [J/m^3]
+    real(wp), intent(out), optional :: w
     real(wp) :: s(4), deqps, dissipation, energy
     dwp = 0.0_wp
     deqps = 0.0_wp
@@ -139,6 +142,7 @@ contains
         end if
         if (stat /= MATERIAL_OK) return
       end if
+      if (present(w)) energy = linear_energy(mat, plane, s)
     case default
       return
     end select
@@ -149,6 +153,7 @@ contains
     sig = s
     eqps = eqps + deqps
     dwp = dissipation
+    if (present(w)) w = energy
     stat = MATERIAL_OK
   end subroutine material_stress_update
 
@@ -162,23 +167,33 @@ contains
     real(wp), intent(in) :: sig(4)       !! Cauchy stress (xx, yy, xy, zz) [Pa]
     real(wp), intent(in) :: F(2,2)       !! in-plane deformation gradient [-]
     real(wp) :: w
-    real(wp) :: szz, tr, ss, s(4)
+    real(wp) :: s(4)
     integer :: stat
     w = ieee_value(w, ieee_quiet_nan)
     if (plane /= PLANE_STRAIN .and. plane /= PLANE_STRESS) return
     select case (mat%model)
     case (MODEL_ELASTIC, MODEL_J2)
-      szz = sig(4)
-      if (plane == PLANE_STRESS) szz = 0.0_wp
-      tr = sig(1) + sig(2) + szz
-      ss = sig(1)**2 + sig(2)**2 + szz**2 + 2.0_wp*sig(3)**2
-      w = 0.5_wp*((1.0_wp + mat%nu)*ss - mat%nu*tr**2)/mat%E  ! eps = ((1+nu) sig - nu tr I)/E
+      w = linear_energy(mat, plane, sig)
     case (MODEL_NEOHOOKEAN)
       if (.not. all(ieee_is_finite(F))) return
       call neohookean_stress(mat, plane, F, s, w, stat)
       if (stat /= MATERIAL_OK) w = ieee_value(w, ieee_quiet_nan)
     end select
   end function material_energy_density
+
+  !> (1/2) sigma : C^-1 : sigma with the 3-D compliance (sigma_zz = 0 in plane stress).
+  pure function linear_energy(mat, plane, sig) result(w)
+    type(material_t), intent(in) :: mat  !! material [-]
+    integer, intent(in) :: plane         !! PLANE_STRAIN or PLANE_STRESS [-]
+    real(wp), intent(in) :: sig(4)       !! Cauchy stress (xx, yy, xy, zz) [Pa]
+    real(wp) :: w
+    real(wp) :: szz, tr, ss
+    szz = sig(4)
+    if (plane == PLANE_STRESS) szz = 0.0_wp
+    tr = sig(1) + sig(2) + szz
+    ss = sig(1)**2 + sig(2)**2 + szz**2 + 2.0_wp*sig(3)**2
+    w = 0.5_wp*((1.0_wp + mat%nu)*ss - mat%nu*tr**2)/mat%E  ! eps = ((1+nu) sig - nu tr I)/E
+  end function linear_energy
 
   ! ---------------------------------------------------------------------------------------
   ! Hypoelastic part

@@ -16,7 +16,7 @@ module mpm_setup
   use mpm_errors, only: append_msg
   use mpm_strings, only: itoa, rtoa, plural, hms
   use mpm_weights, only: weights_compute
-  use mpm_advice, only: advice_check, advice_wall_time
+  use mpm_advice, only: advice_check, advice_wall_time, cfl_in_use, cfl_automatic, cfl_text
   use mpm_budget, only: budget_t, budget_estimate, budget_check, budget_threads, &
                         budget_max_nodes, bytes_text
   use mpm_sys, only: sys_memory_available
@@ -128,7 +128,7 @@ contains
     s%prm%flip = cfg%solver%flip
     s%prm%damping = cfg%solver%damping
     s%prm%deterministic = cfg%solver%deterministic
-    s%prm%cfl = cfg%run%cfl
+    s%prm%cfl = cfl_in_use(cfg)            ! the input's, or the automatic value (cfl = 0)
     s%prm%dt_fixed = cfg%run%dt
     s%prm%t_end = cfg%run%t_end
     s%prm%gravity = cfg%run%gravity
@@ -255,11 +255,11 @@ contains
     character(len=:), allocatable, intent(out) :: report    !! the set-up, one item per line
     character(len=:), allocatable, intent(out) :: warnings  !! warnings, one per line ('' none)
     integer :: ib, nk, npb, ncb, nthreads
-    real(wp) :: dt_stable, dt
+    real(wp) :: dt_stable, dt, cfl_auto
     integer(i8) :: steps
     real(wp) :: seconds, rate, avail
     type(budget_t) :: bud
-    character(len=:), allocatable :: long_run, source
+    character(len=:), allocatable :: long_run, source, why
     logical :: known
     character(len=512) :: line
     report = ''
@@ -306,6 +306,14 @@ contains
       s%g%h/(s%prm%c_max + s%vmax), ' s (cfl = 1), used ', dt, ' s (cfl ', &
       dt*(s%prm%c_max + s%vmax)/s%g%h, '), wave speed ', s%prm%c_max, ' m/s'
     call append_msg(report, line)
+    if (s%prm%dt_fixed > 0.0_wp) then
+      call append_msg(report, 'cfl: not used (fixed dt)')
+    else if (cfg%run%cfl > 0.0_wp) then
+      call append_msg(report, 'cfl: '//cfl_text(cfg%run%cfl)//', as given')
+    else
+      call cfl_automatic(cfg, cfl_auto, why)
+      call append_msg(report, 'cfl: '//why)
+    end if
     write(line, '(a,es11.4,a,i0,a)') 'steps: about ', real(steps, wp), ' to t_end (', steps, &
       ' at the initial speeds)'
     call append_msg(report, line)

@@ -143,6 +143,8 @@ contains
     real(wp), intent(inout) :: gforce(2, nn)  !! node force [N/m]
     integer :: k, ip, a, b, kk, n
     real(wp) :: wm, sxx, syy, sxy, vp, fb(2)
+    logical :: body
+    body = has_bacc .or. any(gravity /= 0.0_wp)
     do k = k0, k1
       ip = k
       if (sorted) ip = perm(k)
@@ -163,18 +165,29 @@ contains
         sxx = vp*stress(1, ip)
         syy = vp*stress(2, ip)
         sxy = vp*stress(3, ip)
-        fb = mass(ip)*gravity
-        if (has_bacc) fb = fb + mass(ip)*bacc(:, ip)
-        do b = 0, nb - 1
-          n = 1 + blk(1, ip) + nx*(blk(2, ip) + b)
-          do a = 0, nb - 1
-            kk = 1 + a + nb*b
-            gforce(1, n + a) = gforce(1, n + a) - (sxx*gw(1, kk, ip) + sxy*gw(2, kk, ip)) &
-                               + w(kk, ip)*fb(1)
-            gforce(2, n + a) = gforce(2, n + a) - (sxy*gw(1, kk, ip) + syy*gw(2, kk, ip)) &
-                               + w(kk, ip)*fb(2)
+        if (body) then
+          fb = mass(ip)*gravity
+          if (has_bacc) fb = fb + mass(ip)*bacc(:, ip)
+          do b = 0, nb - 1
+            n = 1 + blk(1, ip) + nx*(blk(2, ip) + b)
+            do a = 0, nb - 1
+              kk = 1 + a + nb*b
+              gforce(1, n + a) = gforce(1, n + a) - (sxx*gw(1, kk, ip) + sxy*gw(2, kk, ip)) &
+                                 + w(kk, ip)*fb(1)
+              gforce(2, n + a) = gforce(2, n + a) - (sxy*gw(1, kk, ip) + syy*gw(2, kk, ip)) &
+                                 + w(kk, ip)*fb(2)
+            end do
           end do
-        end do
+        else                                 ! no body force: the internal force only
+          do b = 0, nb - 1
+            n = 1 + blk(1, ip) + nx*(blk(2, ip) + b)
+            do a = 0, nb - 1
+              kk = 1 + a + nb*b
+              gforce(1, n + a) = gforce(1, n + a) - (sxx*gw(1, kk, ip) + sxy*gw(2, kk, ip))
+              gforce(2, n + a) = gforce(2, n + a) - (sxy*gw(1, kk, ip) + syy*gw(2, kk, ip))
+            end do
+          end do
+        end if
       end if
     end do
   end subroutine p2g_kernel
@@ -369,6 +382,8 @@ contains
     real(wp), intent(inout) :: vmax        !! largest squared speed [m^2/s^2]
     integer :: kp, ip, a, b, k, n
     real(wp) :: vpic(2), dv(2), vnew(2), fb(2), ekin, wgrav, wm
+    logical :: body
+    body = has_bacc .or. any(gravity /= 0.0_wp)
     ekin = 0.0_wp
     wgrav = 0.0_wp
     do kp = k0, k1
@@ -385,9 +400,11 @@ contains
         end do
       end do
       vnew = flip*(v(:, ip) + dv) + (1.0_wp - flip)*vpic
-      fb = gravity
-      if (has_bacc) fb = fb + bacc(:, ip)
-      wgrav = wgrav + mass(ip)*dot_product(fb, 0.5_wp*(v(:, ip) + vnew))*dt
+      if (body) then                         ! work of body forces (0 without)
+        fb = gravity
+        if (has_bacc) fb = fb + bacc(:, ip)
+        wgrav = wgrav + mass(ip)*dot_product(fb, 0.5_wp*(v(:, ip) + vnew))*dt
+      end if
       v(:, ip) = vnew
       x(:, ip) = x(:, ip) + dt*vpic
       ekin = ekin + 0.5_wp*mass(ip)*dot_product(vnew, vnew)

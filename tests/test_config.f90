@@ -170,7 +170,7 @@ contains
     call check(c%run%title == 'minimal_case', 'title = file name stem: '//trim(c%run%title))
     call check(c%run%output_dir == 'out/minimal_case', 'output_dir = out/<title>: '// &
       trim(c%run%output_dir))
-    call check_close(c%run%cfl, 0.2_wp, 'cfl default')
+    call check(c%run%cfl == 0.0_wp, 'cfl default 0 (automatic)')
     call check(c%run%dt == 0.0_wp .and. c%run%history_every == 0.0_wp .and. &
       c%run%snapshot_every == 0.0_wp .and. c%run%checkpoint_every == 0.0_wp, 'interval defaults')
     call check(c%run%depth == 1.0_wp .and. all(c%run%gravity == 0.0_wp) .and. &
@@ -518,7 +518,7 @@ contains
     integer :: stat, k, p, last
     character(len=:), allocatable :: msg, f
     character(len=60), parameter :: want(7) = [character(len=60) :: &
-      'several.nml:2: &run: cfl = 0: out of range', &
+      'several.nml:2: &run: cfl = -1: out of range', &
       'several.nml:3: &solver: basis = ''gimp'': not an allowed value', &
       'several.nml:4: &grid: h = -1: out of range', &
       'several.nml:5: &material #1: E = 0: out of range', &
@@ -527,7 +527,7 @@ contains
       'several.nml:8: &probe #1: point = 1: needs 2 values']
     call begin_test('several errors at once')
     f = write_case('several', [character(len=100) :: '! several mistakes', &
-      '&run t_end = 1, cfl = 0 /', '&solver basis = ''gimp'' /', '&grid h = -1 /', &
+      '&run t_end = 1, cfl = -1 /', '&solver basis = ''gimp'' /', '&grid h = -1 /', &
       '&material name = ''a'', E = 0, nu = 0.3, rho = 1, sigma_y = 1 /', &
       '&body r_inner = 2, r_outer = 1 /', '&wall point = 0, 0, normal = 1, 1 /', &
       '&probe point = 1 /'])

@@ -5,6 +5,7 @@ program test_material
                                            ieee_is_nan
   use testing, only: begin_test, check, check_close, finish_tests
   use mpm_kinds, only: wp
+  use mpm_strings, only: rtoa
   use mpm_constants, only: pi, MODEL_ELASTIC, MODEL_NEOHOOKEAN, MODEL_J2, RATE_NONE, &
                            RATE_COWPER_SYMONDS, PLANE_STRAIN, PLANE_STRESS
   use mpm_material, only: material_t, material_new, material_wave_speed, &
@@ -575,6 +576,8 @@ contains
     integer :: ip, im, n
     integer, parameter :: models(2) = [MODEL_ELASTIC, MODEL_J2]
     character(len=7), parameter :: model_label(2) = ['elastic', 'j2     ']
+    real(wp), parameter :: small(6) = [1.0e-7_wp, -2.5e-5_wp, 1.0e-3_wp, -3.0e-3_wp, &
+                                       3.9e-3_wp, 4.0e-3_wp]
     s0 = [120.0e6_wp, -40.0e6_wp, 75.0e6_wp, 30.0e6_wp]
     dt = 1.0e-4_wp
     w = pi/200.0_wp/dt
@@ -619,6 +622,18 @@ contains
     call check(ok, 'stat = 0')
     call check_close(sig, [m(1,1), m(2,2), m(1,2), s0(4)], 'matches Q sigma Q^T', &
                      rtol=1e-14_wp, atol=1e-14_wp*maxval(abs(s0)))
+    ! small angles (a typical step turns by about 1e-4) to a few units of round-off
+    do n = 1, size(small)
+      th = small(n)
+      q = reshape([cos(th), sin(th), -sin(th), cos(th)], [2, 2])
+      m = matmul(q, matmul(reshape([s0(1), s0(3), s0(3), s0(2)], [2, 2]), transpose(q)))
+      sig = s0
+      call update(mat, PLANE_STRAIN, reshape([0.0_wp, th, -th, 0.0_wp], [2, 2]), 1.0_wp, &
+                  sig, eqps, dwp, ok)
+      call check(ok, 'stat = 0')
+      call check_close(sig, [m(1,1), m(2,2), m(1,2), s0(4)], 'small angle '//rtoa(th)// &
+                       ': matches Q sigma Q^T', rtol=0.0_wp, atol=1e-15_wp*maxval(abs(s0)))
+    end do
 
     call begin_test('rotating a state on the yield surface adds no plastic strain')
     mat = material_new(MODEL_J2, RATE_NONE, E, nu, rho, sy, H, cs_d, cs_q)
@@ -813,9 +828,9 @@ contains
   !! equals the trapezoidal integral of sigma : D dt (exact without spin, O(w dt) with spin).
   subroutine test_energy()
     type(material_t) :: mat
-    real(wp) :: sig(4), s_old(4), eqps, dwp, L(2,2), dt, d(3), integral, spin
+    real(wp) :: sig(4), s_old(4), eqps, dwp, L(2,2), dt, d(3), integral, spin, w, F(2,2), lnj
     logical :: ok
-    integer :: ip, n, is
+    integer :: ip, n, is, stat
     real(wp), parameter :: spins(2) = [0.0_wp, 1.0e-2_wp]   ! spin / strain rate
     real(wp), parameter :: tols(2) = [1.0e-12_wp, 1.0e-6_wp]  ! exact / O(w dt) with spin
 
@@ -828,6 +843,17 @@ contains
     mat = material_new(MODEL_NEOHOOKEAN, RATE_NONE, E, nu, rho, sy, H, cs_d, cs_q)
     call check(material_energy_density(mat, PLANE_STRAIN, [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp], &
                eye) == 0.0_wp, 'neohookean: W(I) = 0')
+    ! the energy the update returns: W / J = (mu/2 (tr C - 3) - mu ln J + lambda/2 ln^2 J) / J
+    F = reshape([1.1_wp, 0.0_wp, 0.0_wp, 0.95_wp], [2, 2])
+    lnj = log(1.1_wp*0.95_wp)
+    sig = 0.0_wp
+    eqps = 0.0_wp
+    call material_stress_update(mat, PLANE_STRAIN, reshape([0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp], &
+                                [2, 2]), 1.0e-6_wp, F, sig, eqps, dwp, stat, w)
+    call check(stat == MATERIAL_OK, 'neohookean update with energy: stat = 0')
+    call check_close(w, (0.5_wp*mat%mu*(1.1_wp**2 + 0.95_wp**2 + 1.0_wp - 3.0_wp) - &
+                     mat%mu*lnj + 0.5_wp*mat%lambda*lnj**2)/(1.1_wp*0.95_wp), &
+                     'neohookean: W returned by the update, closed form', rtol=1e-13_wp)
 
     mat = material_new(MODEL_ELASTIC, RATE_NONE, E, nu, rho, sy, H, cs_d, cs_q)
     dt = 1.0e-6_wp
@@ -849,13 +875,16 @@ contains
                urand(-0.5e-5_wp, 1.0e-5_wp)]
           L = reshape([d(1), d(3) + spin*d(1), d(3) - spin*d(1), d(2)], [2, 2])/dt
           s_old = sig
-          call update(mat, planes(ip), L, dt, sig, eqps, dwp, ok)
+          call material_stress_update(mat, planes(ip), L, dt, eye, sig, eqps, dwp, stat, w)
+          ok = ok .and. stat == MATERIAL_OK
           integral = integral + 0.5_wp*((s_old(1) + sig(1))*d(1) + (s_old(2) + sig(2))*d(2) &
                      + 2.0_wp*(s_old(3) + sig(3))*d(3))
         end do
         call check(ok, 'all updates stat = 0')
         call check_close(material_energy_density(mat, planes(ip), sig, eye), integral, &
                          'W(end) = integral', rtol=tols(is))
+        call check_close(w, integral, 'W returned by the last update = integral', &
+                         rtol=tols(is))
       end do
     end do
   end subroutine test_energy

@@ -31,7 +31,7 @@ variant() {
     ${4:+-e "$4"} "$here/scenes/$1.nml" > "$scratch/$2.nml"
 }
 
-# ---- 1. cfl 1.5: exit 4, the time step named, a readable last good state; cfl 0.2 completes
+# ---- 1. cfl 1.5: exit 4, the time step named, a readable last good state; the automatic cfl completes
 variant stability_impact cfl15 "cfl = 1.5"
 "$bin" --quiet "$scratch/cfl15.nml" > "$scratch/cfl15.log" 2>&1; rc=$?
 [ $rc -eq 4 ] && ok || bad "cfl 1.5: exit $rc, expected 4"

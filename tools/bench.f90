@@ -155,6 +155,7 @@ contains
     type(config_t) :: c
     c = scene_new('bench', 1.0_wp, (r_outer - r_inner)/(0.5_wp*real(n_thick, wp)), basis, &
                   scheme, PLANE_STRAIN)
+    c%run%cfl = 0.2_wp           ! the step of every earlier measurement (docs/performance.md)
     call scene_add_material(c, 'm', MODEL_J2, E, nu, rho, sigma_y, hardening)
     call scene_add_ring(c, [0.0_wp, 0.0_wp], r_inner, r_outer, n_thick, velocity, sector)
     call scene_add_wall(c, [0.0_wp, 0.0_wp], [0.0_wp, 1.0_wp])     ! placed by the caller
