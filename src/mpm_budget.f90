@@ -6,7 +6,7 @@
 ! The byte counts are those of the allocations (docs/performance.md, "Memory per particle"):
 ! particles_memory_bytes (23 reals and 6 integers per particle, 2 reals per corner), twice (the
 ! driver keeps a copy as the last good state); the basis cache of step 1 (24 nb^2 + 8 bytes per
-! particle) and its work arrays (12); grid_memory_bytes (8 (9 + nwall) per node);
+! particle) and its work arrays (8); grid_memory_bytes (72 per node);
 ! buffers_memory_bytes (40 per node and thread beyond the first); tiles_memory_bytes (44 bytes
 ! and the span sums per tile of 16 nodes); the snapshot writer's temporaries (corners, quads, F,
 ! columns: 128 per particle), and a fixed 32 MiB for the program and its libraries. Counts are
@@ -93,8 +93,8 @@ contains
     b%nodes = b%nx*b%ny
     b%particle_bytes = 2.0_wp*(b%particles*(23.0_wp*8.0_wp + 6.0_wp*4.0_wp) + &
                                b%corners*16.0_wp) &
-                       + b%particles*(24.0_wp*real(b%nb, wp)**2 + 8.0_wp + 12.0_wp + 128.0_wp)
-    b%grid_bytes = b%nodes*(8.0_wp*(9.0_wp + real(max(b%nwall, 1), wp)) &
+                       + b%particles*(24.0_wp*real(b%nb, wp)**2 + 8.0_wp + 8.0_wp + 128.0_wp)
+    b%grid_bytes = b%nodes*(72.0_wp &
                             + 40.0_wp*real(b%threads - 1, wp) &
                             + (44.0_wp + 8.0_wp*real(1 + 2*b%nwall, wp))/16.0_wp)
     b%total = b%particle_bytes + b%grid_bytes + base_bytes

@@ -16,7 +16,7 @@ module mpm_contact
   use mpm_constants, only: CONTACT_SLIP, EXIT_NUMERIC
   use mpm_grid, only: grid_t
   use mpm_tiles, only: tiles_t, tiles_span
-  use mpm_walls, only: wall_t, wall_velocity, wall_constrain_node, wall_travel
+  use mpm_walls, only: wall_velocity, wall_mirror_node, wall_travel
   use mpm_surface_contact, only: surface_points, surface_push, surface_friction, surface_energy, &
                                  contact_alpha
   use mpm_state, only: params_t, state_t, work_t
@@ -201,8 +201,8 @@ contains
             xn = g%origin + g%h*[real(i, wp), real(j, wp)]
             dist = dot_product(xn - wk%wall_work(3:4, jw), wk%wall_work(5:6, jw)) - tol
             if (dist > 0.0_wp) cycle
-            call wall_constrain_node(CONTACT_SLIP, 0.0_wp, wk%wall_work(5:6, jw), &
-                   wk%wall_work(1:2, jw), dist, 0.0_wp, g%mass(n), 0.0_wp, g%vel(:, n), dp)
+            call wall_mirror_node(wk%wall_work(5:6, jw), wk%wall_work(1:2, jw), dist, &
+                                  g%mass(n), g%vel(:, n), dp)
             g%dvel(:, n) = g%dvel(:, n) + dp/g%mass(n)
             st%walls(jw)%impulse = st%walls(jw)%impulse + dp
           end do
@@ -314,9 +314,8 @@ contains
       if (st%walls(iw)%contact /= CONTACT_SLIP) cycle
       dist = dot_product(xn - wk%wall_work(3:4, iw), wk%wall_work(5:6, iw)) - tol
       if (dist > 0.0_wp) cycle
-      call wall_constrain_node(CONTACT_SLIP, 0.0_wp, wk%wall_work(5:6, iw), &
-                               wk%wall_work(1:2, iw), dist, 0.0_wp, g%mass(n), 0.0_wp, &
-                               g%vel(:, n), dp)
+      call wall_mirror_node(wk%wall_work(5:6, iw), wk%wall_work(1:2, iw), dist, g%mass(n), &
+                            g%vel(:, n), dp)
       if (k > 0) then
         g%dvel(:, n) = g%dvel(:, n) + dp/g%mass(n)
         tl%span_sum(2*iw:2*iw + 1, k) = tl%span_sum(2*iw:2*iw + 1, k) + dp

@@ -28,7 +28,6 @@ module mpm_grid
     real(wp), allocatable :: force(:,:)  !! nodal force (2, nn) [N]
     real(wp), allocatable :: vel(:,:)    !! nodal velocity after the update (2, nn) [m/s]
     real(wp), allocatable :: dvel(:,:)   !! velocity change over the step (2, nn) [m/s]
-    real(wp), allocatable :: gap(:,:)    !! (nwall, nn) distance of the nearest material [m]
     integer :: nactive = 0               !! nodes with mass above mass_cut this step
     real(wp) :: mass_cut = 0.0_wp        !! active-node cut-off, 1e-12 of the largest mass [kg/m]
   end type grid_t
@@ -46,13 +45,12 @@ contains
 
   !> Allocate a grid whose nodes span [lower, upper] (rounded outward to whole cells),
   !! with a node lattice passing through `anchor`.
-  subroutine grid_init(g, lower, upper, h, anchor, nwall)
+  subroutine grid_init(g, lower, upper, h, anchor)
     type(grid_t), intent(inout) :: g      !! the grid
     real(wp), intent(in) :: lower(2)      !! lower corner to cover [m]
     real(wp), intent(in) :: upper(2)      !! upper corner to cover [m]
     real(wp), intent(in) :: h             !! cell size [m]
     real(wp), intent(in) :: anchor(2)     !! a point that must be a node [m]
-    integer, intent(in) :: nwall          !! number of walls (gap field rows)
     integer :: i0(2), i1(2)
     g%h = h
     g%inv_h = 1.0_wp/h
@@ -61,23 +59,20 @@ contains
     g%origin = anchor + real(i0, wp)*h
     g%nx = max(i1(1) - i0(1) + 1, 2)
     g%ny = max(i1(2) - i0(2) + 1, 2)
-    call grid_allocate(g, nwall)
+    call grid_allocate(g)
   end subroutine grid_init
 
   !> (Re)allocate the node fields for the current nx, ny; all zero.
-  subroutine grid_allocate(g, nwall)
+  subroutine grid_allocate(g)
     type(grid_t), intent(inout) :: g      !! the grid
-    integer, intent(in) :: nwall          !! number of walls
     g%nn = g%nx*g%ny
-    if (allocated(g%mass)) deallocate(g%mass, g%mom, g%force, g%vel, g%dvel, g%gap)
+    if (allocated(g%mass)) deallocate(g%mass, g%mom, g%force, g%vel, g%dvel)
     allocate(g%mass(g%nn), g%mom(2, g%nn), g%force(2, g%nn), g%vel(2, g%nn), g%dvel(2, g%nn))
-    allocate(g%gap(max(nwall, 1), g%nn))
     g%mass = 0.0_wp
     g%mom = 0.0_wp
     g%force = 0.0_wp
     g%vel = 0.0_wp
     g%dvel = 0.0_wp
-    g%gap = huge(1.0_wp)
     g%nactive = 0
   end subroutine grid_allocate
 
@@ -99,14 +94,13 @@ contains
 
   !> Enlarge the grid by whole cells on each side: add(1:2) at the low x/y side,
   !! add(3:4) at the high x/y side. Node positions of the old grid stay nodes.
-  subroutine grid_grow(g, add, nwall)
+  subroutine grid_grow(g, add)
     type(grid_t), intent(inout) :: g      !! the grid
     integer, intent(in) :: add(4)         !! cells to add: low x, low y, high x, high y
-    integer, intent(in) :: nwall          !! number of walls
     g%origin = g%origin - real(add(1:2), wp)*g%h
     g%nx = g%nx + add(1) + add(3)
     g%ny = g%ny + add(2) + add(4)
-    call grid_allocate(g, nwall)
+    call grid_allocate(g)
   end subroutine grid_grow
 
   !> 1-based id of node (i, j).
@@ -125,12 +119,11 @@ contains
     x(2) = g%origin(2) + g%h*real((n - 1)/g%nx, wp)
   end function grid_node_x
 
-  !> Memory held by the grid's node fields [bytes]: per node 9 reals and nwall gaps.
-  pure function grid_memory_bytes(g, nwall) result(b)
+  !> Memory held by the grid's node fields [bytes]: per node 9 reals.
+  pure function grid_memory_bytes(g) result(b)
     type(grid_t), intent(in) :: g         !! the grid
-    integer, intent(in) :: nwall          !! number of walls
     integer(i8) :: b
-    b = int(g%nx, i8)*int(g%ny, i8)*(8_i8*(9_i8 + int(max(nwall, 1), i8)))
+    b = int(g%nx, i8)*int(g%ny, i8)*72_i8
   end function grid_memory_bytes
 
   !> Memory held by the scatter buffers [bytes]: 5 reals per node and buffer.
@@ -152,10 +145,9 @@ contains
 
   !> Read a record of grid_write_placement and grow g (set up from the same input, so on the
   !! same lattice) to that placement.
-  subroutine grid_read_placement(g, u, nwall, stat, errmsg)
+  subroutine grid_read_placement(g, u, stat, errmsg)
     type(grid_t), intent(inout) :: g          !! the grid
     integer, intent(in) :: u                  !! unit, open for unformatted stream input
-    integer, intent(in) :: nwall              !! number of walls
     integer, intent(out) :: stat              !! 0 or the iostat of the failed read
     character(len=*), intent(inout) :: errmsg !! the iomsg on failure
     integer :: nx, ny
@@ -163,7 +155,7 @@ contains
     read(u, iostat=stat, iomsg=errmsg) nx, ny, origin
     if (stat /= 0) return
     call grid_grow(g, [nint((g%origin(1) - origin(1))/g%h), nint((g%origin(2) - origin(2))/g%h), &
-                       0, 0], nwall)
-    call grid_grow(g, [0, 0, nx - g%nx, ny - g%ny], nwall)
+                       0, 0])
+    call grid_grow(g, [0, 0, nx - g%nx, ny - g%ny])
   end subroutine grid_read_placement
 end module mpm_grid

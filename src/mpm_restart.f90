@@ -126,7 +126,7 @@ contains
       close(u, iostat=ios)
       return
     end if
-    call grid_read_placement(s%g, u, s%nwall, ios, msg)
+    call grid_read_placement(s%g, u, ios, msg)
     if (ios == 0) call diag_read(s%diag, u, ios, msg)
     if (ios == 0) call state_read(s%state_t, u, ios, msg)
     if (ios == -1) then

@@ -142,7 +142,7 @@ contains
       hi = hi + margin
       anchor = cfg%bodies(1)%center
       if (sector_id /= SECTOR_FULL) anchor = first_sector_center(cfg)
-      call grid_init(s%g, lo, hi, cfg%grid%h, anchor, s%nwall)
+      call grid_init(s%g, lo, hi, cfg%grid%h, anchor)
       s%g%fixed = .false.
     else
       ! the given bounds, rounded outward to whole cells of a lattice through `lower`, or
@@ -151,7 +151,7 @@ contains
       mirror_at = first_sector_center(cfg)
       if (sector_id /= SECTOR_FULL) anchor(1) = mirror_at(1)      ! the plane x = cx
       if (sector_id == SECTOR_QUARTER) anchor(2) = mirror_at(2)   ! and y = cy
-      call grid_init(s%g, cfg%grid%lower, cfg%grid%upper, cfg%grid%h, anchor, s%nwall)
+      call grid_init(s%g, cfg%grid%lower, cfg%grid%upper, cfg%grid%h, anchor)
       s%g%fixed = .true.
       call fixed_grid_fits(cfg, s, stat, errmsg)
       if (stat /= 0) return

@@ -94,13 +94,12 @@ contains
   function solver_memory_bytes(s) result(b)
     type(sim_t), intent(in) :: s           !! simulation
     integer(i8) :: b
-    b = particles_memory_bytes(s%p) + grid_memory_bytes(s%g, s%nwall) &
+    b = particles_memory_bytes(s%p) + grid_memory_bytes(s%g) &
         + tiles_memory_bytes(s%tiles) + buffers_memory_bytes(s%bufs)
     associate (wk => s%wk)
       if (allocated(wk%w)) b = b + 8_i8*(size(wk%w, kind=i8) + size(wk%gw, kind=i8)) &
                                + 4_i8*size(wk%blk, kind=i8)
-      if (allocated(wk%tile)) b = b + 4_i8*(size(wk%tile, kind=i8) + size(wk%perm, kind=i8) &
-                                  + size(wk%near, kind=i8) + size(wk%nnear, kind=i8)) &
+      if (allocated(wk%tile)) b = b + 4_i8*(size(wk%tile, kind=i8) + size(wk%perm, kind=i8)) &
                                   + 8_i8*size(wk%chunk_sum, kind=i8)
     end associate
     if (allocated(s%prm%bacc)) b = b + 8_i8*size(s%prm%bacc, kind=i8)

@@ -92,8 +92,6 @@ module mpm_state
     logical :: par = .false.               !! loops run in parallel this step
     integer, allocatable :: tile(:)        !! grid tile of each particle's block (np)
     integer, allocatable :: perm(:)        !! particles sorted by tile (deterministic) (np)
-    integer, allocatable :: near(:)        !! particles near a wall, listed per chunk (np)
-    integer, allocatable :: nnear(:)       !! near particles per chunk
     real(wp), allocatable :: chunk_sum(:,:) !! partial sums per chunk (2, nchunk)
     real(wp), allocatable :: wall_work(:,:) !! per wall: velocity over the step, point, normal
                                            !! (6, nwall) [m/s, m, -]

@@ -1,18 +1,16 @@
-!> Rigid straight walls (platens, targets, mirror planes) acting on grid nodes (docs/theory.md).
+!> Rigid straight walls (platens, targets, mirror planes): the wall type, its prescribed motion,
+!! the mirror-plane rule on a node, and its checkpoint record (docs/theory.md).
 ! SPDX-License-Identifier: MIT
 !
-! Contact engages when the material surface reaches the plane, not when a node with mass does:
-! each node carries `gap`, the smallest distance to the wall of the domains (corners) of the
-! particles it supports. A node is in contact when its velocity relative to the wall would close
-! that gap within the step; then the normal relative velocity is cut to what exactly closes it
-! (to zero once the gap is closed). The momentum removed, divided by dt, is the wall force.
+! A 'slip' mirror plane acts on the grid nodes on or behind it (the grid has nodes on every
+! mirror plane); the other walls act at the material surface (mpm_surface_contact, called from
+! mpm_contact). The momentum a wall adds, divided by dt, is its force.
 module mpm_walls
   use mpm_kinds, only: wp
-  use mpm_constants, only: pi, max_table, CONTACT_FRICTIONLESS, CONTACT_COULOMB, CONTACT_STICK, &
-                           CONTACT_SLIP
+  use mpm_constants, only: pi, max_table, CONTACT_FRICTIONLESS
   implicit none
   private
-  public :: wall_t, wall_factor, wall_travel, wall_velocity, wall_constrain_node, &
+  public :: wall_t, wall_factor, wall_travel, wall_velocity, wall_mirror_node, &
             walls_write_state, walls_read_state
 
   !> A rigid plane with prescribed motion.
@@ -103,50 +101,26 @@ contains
     d = -dot_product(w%velocity, w%normal)*factor_integral(w, t)
   end function wall_travel
 
-  !> Apply the wall to one node. vel is the node velocity after the grid update; on return it
-  !! is the constrained velocity, and dp the momentum added to the node (mass * change).
-  pure subroutine wall_constrain_node(contact, friction, normal, vwall, xnode_dist, gap, &
-                                      mass, dt, vel, dp)
-    integer, intent(in) :: contact        !! CONTACT_* code
-    real(wp), intent(in) :: friction      !! Coulomb coefficient [-]
+  !> A 'slip' mirror plane on one node: a node on or behind the plane (xnode_dist <= 0) moves
+  !! with it along the normal. vel is the node velocity after the update; on return it is the
+  !! constrained velocity, and dp the momentum added to the node (mass * change). The other
+  !! walls act at the material surface (mpm_surface_contact).
+  pure subroutine wall_mirror_node(normal, vwall, xnode_dist, mass, vel, dp)
     real(wp), intent(in) :: normal(2)     !! unit normal into the material [-]
     real(wp), intent(in) :: vwall(2)      !! wall velocity over the step [m/s]
     real(wp), intent(in) :: xnode_dist    !! signed distance of the node from the plane, minus a
-                                          !! round-off tolerance [m] (slip only)
-    real(wp), intent(in) :: gap           !! distance of the nearest material surface [m]
+                                          !! round-off tolerance [m]
     real(wp), intent(in) :: mass          !! node mass [kg/m]
-    real(wp), intent(in) :: dt            !! time step [s]
     real(wp), intent(inout) :: vel(2)     !! node velocity [m/s]
     real(wp), intent(out) :: dp(2)        !! momentum added to the node [kg m/s per m]
-    real(wp) :: vrel(2), vn, vn_new, vt(2), vt_norm, dvn, scale
+    real(wp) :: vrel(2)
     dp = 0.0_wp
+    if (xnode_dist > 0.0_wp) return
     vrel = vel - vwall
-    vn = dot_product(vrel, normal)
-    if (contact == CONTACT_SLIP) then
-      ! mirror plane: nodes on or behind the plane move with it along the normal
-      if (xnode_dist > 0.0_wp) return
-      vn_new = 0.0_wp
-    else
-      if (vn >= 0.0_wp) return                        ! separating: no contact
-      if (gap + dt*vn >= 0.0_wp) return               ! the surface does not reach the wall
-      vn_new = -max(gap, 0.0_wp)/dt                   ! close the gap exactly, then stop
-    end if
-    dvn = vn_new - vn
-    vrel = vrel + dvn*normal
-    select case (contact)
-    case (CONTACT_STICK)
-      vrel = vn_new*normal
-    case (CONTACT_COULOMB)
-      vt = vrel - dot_product(vrel, normal)*normal
-      vt_norm = sqrt(dot_product(vt, vt))
-      if (vt_norm > 0.0_wp) then
-        scale = max(0.0_wp, 1.0_wp - friction*abs(dvn)/vt_norm)
-        vrel = dot_product(vrel, normal)*normal + scale*vt
-      end if
-    end select
+    vrel = vrel - dot_product(vrel, normal)*normal
     dp = mass*(vrel + vwall - vel)
     vel = vrel + vwall
-  end subroutine wall_constrain_node
+  end subroutine wall_mirror_node
 
   !> Write the evolving part of each wall (point, impulse, force, work, impulse sum) to the
   !! open unformatted stream unit u (a checkpoint record); the prescribed motion comes from

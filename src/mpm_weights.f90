@@ -106,7 +106,7 @@ contains
           'otherwise a coarser &grid h, or a shorter t_end for bodies that travel far'
         return
       end if
-      call grid_grow(g, add, st%nwall)
+      call grid_grow(g, add)
       diag%grown = diag%grown + 1
     end do
     stat = EXIT_NUMERIC
@@ -179,7 +179,7 @@ contains
     if (allocated(wk%w)) deallocate(wk%w, wk%gw, wk%blk)
     allocate(wk%blk(2, np), wk%w(wk%nb*wk%nb, np), wk%gw(2, wk%nb*wk%nb, np))
     if (.not. allocated(wk%tile)) then
-      allocate(wk%tile(np), wk%perm(np), wk%near(np), wk%nnear((np + chunk - 1)/chunk), &
+      allocate(wk%tile(np), wk%perm(np), &
                wk%chunk_sum(2, (np + chunk - 1)/chunk))
     end if
   end subroutine allocate_cache
