@@ -270,9 +270,7 @@ contains
     three_mu = 3.0_wp*mat%mu
     k0 = mat%sigma_y + mat%hardening*eqps       ! static yield, yield = sigma_y + H eqps
     if (plane == PLANE_STRAIN) then
-      p = (s(1) + s(2) + s(4))/3.0_wp
-      dev = [s(1) - p, s(2) - p, s(3), s(4) - p]
-      q = sqrt(1.5_wp*(dev(1)**2 + dev(2)**2 + dev(4)**2 + 2.0_wp*dev(3)**2))  ! sqrt(3 J2)
+      call split_deviator(s, p, dev, q)
       if (q <= k0) return
       deqps = (q - k0)/(three_mu + mat%hardening)  ! radial return, Simo & Hughes (1998) ch. 3
       if (.not. rate) then
@@ -291,10 +289,7 @@ contains
         deqps = x*q*fac
         k_end = (k0 + mat%hardening*deqps)*cs_factor(mat, deqps, dt)
       end if
-      s(1) = p + fac*dev(1)
-      s(2) = p + fac*dev(2)
-      s(3) = fac*dev(3)
-      s(4) = p + fac*dev(4)
+      s = scaled_deviator(p, dev, fac)
     else
       ! Plane stress in (A, B, C) = ((sxx+syy)/2, (sxx-syy)/2, sxy): q^2 = A^2 + 3 (B^2 + C^2).
       fa = 0.5_wp*(s(1) + s(2))
@@ -424,6 +419,30 @@ contains
     end if
   end subroutine multiplier_residual
 
+  !> Plane strain: the pressure p, the deviator dev (xx, yy, xy, zz) and q = sqrt(3 J2) of the
+  !! stress s (xx, yy, xy, zz) [Pa].
+  pure subroutine split_deviator(s, p, dev, q)
+    real(wp), intent(in) :: s(4)         !! stress [Pa]
+    real(wp), intent(out) :: p           !! pressure (mean stress) [Pa]
+    real(wp), intent(out) :: dev(4)      !! deviator [Pa]
+    real(wp), intent(out) :: q           !! von Mises stress sqrt(3 J2) [Pa]
+    p = (s(1) + s(2) + s(4))/3.0_wp
+    dev = [s(1) - p, s(2) - p, s(3), s(4) - p]
+    q = sqrt(1.5_wp*(dev(1)**2 + dev(2)**2 + dev(4)**2 + 2.0_wp*dev(3)**2))
+  end subroutine split_deviator
+
+  !> Plane strain: the stress p + fac dev (the radial return's scaling of the deviator) [Pa].
+  pure function scaled_deviator(p, dev, fac) result(s)
+    real(wp), intent(in) :: p            !! pressure [Pa]
+    real(wp), intent(in) :: dev(4)       !! deviator [Pa]
+    real(wp), intent(in) :: fac          !! scaling of the deviator [-]
+    real(wp) :: s(4)
+    s(1) = p + fac*dev(1)
+    s(2) = p + fac*dev(2)
+    s(3) = fac*dev(3)
+    s(4) = p + fac*dev(4)
+  end function scaled_deviator
+
   ! ---------------------------------------------------------------------------------------
   ! J2 plasticity with the Johnson-Cook flow stress
 
@@ -450,9 +469,7 @@ contains
     stat = MATERIAL_OK
     call jc_flow(mat, eqps, 0.0_wp, dt, k0, dk)   ! static yield at step start
     if (plane == PLANE_STRAIN) then
-      p = (s(1) + s(2) + s(4))/3.0_wp
-      dev = [s(1) - p, s(2) - p, s(3), s(4) - p]
-      q = sqrt(1.5_wp*(dev(1)**2 + dev(2)**2 + dev(4)**2 + 2.0_wp*dev(3)**2))  ! sqrt(3 J2)
+      call split_deviator(s, p, dev, q)
       a = 0.0_wp
       t1 = 0.0_wp
       t2 = q*q
@@ -474,10 +491,7 @@ contains
     fac = 1.0_wp/(1.0_wp + 3.0_wp*mat%mu*x)      ! deviatoric (B, C) part / (1 + 3 mu x)
     if (plane == PLANE_STRAIN) then
       deqps = x*q*fac
-      s(1) = p + fac*dev(1)
-      s(2) = p + fac*dev(2)
-      s(3) = fac*dev(3)
-      s(4) = p + fac*dev(4)
+      s = scaled_deviator(p, dev, fac)
     else
       fa = fa/(1.0_wp + a*x)
       fb = fb*fac
