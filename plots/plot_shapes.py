@@ -6,6 +6,8 @@ One panel per snapshot of particles.h5 (by default up to six, spread evenly over
 each particle drawn as its domain polygon (the CPDI corners) coloured by the equivalent
 plastic strain, with the walls that are not mirror planes drawn at their position at that time
 (the point moved by the wall's travel, history column wall<k>_disp, along minus its normal).
+A half or quarter model is drawn as the whole tube, from the mirror images that tubempm writes
+into particles.h5 (docs/output.md; `--sector` draws the computed part only).
 
     python3 plots/plot_shapes.py --case namelists/crush.nml
     python3 plots/plot_shapes.py --dir out/impact --frames 0 5 -1 --out impact_shapes.png
@@ -97,6 +99,8 @@ def main(argv: list[str] | None = None) -> int:
                    "a crash_<step>.h5 works too)")
     p.add_argument("--out", metavar="PNG", help="output image (default <outdir>/shapes.png)")
     p.add_argument("--edges", action="store_true", help="outline every particle domain")
+    p.add_argument("--sector", action="store_true", help="a half or quarter model: draw the "
+                   "computed part only (default: the whole tube, with its mirror images)")
     args = p.parse_args(argv)
 
     try:
@@ -106,7 +110,7 @@ def main(argv: list[str] | None = None) -> int:
         chosen = pick_frames(len(names), args.frames)
         if not chosen:
             raise ValueError(f"{h5}: no snapshots")
-        frames = [readers.read_frame(h5, names[j]) for j in chosen]
+        frames = [readers.read_frame(h5, names[j], mirrored=not args.sector) for j in chosen]
     except (OSError, ValueError, KeyError, IndexError) as exc:
         print(f"ERROR [plot_shapes]: {exc}", file=sys.stderr)
         return 2
@@ -162,6 +166,11 @@ def main(argv: list[str] | None = None) -> int:
     run = (inputs.get("run") or [{}])[0]
     title = str(run.get("title") or os.path.basename(os.path.normpath(outdir)))
     suptitle = f"{title}: deformed particle domains ({frames[0]['np']} particles)"
+    if frames[0]["mirrored"]:
+        n_img = int(frames[0]["images"]) - 1
+        suptitle = (f"{title}: deformed particle domains, the whole tube ({frames[0]['np']} "
+                    f"particles: the computed {frames[0]['x'].shape[0] // (n_img + 1)} and "
+                    + ("its mirror image)" if n_img == 1 else f"their {n_img} mirror images)"))
     failure = readers.run_failure(outdir)
     if failure:
         style.mark_failed(fig, failure, suptitle)

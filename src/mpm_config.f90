@@ -268,6 +268,7 @@ contains
     if (chk_r(rd, io, v, 'depth')) r%depth = vreal(v, 'depth')
     if (chk_v(rd, io, v, 'gravity') == 2) r%gravity = vvec(v, 'gravity')
     if (chk_i(rd, io, v, 'threads')) r%threads = vint(v, 'threads')
+    r%mirror_images = vlog(v, 'mirror_images')
   end subroutine check_run
 
   !> &solver

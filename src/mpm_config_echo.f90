@@ -154,6 +154,7 @@ contains
           e%v%r(:, r) = sp%r0
           e%v%i(r) = sp%i0
           e%v%c(r) = sp%c0
+          e%v%l(r) = sp%l0
           if (sp%c_blank) e%v%c(r) = ''
         else if (sp%n == max_table) then
           e%v%r(e%n_motion+1:, r) = sp%r0
@@ -234,6 +235,8 @@ contains
     call put_r(e, 'depth', [r%depth])
     call put_r(e, 'gravity', r%gravity)
     call put_i(e, 'threads', r%threads)
+    e%v%l(col(e, 'mirror_images')) = r%mirror_images
+    if (r%mirror_images) call hide(e, [character(len=13) :: 'mirror_images'], '')  ! the default
   end subroutine pack_run
 
   subroutine pack_solver(s, e)

@@ -40,6 +40,7 @@ module mpm_config_table
     real(wp) :: r0 = 0.0_wp                 !! starting value of a real
     integer :: i0 = 0                       !! starting value of an integer
     character(len=16) :: c0 = ''            !! default text (kind c, e)
+    logical :: l0 = .false.                 !! default of a logical
     logical :: c_blank = .false.            !! the reader starts from '' (given or not?)
     logical :: required = .false.
     real(wp) :: lo = -big, hi = big         !! range
@@ -52,7 +53,7 @@ module mpm_config_table
     character(len=48) :: comment = ''       !! echo comment: meaning [unit]; % = the names
   end type var_spec_t
 
-  integer, parameter :: n_specs = 57
+  integer, parameter :: n_specs = 58
   character(len=*), parameter :: s0 = 'a real number >= 0 [s] (default 0)'
   character(len=*), parameter :: v0 = '2 finite real numbers [m/s] (default 0, 0)'
   character(len=*), parameter :: lu = '2 real numbers [m] each for lower and upper, lower '// &
@@ -90,6 +91,8 @@ module mpm_config_table
     var_spec_t('run', 'threads', 'i', lo=0.0_wp, &
       allowed='an integer >= 0 (0 = the OpenMP runtime default)', &
       comment='OpenMP threads (0 = runtime default)'), &
+    var_spec_t('run', 'mirror_images', 'l', l0=.true., allowed='.true. or .false. (default '// &
+      '.true.)', comment='write the mirror images of a sector'), &
     ! ---------------------------------------------------------------------------- &solver
     var_spec_t('solver', 'basis', 'e', c0='cpdi2', comment='% [-]'), &
     var_spec_t('solver', 'scheme', 'e', c0='musl', comment='% [-]'), &

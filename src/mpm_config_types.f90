@@ -24,6 +24,7 @@ module mpm_config_types
     real(wp) :: depth = 1.0_wp                     !! out-of-plane length [m]
     real(wp) :: gravity(2) = 0.0_wp                !! body acceleration [m/s^2]
     integer :: threads = 0                         !! OpenMP threads (0 = runtime default)
+    logical :: mirror_images = .true.              !! snapshots of a sector show the whole tube
   end type run_cfg_t
 
   !> &solver

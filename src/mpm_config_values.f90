@@ -53,6 +53,7 @@ contains
         v%r(:, idx(k)) = s%r0
         v%i(idx(k)) = s%i0
         v%c(idx(k)) = s%c0
+        v%l(idx(k)) = s%l0
         if (s%c_blank) v%c(idx(k)) = ''
       end associate
     end do

@@ -19,6 +19,7 @@ module mpm_io_hdf5
   use mpm_constants, only: version_string, BASIS_CPDI2
   use mpm_particles, only: particles_t, particle_corners
   use mpm_strings, only: itoa
+  use mpm_images, only: images_t, mirror_arrays
   implicit none
   private
   public :: snapfile_t, snap_create, snap_reopen, snap_write, snap_close, xdmf_write
@@ -29,7 +30,8 @@ module mpm_io_hdf5
     character(len=512) :: path = ''        !! file path
     integer :: count = 0                   !! snapshots written
     real(wp), allocatable :: times(:)      !! their times [s]
-    integer, allocatable :: nps(:), ncs(:) !! particles and corners of each
+    integer, allocatable :: nps(:), ncs(:) !! particles and corners of each (the sector's)
+    type(images_t) :: images               !! mirror images written with each snapshot
   end type snapfile_t
 
   logical, save :: library_open = .false.
@@ -125,7 +127,8 @@ contains
     write(name, '(a,i6.6)') 'snap_', k - 1
   end function snap_name
 
-  !> Append one snapshot of the particles and flush the file.
+  !> Append one snapshot of the particles and flush the file; with mirror images (sf%images),
+  !! the whole tube once more in the subgroup `mirrored`.
   subroutine snap_write(sf, p, basis, t, step, dt, stat, errmsg)
     type(snapfile_t), intent(inout) :: sf  !! snapshot file
     type(particles_t), intent(in) :: p     !! particles
@@ -137,12 +140,9 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg  !! what failed
     integer(hid_t) :: gid
     integer :: ierr, ncorner
-    real(wp), allocatable :: corners(:,:), col(:)
+    real(wp), allocatable :: corners(:,:)
     integer, allocatable :: quads(:,:)
     character(len=11) :: name
-    character(len=2), parameter :: xyz = 'xy'
-    character(len=2), parameter :: stress_names(4) = ['xx', 'yy', 'xy', 'zz']
-    integer :: k
     stat = 0
     errmsg = ''
     name = snap_name(sf%count + 1)
@@ -157,34 +157,9 @@ contains
     ncorner = size(corners, 2)
     call write_int_attr(gid, 'np', p%np, stat, errmsg)
     call write_int_attr(gid, 'ncorner', ncorner, stat, errmsg)
-    call write_real_2d(gid, 'x', p%x, 'm', 'particle position (domain centroid)', stat, errmsg)
-    call write_real_2d(gid, 'v', p%v, 'm/s', 'particle velocity', stat, errmsg)
-    call write_real_1d(gid, 'mass', p%mass, 'kg/m', 'particle mass per unit depth', stat, errmsg)
-    call write_real_1d(gid, 'volume', p%vol, 'm^2', 'particle area (volume per unit depth)', &
-                       stat, errmsg)
-    call write_real_2d(gid, 'stress', p%stress, 'Pa', 'Cauchy stress xx, yy, xy, zz', stat, &
-                       errmsg)
-    call write_real_2d(gid, 'F', reshape(p%F, [4, p%np]), '-', &
-                       'deformation gradient F11, F21, F12, F22', stat, errmsg)
-    call write_real_1d(gid, 'eqps', p%eqps, '-', 'equivalent plastic strain', stat, errmsg)
-    ! the components once more as 1-D datasets: ParaView's default XDMF reader (Xdmf3) skips
-    ! hyperslabs of the 2-D ones ("unrecognized array type"), so the XDMF index points at these
-    do k = 1, 2
-      col = p%v(k, 1:p%np)
-      call write_real_1d(gid, 'v'//xyz(k:k), col, 'm/s', 'particle velocity '//xyz(k:k), &
-                         stat, errmsg)
-    end do
-    do k = 1, 4
-      col = p%stress(k, 1:p%np)
-      call write_real_1d(gid, 's'//stress_names(k), col, 'Pa', 'Cauchy stress '// &
-                         stress_names(k), stat, errmsg)
-    end do
-    call write_int_2d(gid, 'body', reshape(p%body(1:p%np), [1, p%np]), '-', &
-                      'body of each particle (order of the &body groups, from 1)', stat, errmsg, &
-                      flat=.true.)
-    call write_real_2d(gid, 'corners', corners, 'm', 'particle domain corners', stat, errmsg)
-    call write_int_2d(gid, 'quads', quads, '-', 'corner ids of each particle (0-based, ccw)', &
-                      stat, errmsg)
+    call write_particle_data(gid, p%x, p%v, p%stress, reshape(p%F, [4, p%np]), &
+      scalars(p), p%body(1:p%np), corners, quads, stat, errmsg)
+    if (sf%images%n > 1) call write_mirrored(gid, sf%images, p, corners, quads, stat, errmsg)
     call h5gclose_f(gid, ierr)
     call h5_check(ierr, 'h5gclose_f '//name, stat, errmsg)
     call h5fflush_f(sf%fid, H5F_SCOPE_GLOBAL_F, ierr)
@@ -198,6 +173,96 @@ contains
     sf%nps = [sf%nps, p%np]
     sf%ncs = [sf%ncs, ncorner]
   end subroutine snap_write
+
+  !> The whole tube into the subgroup `mirrored` of a snapshot: the sector, then its images
+  !! (mpm_images), with the attributes np, ncorner, images and mirror_x / mirror_y (the planes).
+  subroutine write_mirrored(parent, im, p, corners, quads, stat, errmsg)
+    integer(hid_t), intent(in) :: parent   !! the snapshot group
+    type(images_t), intent(in) :: im       !! the images
+    type(particles_t), intent(in) :: p     !! particles (the sector)
+    real(wp), intent(in) :: corners(:,:)   !! the sector's output corners [m]
+    integer, intent(in) :: quads(:,:)      !! their 0-based ids per particle
+    integer, intent(inout) :: stat         !! status
+    character(len=:), allocatable, intent(inout) :: errmsg  !! message
+    real(wp), allocatable :: xw(:,:), vw(:,:), sw(:,:), fw(:,:), scw(:,:), cw(:,:)
+    integer, allocatable :: bw(:), qw(:,:), image(:)
+    integer(hid_t) :: gid
+    integer :: ierr
+    if (stat /= 0) return
+    call mirror_arrays(im, p%x, p%v, p%stress, reshape(p%F, [4, p%np]), scalars(p), &
+      p%body(1:p%np), corners, quads, xw, vw, sw, fw, scw, bw, cw, qw, image)
+    call h5gcreate_f(parent, 'mirrored', gid, ierr)
+    call h5_check(ierr, 'h5gcreate_f mirrored', stat, errmsg)
+    if (stat /= 0) return
+    call write_int_attr(gid, 'np', size(xw, 2), stat, errmsg)
+    call write_int_attr(gid, 'ncorner', size(cw, 2), stat, errmsg)
+    call write_int_attr(gid, 'images', im%n, stat, errmsg)
+    if (im%across(1)) call write_real_attr(gid, 'mirror_x', im%c(1), stat, errmsg)
+    if (im%across(2)) call write_real_attr(gid, 'mirror_y', im%c(2), stat, errmsg)
+    call write_particle_data(gid, xw, vw, sw, fw, scw, bw, cw, qw, stat, errmsg)
+    call write_int_2d(gid, 'image', reshape(image, [1, size(image)]), '-', 'copy of the '// &
+      'sector: 0 computed, 1 mirrored in x = mirror_x (half, quarter), 2 in y = mirror_y, '// &
+      '3 in both (quarter)', stat, errmsg, flat=.true.)
+    call h5gclose_f(gid, ierr)
+    call h5_check(ierr, 'h5gclose_f mirrored', stat, errmsg)
+  end subroutine write_mirrored
+
+  !> mass, volume and eqps of the particles as the rows of one (3, np) array.
+  pure function scalars(p) result(sc)
+    type(particles_t), intent(in) :: p     !! particles
+    real(wp) :: sc(3, p%np)
+    sc(1, :) = p%mass(1:p%np)
+    sc(2, :) = p%vol(1:p%np)
+    sc(3, :) = p%eqps(1:p%np)
+  end function scalars
+
+  !> The datasets of a set of particles (docs/output.md): x, v, mass, volume, stress, F, eqps,
+  !! the 1-D columns vx, vy, sxx, syy, sxy, szz and body, corners and quads.
+  subroutine write_particle_data(gid, x, v, stress, F, sc, body, corners, quads, stat, errmsg)
+    integer(hid_t), intent(in) :: gid      !! group
+    real(wp), intent(in) :: x(:,:), v(:,:) !! position, velocity (2, np) [m, m/s]
+    real(wp), intent(in) :: stress(:,:), F(:,:)  !! (4, np) [Pa, -]
+    real(wp), intent(in) :: sc(:,:)        !! mass, volume, eqps (3, np)
+    integer, intent(in) :: body(:)         !! body ids
+    real(wp), intent(in) :: corners(:,:)   !! (2, ncorner) [m]
+    integer, intent(in) :: quads(:,:)      !! (4, np) 0-based corner ids
+    integer, intent(inout) :: stat         !! status
+    character(len=:), allocatable, intent(inout) :: errmsg  !! message
+    real(wp), allocatable :: col(:)
+    character(len=2), parameter :: xyz = 'xy'
+    character(len=2), parameter :: stress_names(4) = ['xx', 'yy', 'xy', 'zz']
+    integer :: k
+    call write_real_2d(gid, 'x', x, 'm', 'particle position (domain centroid)', stat, errmsg)
+    call write_real_2d(gid, 'v', v, 'm/s', 'particle velocity', stat, errmsg)
+    col = sc(1, :)
+    call write_real_1d(gid, 'mass', col, 'kg/m', 'particle mass per unit depth', stat, errmsg)
+    col = sc(2, :)
+    call write_real_1d(gid, 'volume', col, 'm^2', 'particle area (volume per unit depth)', &
+                       stat, errmsg)
+    call write_real_2d(gid, 'stress', stress, 'Pa', 'Cauchy stress xx, yy, xy, zz', stat, &
+                       errmsg)
+    call write_real_2d(gid, 'F', F, '-', 'deformation gradient F11, F21, F12, F22', stat, errmsg)
+    col = sc(3, :)
+    call write_real_1d(gid, 'eqps', col, '-', 'equivalent plastic strain', stat, errmsg)
+    ! the components once more as 1-D datasets: ParaView's default XDMF reader (Xdmf3) skips
+    ! hyperslabs of the 2-D ones ("unrecognized array type"), so the XDMF index points at these
+    do k = 1, 2
+      col = v(k, :)
+      call write_real_1d(gid, 'v'//xyz(k:k), col, 'm/s', 'particle velocity '//xyz(k:k), &
+                         stat, errmsg)
+    end do
+    do k = 1, 4
+      col = stress(k, :)
+      call write_real_1d(gid, 's'//stress_names(k), col, 'Pa', 'Cauchy stress '// &
+                         stress_names(k), stat, errmsg)
+    end do
+    call write_int_2d(gid, 'body', reshape(body, [1, size(body)]), '-', &
+                      'body of each particle (order of the &body groups, from 1)', stat, errmsg, &
+                      flat=.true.)
+    call write_real_2d(gid, 'corners', corners, 'm', 'particle domain corners', stat, errmsg)
+    call write_int_2d(gid, 'quads', quads, '-', 'corner ids of each particle (0-based, ccw)', &
+                      stat, errmsg)
+  end subroutine write_particle_data
 
   !> Close the file.
   subroutine snap_close(sf, stat, errmsg)
@@ -234,7 +299,8 @@ contains
   end subroutine output_corners
 
   !> Write the XDMF index of all snapshots: a temporal collection of quadrilateral meshes
-  !! (the particle domains) with cell data.
+  !! (the particle domains) with cell data; with mirror images, of the whole tube (the
+  !! subgroup `mirrored` of each snapshot) with the copy number `image` as one more array.
   subroutine xdmf_write(sf, xpath, h5name, stat, errmsg)
     type(snapfile_t), intent(in) :: sf     !! snapshot file
     character(len=*), intent(in) :: xpath  !! XDMF file path
@@ -244,6 +310,7 @@ contains
     integer :: u, k
     character(len=512) :: msg
     character(len=:), allocatable :: g, np, nc
+    integer :: n
     errmsg = ''
     open(newunit=u, file=xpath, status='replace', action='write', iostat=stat, iomsg=msg)
     if (stat /= 0) then
@@ -254,10 +321,12 @@ contains
     write(u, '(a)') '<Xdmf Version="3.0">'
     write(u, '(a)') ' <Domain>'
     write(u, '(a)') '  <Grid Name="particles" GridType="Collection" CollectionType="Temporal">'
+    n = sf%images%n
     do k = 1, sf%count
       g = h5name//':/'//snap_name(k)
-      np = itoa(sf%nps(k))
-      nc = itoa(sf%ncs(k))
+      if (n > 1) g = g//'/mirrored'
+      np = itoa(n*sf%nps(k))
+      nc = itoa(n*sf%ncs(k))
       write(u, '(a)') '   <Grid Name="'//snap_name(k)//'" GridType="Uniform">'
       write(u, '(a,es24.16e3,a)') '    <Time Value="', sf%times(k), '"/>'
       write(u, '(a)') '    <Topology TopologyType="Quadrilateral" NumberOfElements="'//np//'">'
@@ -281,6 +350,12 @@ contains
       write(u, '(a)') '     <DataItem Dimensions="'//np//'" NumberType="Int" Precision="4"'// &
         ' Format="HDF">'//g//'/body</DataItem>'
       write(u, '(a)') '    </Attribute>'
+      if (n > 1) then
+        write(u, '(a)') '    <Attribute Name="image" AttributeType="Scalar" Center="Cell">'
+        write(u, '(a)') '     <DataItem Dimensions="'//np//'" NumberType="Int" Precision="4"'// &
+          ' Format="HDF">'//g//'/image</DataItem>'
+        write(u, '(a)') '    </Attribute>'
+      end if
       write(u, '(a)') '   </Grid>'
     end do
     write(u, '(a)') '  </Grid>'

@@ -18,6 +18,7 @@ program tubempm
   use mpm_particles, only: particles_t, particles_copy
   use mpm_output, only: history_t, history_open, history_write, history_close, write_summary, &
                         summary_t
+  use mpm_images, only: images_of_walls
   use mpm_io_hdf5, only: snapfile_t, snap_create, snap_reopen, snap_write, snap_close, xdmf_write
   use mpm_restart, only: checkpoint_write, checkpoint_read, ckpt_extra_t
   use mpm_sys, only: sys_mkdir_p, sys_install_signals, sys_signal_received, sys_stdout_isatty
@@ -271,6 +272,7 @@ contains
       call snap_reopen(r%snaps, r%dir//'/particles.h5', ex%snap_times, ex%snap_np, ex%snap_nc, &
                        st, msg)
       if (st /= 0) call fatal('restart', msg, EXIT_IO)
+      r%snaps%images = images_of_walls(s%walls, cfg%run%mirror_images)
       r%next_snap = ex%snapshot_next
       if (.not. r%quiet) write(output_unit, '(a)') 'restarting from the checkpoint at t = '// &
         rtoa(s%t)//' s, step '//itoa(s%step)
@@ -286,6 +288,7 @@ contains
       if (st /= 0) call fatal('output', msg, EXIT_IO)
       call snap_create(r%snaps, r%dir//'/particles.h5', r%input_text, st, msg)
       if (st /= 0) call fatal('output', msg//' ('//r%dir//'/particles.h5)', EXIT_IO)
+      r%snaps%images = images_of_walls(s%walls, cfg%run%mirror_images)
       call history_write(r%hist, s, .true., st, msg)
       if (st /= 0) call fatal('output', msg, EXIT_IO)
       call write_snapshot(s, r)
@@ -460,6 +463,7 @@ contains
     r%sm%wall_seconds = r%seconds0 + real(c1 - r%c0, wp)/real(r%crate, wp)
     crash = r%dir//'/crash_'//itoa(r%step_good)//'.h5'
     call snap_create(cf, crash, r%input_text, st2, m2)
+    cf%images = r%snaps%images
     if (st2 == 0) call snap_write(cf, r%good, s%prm%basis, r%t_good, r%step_good, r%dt_good, &
                                   st2, m2)
     if (st2 == 0) call snap_close(cf, st2, m2)

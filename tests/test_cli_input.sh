@@ -84,9 +84,24 @@ check_case "$scratch/does_not_exist.nml" 3 "does_not_exist.nml: cannot open the 
 check_case "$scratch/empty.nml" 2 "empty.nml: the file is empty"
 
 # the set-up report counts mirror planes in good English (was "1 mirror planes")
-out=$("$bin" --check "$here/../namelists/default.nml" 2>/dev/null)
+out=$("$bin" --check "$here/../namelists/default.nml" 2> "$scratch/default.err")
 echo "$out" | grep -q "walls: 2 (1 mirror plane added by the sector)" && pass=$((pass + 1)) || {
   fail=$((fail + 1)); echo "FAIL [cli]: --check of the half-ring default: $(echo "$out" | grep walls:)"; }
+# the default scene (make run) is one the refinement study calls accurate: --check warns of
+# nothing (it warned of h = t/2, 25-29 % error, before), and the nearest study run is a close
+# match within 5 % (the study's 5 % impact run, docs/validation.md)
+if [ -s "$scratch/default.err" ]; then
+  fail=$((fail + 1)); echo "FAIL [cli]: --check warns about the default scene: $(head -c 300 "$scratch/default.err")"
+else
+  pass=$((pass + 1))
+fi
+near=$(echo "$out" | grep "nearest study run")
+err=$(echo "$near" | sed -nE 's/.*error +([0-9.]+) %.*/\1/p')
+if [ -n "$err" ] && awk -v e="$err" 'BEGIN { exit !(e <= 5.0) }' && ! echo "$near" | grep -q "not a close"; then
+  pass=$((pass + 1))
+else
+  fail=$((fail + 1)); echo "FAIL [cli]: the default scene is not a study run within 5 %: $near"
+fi
 
 echo "test_cli_input: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -7,7 +7,10 @@
 # the failing step N of the message; its snapshot's step attribute is k, its time that of
 # history row k (a row every step), and the centre of mass computed from its particles
 # (sum m y / sum m) equals the history's com_y of that row (1e-12 relative; com_x is the full
-# ring's, 0 on the mirror plane of this half model).
+# ring's, 0 on the mirror plane of this half model). As a particles.h5 snapshot, the crash file
+# of this half model holds the whole ring (its mirror image, docs/output.md): the `mirrored`
+# group's centre of mass lies on the mirror plane x = mirror_x (1e-12 of the radius) and its
+# y equals the history's com_y.
 #   usage: TUBEMPM=build/debug/tubempm bash tests/test_good_state.sh SCRATCH
 set -u
 bin=${TUBEMPM:-bin/tubempm}
@@ -41,6 +44,9 @@ with h5py.File(crash, "r") as f:
     g = f["snap_000000"]
     step, t = int(g.attrs["step"]), float(np.ravel(g.attrs["time"])[0])
     x, m = g["x"][()], g["mass"][()]
+    w = g["mirrored"] if "mirrored" in g else None
+    if w is not None:
+        xw, mw, cx = w["x"][()], w["mass"][()], float(w.attrs["mirror_x"])
 h = np.genfromtxt(hist, delimiter=",", names=True)
 row = h[k]                                   # row 0 is t = 0, then one row per step
 com = (m[:, None] * x).sum(axis=0) / m.sum()
@@ -48,6 +54,15 @@ print("crash step %d t %.6e; history row %d t %.6e; com_y %.15e vs %.15e" % (
     step, t, k, row["time"], com[1], row["com_y"]))
 good = (step == k and abs(t - row["time"]) <= 1e-12 * abs(t)
         and abs(com[1] - row["com_y"]) <= 1e-12 * abs(row["com_y"]))
+if w is None:
+    print("no mirrored group (the whole ring) in the crash file")
+    good = False
+else:
+    comw = (mw[:, None] * xw).sum(axis=0) / mw.sum()
+    print("whole ring: %d particles (%d computed); com %.3e, %.15e" % (
+        len(mw), len(m), comw[0] - cx, comw[1]))
+    good = (good and len(mw) == 2 * len(m) and abs(comw[0] - cx) <= 1e-12 * 0.025
+            and abs(comw[1] - row["com_y"]) <= 1e-12 * abs(row["com_y"]))
 sys.exit(0 if good else 1)
 PY
 fi

@@ -5,6 +5,9 @@
 # syy, sxy and szz ("Skipping unrecognized array type [None]" for each hyperslab). Oracle: the
 # datasets of particles.h5 read with h5py: per time step the time, the cell count (= particles),
 # the point count (= corners) and the range of each of the ten arrays must match exactly.
+# Two scenes: a full ring, and a quarter ring whose file holds its mirror images (ParaView must
+# show the whole tube: 4 x the particles, the arrays of the `mirrored` subgroup and `image`;
+# before the mirror images it showed the quarter).
 # Needs pvbatch (Debian: paraview, python3-paraview; xvfb for a display): `make check-paraview`
 # installs them. Without pvbatch the test says so and counts nothing.
 #   usage: TUBEMPM=build/debug/tubempm bash tests/test_paraview.sh SCRATCH
@@ -40,18 +43,27 @@ cat > "$scratch/pv.nml" <<NML
 &body center = 0.0, 0.0262, r_inner = 0.024, r_outer = 0.026, n_thick = 4, velocity = 0.0, -30.0 /
 &wall point = 0.0, 0.0, normal = 0.0, 1.0 /
 NML
-OMP_NUM_THREADS=1 "$bin" --quiet "$scratch/pv.nml" > "$scratch/run.log" 2>&1 && ok \
-  || bad "the run failed: $(tail -3 "$scratch/run.log")"
-run_pv "$here/paraview/read_xdmf.py" "$scratch/pv/particles.xdmf" "$scratch/pv/last.png" \
-  > "$scratch/pv.json" 2> "$scratch/pv.err"
+# a quarter ring crushed by a platen (its image in y = 0.0262 is the bottom platen)
+cat > "$scratch/pvq.nml" <<NML
+&run title = 'pvq', output_dir = '$scratch/pvq', t_end = 1.0e-4, snapshot_every = 5.0e-5 /
+&grid h = 1.0e-3 /
+&material name = 'alu', model = 'j2', E = 70.0e9, nu = 0.33, rho = 2700.0, sigma_y = 150.0e6 /
+&body center = 0.0, 0.0262, r_inner = 0.024, r_outer = 0.026, n_thick = 4, sector = 'quarter' /
+&wall point = 0.0, 0.0522, normal = 0.0, -1.0, velocity = 0.0, -30.0 /
+NML
+for case in pv pvq; do
+OMP_NUM_THREADS=1 "$bin" --quiet "$scratch/$case.nml" > "$scratch/$case.log" 2>&1 && ok \
+  || bad "$case: the run failed: $(tail -3 "$scratch/$case.log")"
+run_pv "$here/paraview/read_xdmf.py" "$scratch/$case/particles.xdmf" "$scratch/$case/last.png" \
+  > "$scratch/$case.json" 2> "$scratch/$case.err"
 rc=$?
-[ $rc -eq 0 ] && ok || bad "pvbatch exit $rc: $(tail -3 "$scratch/pv.err")"
-if grep -q "unrecognized array type" "$scratch/pv.err"; then
-  bad "ParaView skipped arrays: $(grep -m1 unrecognized "$scratch/pv.err")"
+[ $rc -eq 0 ] && ok || bad "$case: pvbatch exit $rc: $(tail -3 "$scratch/$case.err")"
+if grep -q "unrecognized array type" "$scratch/$case.err"; then
+  bad "$case: ParaView skipped arrays: $(grep -m1 unrecognized "$scratch/$case.err")"
 else
   ok
 fi
-$py - "$scratch/pv/particles.h5" "$scratch/pv.json" <<'PY'
+$py - "$scratch/$case/particles.h5" "$scratch/$case.json" "$case" <<'PY'
 import json, sys
 import h5py, numpy as np
 fails = 0
@@ -68,11 +80,20 @@ with h5py.File(sys.argv[1], 'r') as f:
     want = {'eqps': 'eqps', 'mass': 'mass', 'volume': 'volume', 'body': 'body',
             'vx': ('v', 0), 'vy': ('v', 1), 'sxx': ('stress', 0), 'syy': ('stress', 1),
             'sxy': ('stress', 2), 'szz': ('stress', 3)}
+    quarter = sys.argv[3] == 'pvq'
+    if quarter:
+        want['image'] = 'image'
     for s, name in zip(steps, snaps):
         g = f[name]
+        check(('mirrored' in g) == quarter, '%s: a mirrored group only for the quarter' % name)
+        if quarter:
+            g = g['mirrored']           # the whole tube: the quarter and its 3 images
+            check(g['x'].shape[0] == 4 * f[name]['x'].shape[0],
+                  '%s: %d particles in the whole tube, %d in the quarter'
+                  % (name, g['x'].shape[0], f[name]['x'].shape[0]))
         check(s.get('reader') == 'Xdmf3ReaderS', '%s: default reader %s' % (name, s.get('reader')))
-        check(abs(s['time'] - g.attrs['time'][()]) <= 1e-12 * max(1.0, abs(s['time'])),
-              '%s: time %g vs %g' % (name, s['time'], g.attrs['time'][()]))
+        check(abs(s['time'] - f[name].attrs['time'][()]) <= 1e-12 * max(1.0, abs(s['time'])),
+              '%s: time %g vs %g' % (name, s['time'], f[name].attrs['time'][()]))
         check(s['cells'] == g['x'].shape[0], '%s: %d cells, %d particles'
               % (name, s['cells'], g['x'].shape[0]))
         check(s['points'] == g['corners'].shape[0], '%s: %d points, %d corners'
@@ -90,7 +111,8 @@ with h5py.File(sys.argv[1], 'r') as f:
 print('paraview-data: %d failed' % fails)
 sys.exit(1 if fails else 0)
 PY
-[ $? -eq 0 ] && ok || bad "ParaView's arrays differ from particles.h5 (above)"
-[ -s "$scratch/pv/last.png" ] && ok || bad "no screenshot"
+[ $? -eq 0 ] && ok || bad "$case: ParaView's arrays differ from particles.h5 (above)"
+[ -s "$scratch/$case/last.png" ] && ok || bad "$case: no screenshot"
+done
 echo "paraview: $pass passed, $fail failed"
 [ $fail -eq 0 ]

@@ -245,6 +245,37 @@ def test_shapes(scratch: Path) -> None:
     ax = fig.axes[0]
     check(ax.get_xlabel() == "x [mm]" and ax.get_ylabel() == "y [mm]", "shapes: axis labels")
     check_failure_marks(folder, plot_shapes, argv, "shapes plot")
+    # a half model's file: the subgroup 'mirrored' holds the whole tube (docs/output.md); made
+    # up here as the two particles and their reflection in x = 0 (corner order reversed)
+    whole_c = np.vstack([corners, corners * [-1.0, 1.0]])
+    whole_q = np.vstack([quads, quads[:, [0, 3, 2, 1]] + len(corners)])
+    whole_e = np.concatenate([eqps, eqps])
+    with h5py.File(folder / "particles.h5", "a") as h:
+        m = h["snap_000000"].create_group("mirrored")
+        m.attrs["np"] = 4
+        m.attrs["images"] = 2
+        mdata = {"x": whole_c[whole_q].mean(axis=1), "v": np.zeros((4, 2)), "mass": np.ones(4),
+                 "volume": np.ones(4), "stress": np.zeros((4, 4)),
+                 "F": np.tile([1.0, 0, 0, 1], (4, 1)), "eqps": whole_e, "corners": whole_c,
+                 "quads": whole_q, "image": np.repeat([0, 1], 2)}
+        for k, v in mdata.items():
+            m.create_dataset(k, data=v)
+    for extra, want_c, want_q, want_e in (([], whole_c, whole_q, whole_e),
+                                          (["--sector"], corners, quads, eqps)):
+        rc, out, fig = run_main(plot_shapes, argv + extra)
+        what = "shapes of a half model" + (" --sector" if extra else "")
+        if not check(rc == 0 and fig is not None, f"{what}: exits 0 (rc {rc}: {out})"):
+            continue
+        polys = [c for ax in fig.axes for c in ax.collections if isinstance(c, PolyCollection)]
+        verts = [np.asarray(p.vertices[:4]) for p in polys[0].get_paths()] if polys else []
+        check(len(verts) == len(want_q) and all(
+            np.allclose(v, w, rtol=0, atol=1e-12) for v, w in zip(verts, want_c[want_q] * 1e3)),
+            f"{what}: the polygons are the {'sector' if extra else 'whole tube'} "
+            f"({len(verts)} drawn, {len(want_q)} expected)")
+        check(polys and np.array_equal(np.asarray(polys[0].get_array()), want_e),
+              f"{what}: the colours are its eqps")
+        check(("whole tube" in suptitle(fig)[0]) == (not extra),
+              f"{what}: the title says whether it is the whole tube ({suptitle(fig)[0]!r})")
 
 
 def main() -> int:

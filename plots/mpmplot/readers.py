@@ -163,7 +163,8 @@ def _attr_value(value: Any) -> Any:
     return value
 
 
-def read_frame(h5path: str | os.PathLike, name_or_index: str | int = -1) -> dict[str, Any]:
+def read_frame(h5path: str | os.PathLike, name_or_index: str | int = -1,
+               mirrored: bool = False) -> dict[str, Any]:
     """One snapshot as a dict of numpy arrays.
 
     Keys: the datasets (``x`` (np,2), ``v`` (np,2), ``mass``, ``volume``, ``stress`` (np,4:
@@ -172,7 +173,10 @@ def read_frame(h5path: str | os.PathLike, name_or_index: str | int = -1) -> dict
     ``ncorner``, ...), ``name`` and ``units`` (dataset -> units string). ``name_or_index`` is a
     group name or a position in :func:`read_frames` (negative counts from the end).
     Raises ``KeyError`` naming what is missing when a required dataset is absent, and
-    ``ValueError`` when a shape is wrong.
+    ``ValueError`` when a shape is wrong. With ``mirrored``, the datasets and ``np``,
+    ``ncorner`` come from the snapshot's subgroup ``mirrored`` where there is one (a half or
+    quarter model: the whole tube, the computed sector first; docs/output.md), with ``image``
+    (the copy of each particle) and ``images``; ``mirrored`` in the result says which was read.
     """
     h5py = _h5py()
     path = Path(h5path)
@@ -192,13 +196,19 @@ def read_frame(h5path: str | os.PathLike, name_or_index: str | int = -1) -> dict
     out: dict[str, Any] = {"name": name, "units": {}}
     with _open_h5(path) as f:
         g = f[name]
+        for key, val in g.attrs.items():
+            out[key] = _attr_value(val)
+        out["mirrored"] = bool(mirrored and "mirrored" in g)
+        if out["mirrored"]:
+            g = g["mirrored"]
         missing = [d for d in REQUIRED_DATASETS if d not in g]
         if missing:
             raise KeyError(f"{path}:/{name}: required dataset(s) missing: {', '.join(missing)} "
                            f"(expected {', '.join(REQUIRED_DATASETS)}); the file is not a "
                            f"complete tubempm snapshot")
-        for key, val in g.attrs.items():
-            out[key] = _attr_value(val)
+        if out["mirrored"]:                  # np, ncorner, images, mirror_x/_y of the tube
+            for key, val in g.attrs.items():
+                out[key] = _attr_value(val)
         for key, item in g.items():
             if isinstance(item, h5py.Dataset):
                 out[key] = item[()]
