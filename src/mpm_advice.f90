@@ -34,7 +34,7 @@ module mpm_advice
   include 'mpm_bench_table.inc'
 
   real(wp), parameter :: flip_trusted = 0.999_wp   !! flip below this dissipates visibly [-]
-  real(wp), parameter :: delta_fold = 0.9_wp       !! delta/D from which CPDI domains fold [-]
+  real(wp), parameter :: delta_fold = 0.8_wp       !! delta/D from which CPDI domains fold [-]
   real(wp), parameter :: length_max = 1.0_wp        !! lengths above this are suspect [m]
   real(wp), parameter :: e_min = 1.0e6_wp, e_max = 1.0e13_wp  !! plausible E [Pa]
   real(wp), parameter :: rho_min = 10.0_wp, rho_max = 30000.0_wp  !! plausible rho [kg/m^3]
@@ -396,10 +396,9 @@ contains
         if (ratio > delta_fold) then
           write(line, '(a,i0,a,f5.2,a)') 'body ', ib, ': the platens approach to delta/D = ', &
             ratio, ': near full crush the inner walls meet and the side hinges close: '// &
-            'CPDI2 domains there fold (at delta/D = 0.94 with n_thick = 2 and 8; the run '// &
-            'stops with exit 4), CPDI1 domains open gaps of 0.15-0.4 h, and the grid contact '// &
-            'of the walls loses 15-30 % of the energy (docs/stability.md). Stop at '// &
-            'delta/D <= 0.9'
+            'CPDI2 domains there can fold (at delta/D = 0.85 with n_thick = 2 and h = t/2 at '// &
+            '50 m/s per platen; the run stops with exit 4) and CPDI1 domains open gaps of '// &
+            '0.06-0.33 h (docs/stability.md). Stop at delta/D <= 0.8'
           call append_msg(warnings, line)
         end if
       end associate

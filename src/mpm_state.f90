@@ -93,8 +93,8 @@ module mpm_state
     integer, allocatable :: tile(:)        !! grid tile of each particle's block (np)
     integer, allocatable :: perm(:)        !! particles sorted by tile (deterministic) (np)
     real(wp), allocatable :: chunk_sum(:,:) !! partial sums per chunk (2, nchunk)
-    real(wp), allocatable :: wall_work(:,:) !! per wall: velocity over the step, point, normal
-                                           !! (6, nwall) [m/s, m, -]
+    real(wp), allocatable :: wall_work(:,:) !! per wall: velocity over the step, point, normal,
+                                           !! velocity over the step before (8, nwall) [m/s, m, -]
     type(surface_work_t), allocatable :: surf(:)  !! per wall: surface points in contact
   end type work_t
 

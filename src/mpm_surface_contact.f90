@@ -7,11 +7,12 @@
 ! Each point carries a share m_c of the particle mass (a quarter of each particle it is a
 ! corner of). A CPDI2 corner moves with the bilinear interpolant of the node velocities,
 ! v_c = sum_i N_i(x_c) v_i, so its force goes to the nodes with the weights N_i(x_c). The
-! corners of the other bases move with their particle (the square of uGIMP and linear
-! translates with it), so the forces of a particle's corners are summed and go to the nodes
-! with the particle's own weights S_ip: either way the force does work on exactly the
-! velocity that changes the gap, and the contact energy is conserved to the order of the time
-! integration (a corner force spread bilinearly on a uGIMP particle was not: 5 % energy error).
+! corners of the other bases are those of the domain deformed with the particle, x -+ F r,
+! which move with the grid's velocity at them to first order; their forces go to the nodes
+! with the same bilinear weights N_i(x_c) (every point is a corner: owner 0). Corners of the
+! undeformed uGIMP square were not: they sink into the plane as the particle compresses, with
+! no force doing that work (5 % energy error on a plastic block). The particle-weight path of
+! surface_push (owner > 0, the particle's own weights S_ip) is not used by surface_points.
 !
 ! Normal contact (docs/theory.md, "Wall contact"): a point whose gap to the plane
 ! g_c = (x_c - x_w) . n is negative at the start of the step takes the force
@@ -49,8 +50,8 @@ module mpm_surface_contact
   real(wp), parameter :: sweep_tol = 1.0e-13_wp  !! relative change that ends the sweeps [-]
 
   !> Points in contact with one wall and the work arrays of their solve, grown as needed (no
-  !! allocation in a steady run). A point is a CPDI2 corner or, for the other bases, a
-  !! particle (its corners behind the plane together).
+  !! allocation in a steady run). A point is a corner behind the plane (CPDI2: a shared
+  !! domain corner; the other bases: a corner of the particle's deformed domain).
   type :: surface_work_t
     integer :: npt = 0                     !! points gathered
     real(wp) :: gmin = 0.0_wp              !! the deepest gap among them (<= 0) [m]

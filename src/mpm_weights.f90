@@ -61,8 +61,8 @@ contains
         errmsg = 'folded CPDI2 domain: the domain of particle '//itoa(bad)//' at ('// &
           rtoa(st%p%x(1, bad))//', '//rtoa(st%p%x(2, bad))//') m folded or inverted '// &
           '(corner Jacobian <= 0) at '//state_context(st, prm, g%h)//'. Remedy: near full '// &
-          'crush (the '// &
-          'inner walls meet from delta/D = 0.94) stop the crush at delta/D <= 0.9, or use '// &
+          'crush (the side hinges close; a fast crush with n_thick = 2 folds from delta/D = '// &
+          '0.85) stop the crush at delta/D <= 0.8, or use '// &
           'basis = ''cpdi1'' or ''ugimp'' (their domains cannot fold); otherwise a smaller cfl '// &
           'and more particles through the wall (docs/stability.md)'
         return

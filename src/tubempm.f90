@@ -9,13 +9,14 @@ program tubempm
                                            compiler_options
   !$ use omp_lib, only: omp_set_num_threads, omp_get_max_threads
   use mpm_kinds, only: wp, i8
-  use mpm_constants, only: version_string, EXIT_INPUT, EXIT_IO, path_len
+  use mpm_constants, only: version_string, EXIT_INPUT, EXIT_IO, path_len, BASIS_CPDI2
   use mpm_errors, only: fatal, warn
   use mpm_config, only: config_t, read_config, write_config, write_config_unit, default_config
   use mpm_setup, only: setup_sim, setup_report, sector_factor
   use mpm_advice, only: study_advice, advice_end_of_run, scene_of
   use mpm_solver, only: sim_t, solver_step
   use mpm_particles, only: particles_t, particles_copy
+  use mpm_basis, only: cpdi2_geometry
   use mpm_output, only: history_t, history_open, history_write, history_close, write_summary, &
                         summary_t
   use mpm_images, only: images_of_walls
@@ -326,10 +327,20 @@ contains
     if (st /= 0) call fatal('output', msg, EXIT_IO)
   end subroutine write_snapshot
 
-  !> Keep a copy of the particles as the last good state (for crash_<step>.h5).
+  !> Keep a copy of the particles as the last good state (for crash_<step>.h5). A CPDI2
+  !! domain folded by the step just taken is caught only by the next step's basis, so a state
+  !! with a folded domain is not kept (the copy before it stays the last good state).
   subroutine keep_good_state(s, r)
     type(sim_t), intent(in) :: s
     type(run_t), intent(inout) :: r
+    integer :: ip
+    real(wp) :: area, centroid(2), jmin
+    if (s%prm%basis == BASIS_CPDI2 .and. allocated(r%good%x)) then
+      do ip = 1, s%p%np
+        call cpdi2_geometry(s%p%xc(:, s%p%corner(:, ip)), area, centroid, jmin)
+        if (.not. jmin > 0.0_wp) return
+      end do
+    end if
     call particles_copy(r%good, s%p)
     r%t_good = s%t
     r%dt_good = s%dt
