@@ -14,7 +14,7 @@ module mpm_config_table
   use mpm_kinds, only: wp
   use mpm_constants, only: name_len, path_len, max_table, basis_names, scheme_names, &
                            plane_names, model_names, rate_law_names, shape_names, sector_names, &
-                           contact_names, flow_stress_names
+                           contact_names, flow_stress_names, volumetric_names
   use mpm_config_types, only: unset_real, iunset
   use mpm_config_text, only: enum_text, join_list
   implicit none
@@ -52,7 +52,7 @@ module mpm_config_table
     character(len=48) :: comment = ''       !! echo comment: meaning [unit]; % = the names
   end type var_spec_t
 
-  integer, parameter :: n_specs = 57
+  integer, parameter :: n_specs = 58
   character(len=*), parameter :: s0 = 'a real number >= 0 [s] (default 0)'
   character(len=*), parameter :: v0 = '2 finite real numbers [m/s] (default 0, 0)'
   character(len=*), parameter :: lu = '2 real numbers [m] each for lower and upper, lower '// &
@@ -97,6 +97,7 @@ module mpm_config_table
       allowed='a real number with 0 <= flip <= 1 (default 1.0)', &
       comment='FLIP fraction (1 FLIP, 0 PIC) [-]'), &
     var_spec_t('solver', 'plane', 'e', c0='strain', comment='% [-]'), &
+    var_spec_t('solver', 'volumetric', 'e', c0='standard', comment='% (fbar: anti-locking) [-]'), &
     var_spec_t('solver', 'mass_scale', r0=1.0_wp, lo=1.0_wp, &
       allowed='a real number >= 1 (default 1.0)', comment='density multiplier [-]'), &
     var_spec_t('solver', 'damping', lo=0.0_wp, allowed='a real number >= 0 [1/s] (default 0)', &
@@ -276,6 +277,7 @@ contains
       names = scheme_names
     case ('plane')
       names = plane_names
+    case ('volumetric'); names = volumetric_names
     case ('model')
       names = model_names
     case ('rate_law')
