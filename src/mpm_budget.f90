@@ -9,12 +9,13 @@
 ! particle) and its work arrays (8); grid_memory_bytes (72 per node);
 ! buffers_memory_bytes (40 per node and thread beyond the first); tiles_memory_bytes (44 bytes
 ! and the span sums per tile of 16 nodes); the snapshot writer's temporaries (corners, quads, F,
-! columns: 128 per particle), and a fixed 32 MiB for the program and its libraries. Counts are
+! columns: 128 per particle), with volumetric = 'fbar' mpm_fbar's work arrays (48 bytes per
+! particle, 16 per node), and a fixed 32 MiB for the program and its libraries. Counts are
 ! reals, so that a length typed in the wrong unit cannot overflow an integer.
 module mpm_budget
   use mpm_kinds, only: wp
   use mpm_constants, only: pi, EXIT_INPUT, SHAPE_RING, SECTOR_FULL, SECTOR_HALF, &
-                           SECTOR_QUARTER, BASIS_LINEAR
+                           SECTOR_QUARTER, BASIS_LINEAR, VOLUMETRIC_FBAR
   use mpm_config, only: config_t, body_cfg_t
   use mpm_config_check, only: body_box
   use mpm_advice, only: advice_units
@@ -97,6 +98,10 @@ contains
     b%grid_bytes = b%nodes*(72.0_wp &
                             + 40.0_wp*real(b%threads - 1, wp) &
                             + (44.0_wp + 8.0_wp*real(1 + 2*b%nwall, wp))/16.0_wp)
+    if (cfg%solver%volumetric_id == VOLUMETRIC_FBAR) then   ! mpm_fbar's work arrays
+      b%particle_bytes = b%particle_bytes + b%particles*48.0_wp
+      b%grid_bytes = b%grid_bytes + b%nodes*16.0_wp
+    end if
     b%total = b%particle_bytes + b%grid_bytes + base_bytes
   end function budget_estimate
 

@@ -280,6 +280,7 @@ contains
     call take_e(rd, io, v, 'basis', s%basis, s%basis_id)
     call take_e(rd, io, v, 'scheme', s%scheme, s%scheme_id)
     call take_e(rd, io, v, 'plane', s%plane, s%plane_id)
+    call take_e(rd, io, v, 'volumetric', s%volumetric, s%volumetric_id)
     if (chk_r(rd, io, v, 'flip')) s%flip = vreal(v, 'flip')
     if (chk_r(rd, io, v, 'mass_scale')) s%mass_scale = vreal(v, 'mass_scale')
     if (chk_r(rd, io, v, 'damping')) s%damping = vreal(v, 'damping')

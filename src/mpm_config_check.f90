@@ -4,7 +4,8 @@
 module mpm_config_check
   use mpm_kinds, only: wp
   use mpm_constants, only: BASIS_CPDI2, SCHEME_MUSL, PLANE_STRAIN, SHAPE_RING, SHAPE_RECT, &
-                           SECTOR_HALF, SECTOR_QUARTER
+                           SECTOR_HALF, SECTOR_QUARTER, VOLUMETRIC_FBAR, PLANE_STRESS, &
+                           MODEL_NEOHOOKEAN
   use mpm_config_types, only: config_t, material_cfg_t, body_cfg_t
   use mpm_config_text, only: lower, itoa, quote, file_stem, fmt_short, fmt_vec, fmt_real
   use mpm_config_table, only: n_groups
@@ -59,6 +60,12 @@ contains
       end do
     end do
 
+    ! volumetric = 'fbar' (mpm_fbar) acts on the rate models elastic and j2, in plane strain
+    if (io_solver > 0 .and. cfg%solver%volumetric_id == VOLUMETRIC_FBAR .and. (cfg%solver%plane_id &
+        == PLANE_STRESS .or. any(cfg%materials%model_id == MODEL_NEOHOOKEAN))) call err_var(rd, &
+      io_solver, 'volumetric', '''fbar''', 'needs plane = ''strain'' and no &material of '// &
+      'model = ''neohookean''', '''standard'', or ''fbar'' with plane = ''strain'' and the '// &
+      'models ''elastic'' and ''j2''')
     ! body -> material
     do k = 1, size(cfg%bodies)
       if (.not. rd%occ(occ_body(k))%read_ok .or. size(cfg%materials) == 0) cycle

@@ -11,7 +11,8 @@ module mpm_config_echo
   use mpm_kinds, only: wp
   use mpm_constants, only: EXIT_IO, max_table, SHAPE_RECT, basis_names, scheme_names, &
                            plane_names, model_names, rate_law_names, shape_names, sector_names, &
-                           contact_names, flow_stress_names, FLOW_JOHNSON_COOK
+                           contact_names, flow_stress_names, FLOW_JOHNSON_COOK, &
+                           volumetric_names, VOLUMETRIC_FBAR
   use mpm_config_types, only: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, &
                               body_cfg_t, wall_cfg_t, probe_cfg_t, unset_real
   use mpm_config_text, only: itoa, quote, fmt_real, fill, fmt_vec, fmt_logical, finite
@@ -247,9 +248,11 @@ contains
     call put_c(e, 'scheme', enum_name(s%scheme_id, scheme_names, s%scheme))
     call put_r(e, 'flip', [s%flip])
     call put_c(e, 'plane', enum_name(s%plane_id, plane_names, s%plane))
+    call put_c(e, 'volumetric', enum_name(s%volumetric_id, volumetric_names, s%volumetric))
     call put_r(e, 'mass_scale', [s%mass_scale])
     call put_r(e, 'damping', [s%damping])
     e%v%l(col(e, 'deterministic')) = s%deterministic
+    if (s%volumetric_id /= VOLUMETRIC_FBAR) call hide(e, ['volumetric'], '')  ! not written
   end subroutine pack_solver
 
   subroutine pack_grid(g, e)

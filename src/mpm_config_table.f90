@@ -14,7 +14,7 @@ module mpm_config_table
   use mpm_kinds, only: wp
   use mpm_constants, only: name_len, path_len, max_table, basis_names, scheme_names, &
                            plane_names, model_names, rate_law_names, shape_names, sector_names, &
-                           contact_names, flow_stress_names
+                           contact_names, flow_stress_names, volumetric_names
   use mpm_config_types, only: unset_real, iunset
   use mpm_config_text, only: enum_text, join_list
   implicit none
@@ -100,6 +100,7 @@ module mpm_config_table
       allowed='a real number with 0 <= flip <= 1 (default 1.0)', &
       comment='FLIP fraction (1 FLIP, 0 PIC) [-]'), &
     var_spec_t('solver', 'plane', 'e', c0='strain', comment='% [-]'), &
+    var_spec_t('solver', 'volumetric', 'e', c0='standard', comment='% (fbar: anti-locking) [-]'), &
     var_spec_t('solver', 'mass_scale', r0=1.0_wp, lo=1.0_wp, &
       allowed='a real number >= 1 (default 1.0)', comment='density multiplier [-]'), &
     var_spec_t('solver', 'damping', lo=0.0_wp, allowed='a real number >= 0 [1/s] (default 0)', &
@@ -279,6 +280,7 @@ contains
       names = scheme_names
     case ('plane')
       names = plane_names
+    case ('volumetric'); names = volumetric_names
     case ('model')
       names = model_names
     case ('rate_law')

@@ -32,7 +32,8 @@ module mpm_config_types
     character(len=name_len) :: basis = 'cpdi2'     !! linear | ugimp | cpdi1 | cpdi2
     character(len=name_len) :: scheme = 'musl'     !! usl | usf | musl
     character(len=name_len) :: plane = 'strain'    !! strain | stress
-    integer :: basis_id = 0, scheme_id = 0, plane_id = 0  !! codes of mpm_constants
+    character(len=name_len) :: volumetric = 'standard'  !! standard | fbar
+    integer :: basis_id = 0, scheme_id = 0, plane_id = 0, volumetric_id = 0  !! mpm_constants codes
     real(wp) :: flip = 1.0_wp                      !! FLIP fraction [-]
     real(wp) :: mass_scale = 1.0_wp                !! density multiplier [-]
     real(wp) :: damping = 0.0_wp                   !! mass-proportional damping [1/s]

@@ -2,14 +2,18 @@
 !! and stress of every particle (the material model is mpm_material), and the CPDI2 domains:
 !! corners moved with the grid velocity, particles at their domains' centroids.
 ! SPDX-License-Identifier: MIT
+!
+! volumetric = 'fbar' (mpm_fbar): the stress update sees the F-bar rate, whose volume change is
+! the average over the particle's neighbourhood; F and the particle's area keep its own.
 module mpm_deformation
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use mpm_kinds, only: wp
-  use mpm_constants, only: EXIT_NUMERIC, BASIS_CPDI2
+  use mpm_constants, only: EXIT_NUMERIC, BASIS_CPDI2, VOLUMETRIC_FBAR
   use mpm_particles, only: particles_t, quad_area_centroid
   use mpm_grid, only: grid_t
   use mpm_material, only: material_t, material_stress_update
   use mpm_basis, only: bilinear_at
+  use mpm_fbar, only: fbar_volume_change, fbar_rate, fbar_velocity_gradient
   use mpm_state, only: params_t, state_t, work_t, diag_t, chunk, state_context
   use mpm_strings, only: itoa, rtoa
   implicit none
@@ -30,16 +34,23 @@ contains
     integer, intent(out) :: stat           !! 0 or EXIT_NUMERIC
     character(len=:), allocatable, intent(inout) :: errmsg  !! what failed (set on failure)
     integer :: ic, bad(3), nchunk
+    logical :: fbar
     bad = 0
     stat = 0
     nchunk = (st%p%np + chunk - 1)/chunk
-    !$omp parallel do default(none) schedule(static) shared(prm, st, g, wk, dt, nchunk) &
+    fbar = prm%volumetric == VOLUMETRIC_FBAR
+    if (fbar) then
+      call fbar_volume_change(st%p, g, wk, dt)
+    else if (.not. allocated(wk%dj)) then
+      allocate(wk%dj(0), wk%djbar(0), wk%sforce(4, 0))   ! not used
+    end if
+    !$omp parallel do default(none) schedule(static) shared(prm, st, g, wk, dt, nchunk, fbar) &
     !$omp   private(ic) reduction(max: bad) if(wk%par)
     do ic = 1, nchunk
       call deformation_kernel(1 + (ic - 1)*chunk, min(ic*chunk, st%p%np), st%p%np, g%nn, &
              wk%nb, g%nx, wk%blk, wk%gw, g%vel, dt, prm%mats, prm%plane, st%p%mat, st%p%vol0, &
-             st%p%v, st%p%F, st%p%vol, st%p%stress, st%p%eqps, st%p%wplastic, &
-             wk%chunk_sum(:, ic), bad)
+             fbar, size(wk%dj), wk%dj, wk%djbar, st%p%v, st%p%F, st%p%vol, st%p%stress, &
+             st%p%eqps, st%p%wplastic, wk%chunk_sum(:, ic), bad)
     end do
     !$omp end parallel do
     st%e_plastic = st%e_plastic + sum(wk%chunk_sum(1, 1:nchunk))
@@ -69,7 +80,8 @@ contains
   !! and stored elastic energy go to csum; bad(1:3) = largest particle with det F <= 0, a
   !! failed stress update, a non-finite result.
   subroutine deformation_kernel(ip0, ip1, np, nn, nb, nx, blk, gw, vel, dt, mats, plane, mat, &
-                                vol0, v, F, vol, stress, eqps, wplastic, csum, bad)
+                                vol0, fbar, ndj, dj, djbar, v, F, vol, stress, eqps, wplastic, &
+                                csum, bad)
     integer, intent(in) :: ip0, ip1        !! particles
     integer, intent(in) :: np, nn, nb, nx  !! particles, nodes, block width, nodes along x
     integer, intent(in) :: blk(2, np)      !! block origins
@@ -80,6 +92,10 @@ contains
     integer, intent(in) :: plane           !! PLANE_* code
     integer, intent(in) :: mat(np)         !! material of each particle
     real(wp), intent(in) :: vol0(np)       !! initial area [m^2]
+    logical, intent(in) :: fbar            !! the stress update sees the F-bar rate
+    integer, intent(in) :: ndj             !! np with fbar, else 0
+    real(wp), intent(in) :: dj(ndj)        !! volume change over the step det(I + dt L) - 1 [-]
+    real(wp), intent(in) :: djbar(ndj)     !! its average over the neighbourhood [-]
     real(wp), intent(in) :: v(2, np)       !! velocity [m/s]
     real(wp), intent(inout) :: F(2, 2, np) !! deformation gradient [-]
     real(wp), intent(inout) :: vol(np)     !! area [m^2]
@@ -88,22 +104,11 @@ contains
     real(wp), intent(inout) :: wplastic(np)  !! plastic work [J/m]
     real(wp), intent(out) :: csum(2)       !! plastic dissipation, elastic energy [J/m]
     integer, intent(inout) :: bad(3)       !! failing particles (see above)
-    integer :: ip, a, b, k, n, mstat
-    real(wp) :: L(2, 2), Fn(2, 2), J, dwp, vn(2), wel
+    integer :: ip, mstat
+    real(wp) :: L(2, 2), Fn(2, 2), J, dwp, wel
     csum = 0.0_wp
     do ip = ip0, ip1
-      L = 0.0_wp
-      do b = 0, nb - 1
-        n = 1 + blk(1, ip) + nx*(blk(2, ip) + b)
-        do a = 0, nb - 1
-          k = 1 + a + nb*b
-          vn = vel(:, n + a)
-          L(1, 1) = L(1, 1) + vn(1)*gw(1, k, ip)
-          L(1, 2) = L(1, 2) + vn(1)*gw(2, k, ip)
-          L(2, 1) = L(2, 1) + vn(2)*gw(1, k, ip)
-          L(2, 2) = L(2, 2) + vn(2)*gw(2, k, ip)
-        end do
-      end do
+      call fbar_velocity_gradient(nb, nx, blk(:, ip), gw(:, :, ip), nn, vel, L)
       Fn(1, 1) = F(1, 1, ip) + dt*(L(1, 1)*F(1, 1, ip) + L(1, 2)*F(2, 1, ip))
       Fn(1, 2) = F(1, 2, ip) + dt*(L(1, 1)*F(1, 2, ip) + L(1, 2)*F(2, 2, ip))
       Fn(2, 1) = F(2, 1, ip) + dt*(L(2, 1)*F(1, 1, ip) + L(2, 2)*F(2, 1, ip))
@@ -115,6 +120,7 @@ contains
       end if
       F(:, :, ip) = Fn
       vol(ip) = J*vol0(ip)
+      if (fbar) L = fbar_rate(L, dt, dj(ip), djbar(ip))   ! F and vol keep the particle's own
       call material_stress_update(mats(mat(ip)), plane, L, dt, Fn, stress(:, ip), eqps(ip), &
                                   dwp, mstat, wel)
       if (mstat /= 0) then

@@ -5,7 +5,8 @@ module mpm_setup
   use mpm_kinds, only: wp, i8
   use mpm_constants, only: pi, EXIT_INPUT, SHAPE_RING, SHAPE_RECT, SECTOR_FULL, SECTOR_HALF, &
                            SECTOR_QUARTER, CONTACT_SLIP, BASIS_LINEAR, basis_names, &
-                           scheme_names, plane_names, sector_names
+                           scheme_names, plane_names, sector_names, volumetric_names, &
+                           VOLUMETRIC_STANDARD
   use mpm_config, only: config_t
   use mpm_particles, only: particles_allocate, ring_counts, ring_fill, rect_counts, rect_fill
   use mpm_grid, only: grid_init
@@ -125,6 +126,7 @@ contains
     s%prm%basis = cfg%solver%basis_id
     s%prm%scheme = cfg%solver%scheme_id
     s%prm%plane = cfg%solver%plane_id
+    s%prm%volumetric = max(cfg%solver%volumetric_id, VOLUMETRIC_STANDARD)
     s%prm%flip = cfg%solver%flip
     s%prm%damping = cfg%solver%damping
     s%prm%deterministic = cfg%solver%deterministic
@@ -265,9 +267,10 @@ contains
     report = ''
     write(line, '(a)') 'case '''//trim(cfg%run%title)//''' from '//trim(cfg%file)
     call append_msg(report, line)
-    write(line, '(a,a,a,a,a,a,a,l1)') 'solver: basis ', trim(basis_names(s%prm%basis)), &
+    write(line, '(a,a,a,a,a,a,a,a,a,l1)') 'solver: basis ', trim(basis_names(s%prm%basis)), &
       ', scheme ', trim(scheme_names(s%prm%scheme)), ', plane ', trim(plane_names(s%prm%plane)), &
-      ', deterministic ', cfg%solver%deterministic
+      ', volumetric ', trim(volumetric_names(s%prm%volumetric)), ', deterministic ', &
+      cfg%solver%deterministic
     call append_msg(report, line)
     do ib = 1, size(cfg%bodies)
       associate (b => cfg%bodies(ib))

@@ -101,6 +101,9 @@ contains
                                + 4_i8*size(wk%blk, kind=i8)
       if (allocated(wk%tile)) b = b + 4_i8*(size(wk%tile, kind=i8) + size(wk%perm, kind=i8)) &
                                   + 8_i8*size(wk%chunk_sum, kind=i8)
+      if (allocated(wk%dj)) b = b + 8_i8*(size(wk%dj, kind=i8) + size(wk%djbar, kind=i8))
+      if (allocated(wk%sforce)) b = b + 8_i8*size(wk%sforce, kind=i8)
+      if (allocated(wk%node_sum)) b = b + 8_i8*size(wk%node_sum, kind=i8)
     end associate
     if (allocated(s%prm%bacc)) b = b + 8_i8*size(s%prm%bacc, kind=i8)
   end function solver_memory_bytes

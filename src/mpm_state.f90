@@ -14,7 +14,7 @@
 ! mpm_contact, mpm_deformation), never the whole sim_t.
 module mpm_state
   use mpm_kinds, only: wp, i8
-  use mpm_constants, only: BASIS_CPDI2, SCHEME_MUSL
+  use mpm_constants, only: BASIS_CPDI2, SCHEME_MUSL, VOLUMETRIC_STANDARD
   use mpm_particles, only: particles_t, particles_write, particles_read
   use mpm_grid, only: grid_t, buffers_t
   use mpm_tiles, only: tiles_t
@@ -36,6 +36,8 @@ module mpm_state
     integer :: basis = BASIS_CPDI2         !! BASIS_* code
     integer :: scheme = SCHEME_MUSL        !! SCHEME_* code
     integer :: plane = 1                   !! PLANE_* code
+    integer :: volumetric = VOLUMETRIC_STANDARD  !! VOLUMETRIC_* code: 'fbar' averages the
+                                           !! volume change over each node's particles
     real(wp) :: flip = 1.0_wp              !! FLIP fraction [-]
     real(wp) :: damping = 0.0_wp           !! mass-proportional damping [1/s]
     real(wp) :: cfl = 0.2_wp               !! Courant number [-]
@@ -93,6 +95,11 @@ module mpm_state
     integer, allocatable :: tile(:)        !! grid tile of each particle's block (np)
     integer, allocatable :: perm(:)        !! particles sorted by tile (deterministic) (np)
     real(wp), allocatable :: chunk_sum(:,:) !! partial sums per chunk (2, nchunk)
+    ! volumetric = 'fbar' only (mpm_fbar; allocated by the first step)
+    real(wp), allocatable :: dj(:)         !! volume change over the step det(I + dt L) - 1 (np)
+    real(wp), allocatable :: djbar(:)      !! its average over the neighbourhood (np) [-]
+    real(wp), allocatable :: sforce(:,:)   !! stress of the internal forces (4, np) [Pa]
+    real(wp), allocatable :: node_sum(:,:) !! node sums of phi V q and phi V (2, nn)
     real(wp), allocatable :: wall_work(:,:) !! per wall: velocity over the step, point, normal,
                                            !! velocity over the step before (8, nwall) [m/s, m, -]
     type(surface_work_t), allocatable :: surf(:)  !! per wall: surface points in contact

@@ -16,6 +16,8 @@ module mpm_transfer
   use mpm_grid, only: grid_t, buffers_t, grid_thread_buffers
   use mpm_tiles, only: tiles_t, tiles_span
   use mpm_state, only: params_t, state_t, work_t, chunk
+  use mpm_constants, only: VOLUMETRIC_FBAR
+  use mpm_fbar, only: fbar_force_stress
   implicit none
   private
   public :: transfer_p2g, transfer_g2p, transfer_g2p_coloured
@@ -29,13 +31,21 @@ contains
     type(grid_t), intent(inout) :: g       !! grid: mass, momentum, force
     type(tiles_t), intent(in) :: tl        !! live spans, colour groups
     type(buffers_t), intent(inout) :: bf   !! per-thread scatter buffers
-    type(work_t), intent(in) :: wk         !! basis cache
+    type(work_t), intent(inout) :: wk      !! basis cache (fbar: the forces' stress)
     logical, intent(in) :: mass_momentum   !! map mass and momentum
     logical, intent(in) :: force           !! map internal and body forces
-    if (prm%deterministic) then
-      call p2g_coloured(prm, p, g, tl, wk, mass_momentum, force)
+    if (force .and. prm%volumetric == VOLUMETRIC_FBAR) then
+      ! the forces see the averaged in-plane mean stress (mpm_fbar)
+      call fbar_force_stress(p, g, wk)
+      if (prm%deterministic) then
+        call p2g_coloured(prm, p, g, tl, wk, wk%sforce, mass_momentum, force)
+      else
+        call p2g_threads(prm, p, g, tl, bf, wk, wk%sforce, mass_momentum, force)
+      end if
+    else if (prm%deterministic) then
+      call p2g_coloured(prm, p, g, tl, wk, p%stress, mass_momentum, force)
     else
-      call p2g_threads(prm, p, g, tl, bf, wk, mass_momentum, force)
+      call p2g_threads(prm, p, g, tl, bf, wk, p%stress, mass_momentum, force)
     end if
     if (mass_momentum) call set_mass_cut(g, tl, wk%par)
   end subroutine transfer_p2g
@@ -43,13 +53,14 @@ contains
   !> P2G by per-thread accumulation: each thread maps a contiguous range of particles, thread 0
   !! into the grid and the others into their buffers, which are then added on the live tiles
   !! (and zeroed again).
-  subroutine p2g_threads(prm, p, g, tl, bf, wk, do_mass, do_force)
+  subroutine p2g_threads(prm, p, g, tl, bf, wk, stress, do_mass, do_force)
     type(params_t), intent(in) :: prm      !! parameters
     type(particles_t), intent(in) :: p     !! particles
     type(grid_t), intent(inout) :: g       !! grid
     type(tiles_t), intent(in) :: tl        !! live spans
     type(buffers_t), intent(inout) :: bf   !! per-thread scatter buffers
     type(work_t), intent(in) :: wk         !! basis cache
+    real(wp), intent(in) :: stress(4, p%np)  !! the stress of the internal forces [Pa]
     logical, intent(in) :: do_mass, do_force  !! map mass and momentum, forces
     integer :: it, nt, ip0, ip1, np, k
     logical :: has_bacc
@@ -58,7 +69,8 @@ contains
     nt = 1
     !$ if (wk%par) nt = omp_get_max_threads()
     call grid_thread_buffers(bf, g%nn, nt)
-    !$omp parallel default(none) shared(prm, p, g, tl, bf, wk, np, has_bacc, do_mass, do_force) &
+    !$omp parallel default(none) &
+    !$omp   shared(prm, p, g, tl, bf, wk, stress, np, has_bacc, do_mass, do_force) &
     !$omp   private(it, nt, ip0, ip1, k) if(wk%par)
     it = 0
     nt = 1
@@ -68,11 +80,11 @@ contains
     ip1 = int(int(np, i8)*int(it + 1, i8)/int(nt, i8))
     if (it == 0) then
       call p2g_kernel(ip0, ip1, .false., wk%perm, np, g%nn, wk%nb, g%nx, wk%blk, wk%w, wk%gw, &
-                      p%mass, p%v, p%vol, p%stress, prm%gravity, has_bacc, prm%bacc, &
+                      p%mass, p%v, p%vol, stress, prm%gravity, has_bacc, prm%bacc, &
                       do_mass, do_force, g%mass, g%mom, g%force)
     else
       call p2g_kernel(ip0, ip1, .false., wk%perm, np, g%nn, wk%nb, g%nx, wk%blk, wk%w, wk%gw, &
-                      p%mass, p%v, p%vol, p%stress, prm%gravity, has_bacc, prm%bacc, &
+                      p%mass, p%v, p%vol, stress, prm%gravity, has_bacc, prm%bacc, &
                       do_mass, do_force, bf%buf_mass(:, it), bf%buf_mom(:, :, it), &
                       bf%buf_force(:, :, it))
     end if
@@ -91,18 +103,20 @@ contains
   !! in two tiles), so each group (band, colour) is a parallel loop over its tiles straight into
   !! the grid; every node sums its particles in (group, tile, index) order whatever the thread
   !! count.
-  subroutine p2g_coloured(prm, p, g, tl, wk, do_mass, do_force)
+  subroutine p2g_coloured(prm, p, g, tl, wk, stress, do_mass, do_force)
     type(params_t), intent(in) :: prm      !! parameters
     type(particles_t), intent(in) :: p     !! particles
     type(grid_t), intent(inout) :: g       !! grid
     type(tiles_t), intent(in) :: tl        !! colour groups
     type(work_t), intent(in) :: wk         !! basis cache
+    real(wp), intent(in) :: stress(4, p%np)  !! the stress of the internal forces [Pa]
     logical, intent(in) :: do_mass, do_force  !! map mass and momentum, forces
     integer :: i, k, t, np
     logical :: has_bacc
     np = p%np
     has_bacc = allocated(prm%bacc)
-    !$omp parallel default(none) shared(prm, p, g, tl, wk, np, has_bacc, do_mass, do_force) &
+    !$omp parallel default(none) &
+    !$omp   shared(prm, p, g, tl, wk, stress, np, has_bacc, do_mass, do_force) &
     !$omp   private(i, k, t) if(wk%par)
     do i = 1, tl%ngroup
       !$omp do schedule(dynamic, 2)
@@ -110,7 +124,7 @@ contains
         t = tl%colour_tiles(k)
         call p2g_kernel(tl%tile_start(t), tl%tile_start(t + 1) - 1, .true., wk%perm, np, &
                         g%nn, wk%nb, g%nx, wk%blk, wk%w, wk%gw, p%mass, p%v, p%vol, &
-                        p%stress, prm%gravity, has_bacc, prm%bacc, do_mass, do_force, &
+                        stress, prm%gravity, has_bacc, prm%bacc, do_mass, do_force, &
                         g%mass, g%mom, g%force)
       end do
       !$omp end do

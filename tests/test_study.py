@@ -230,9 +230,39 @@ def test_check_advice() -> None:
                   f"advice line for {target} names the run's settings: {line!r}")
 
 
+def test_volumetric_factor() -> None:
+    """The anti-locking factor: 'fbar' runs carry the override and a name of their own, the
+    standard runs keep their names and inputs (the committed runs stay valid), and every fbar run
+    of a level has its standard twin."""
+    import batch
+    import study
+    from mpmplot import namelist
+    p_std = study.Point("crush", h_over_t=0.25, n_t=4)
+    p_fb = study.Point("crush", h_over_t=0.25, n_t=4, volumetric="fbar")
+    check(p_std.name == "crush_cpdi2_musl_h1_4_nt4_a1_cfl0.2", "volumetric: standard name kept")
+    check(p_fb.name == p_std.name + "_fbar", "volumetric: fbar name")
+    check("solver.volumetric" not in p_std.case().overrides,
+          "volumetric: no override for standard (input hashes of earlier runs unchanged)")
+    text = batch.render(p_fb.case().base.read_text(), p_fb.case().overrides)
+    nml = namelist.parse_namelist(text, "fbar")
+    check(nml["solver"][0].get("volumetric") == "fbar", "volumetric: fbar in the namelist")
+    check(p_fb.labels()["volumetric"] == "fbar" and "volumetric" in study.COLUMNS,
+          "volumetric: label and table column")
+    for level in ("quick", "full"):
+        pts = study.design(level)
+        for scene, runs in pts.items():
+            names = {p.name for p in runs}
+            fb = [p for p in runs if p.volumetric == "fbar"]
+            check(len(fb) >= 2, f"volumetric: {level} {scene} has fbar runs")
+            twins = all(p.name[:-len("_fbar")] in names for p in fb)
+            check(twins, f"volumetric: {level} {scene}: every fbar run has its standard twin")
+            ppc = sorted({p.n_t * p.h_over_t for p in fb})
+            check(ppc == [1.0, 2.0], f"volumetric: {level} {scene}: 1 and 2 particles per cell")
+
+
 def main() -> int:
     for t in (test_render, test_richardson, test_pareto_advice, test_batch_runs,
-              test_crush_metrics, test_check_advice):
+              test_crush_metrics, test_check_advice, test_volumetric_factor):
         try:
             t()
         except Exception:                      # a crash is a failure, with its traceback

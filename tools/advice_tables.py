@@ -71,6 +71,8 @@ def study_include(rows: list[dict[str, Any]], adv: list[dict[str, Any]], source:
     lines.append(arr("study_n_t", "integer", [str(int(r["n_t"])) for r in runs]))
     lines.append(arr("study_aspect", "real(wp)", [real(r["aspect"]) for r in runs]))
     lines.append(arr("study_cfl", "real(wp)", [real(r["cfl"]) for r in runs]))
+    lines.append(arr("study_volumetric", "character(len=8)",
+                     [f"'{(r.get('volumetric') or 'standard'):8s}'" for r in runs]))
     lines.append(arr("study_error", "real(wp)", [real(r["error"]) for r in runs]))
     lines.append(arr("study_cpu_s", "real(wp)", [real(r["cpu_s"]) for r in runs]))
     lines.append(arr("study_particles", "integer", [str(int(r["particles"])) for r in runs]))

@@ -7,8 +7,9 @@ scenes of Sinaie et al. (2018).
 
 Each scene is swept one factor at a time around a centre point (CPDI2, MUSL, cfl 0.2, square
 particles): the grid spacing h/t, the particles through the wall n_t, the particle aspect ratio
-(length around / length through the wall, which sets n_c), the basis, the cfl number, and for
-the impact the impact speed. Runs go to out/study/<case>/ through tools/batch.py (several at
+(length around / length through the wall, which sets n_c), the basis, the cfl number, for
+the impact the impact speed, and the volumetric treatment (``&solver volumetric = 'fbar'``, the
+anti-locking F-bar, against 'standard' at one and two particles per cell through the wall). Runs go to out/study/<case>/ through tools/batch.py (several at
 once, one thread each, finished runs skipped, interrupted runs re-run), or with
 ``--backend slurm`` as one Slurm job array (docs/batch.md).
 
@@ -90,6 +91,7 @@ class Point:
     aspect: float = 1.0
     cfl: float = 0.2
     speed: float = 30.0          # impact only [m/s]
+    volumetric: str = "standard"  # &solver volumetric: 'standard' or 'fbar' (anti-locking)
 
     @property
     def name(self) -> str:
@@ -99,6 +101,8 @@ class Point:
              f"_a{frac(self.aspect)}_cfl{self.cfl:g}")
         if self.scene == "impact" and self.speed != 30.0:
             n += f"_v{self.speed:g}"
+        if self.volumetric != "standard":
+            n += f"_{self.volumetric}"
         return n
 
     def n_circ(self) -> int:
@@ -137,13 +141,16 @@ class Point:
                   "body.n_circ": self.n_circ(), "run.threads": 1})
         if self.scene == "impact":
             o["body.velocity"] = (0.0, -float(self.speed))
+        if self.volumetric != "standard":       # (standard runs keep their inputs and names)
+            o["solver.volumetric"] = self.volumetric
         return batch.Case(self.name, sc["base"], o, labels=self.labels())
 
     def labels(self) -> dict[str, Any]:
         return {"scene": self.scene, "basis": self.basis, "scheme": self.scheme,
                 "h_over_t": self.h_over_t, "n_t": self.n_t, "n_c": self.n_circ(),
                 "aspect": self.aspect, "cfl": self.cfl,
-                "speed": self.speed if self.scene == "impact" else ""}
+                "speed": self.speed if self.scene == "impact" else "",
+                "volumetric": self.volumetric}
 
 
 _RINGS: dict[str, dict[str, Any]] = {}
@@ -165,6 +172,9 @@ def ring_of(name: str) -> dict[str, Any]:
 # ----------------------------------------------------------------------------------------------
 
 BASES = ("linear", "ugimp", "cpdi1", "cpdi2")
+#: n_t of the F-bar runs at h = t/2 (one and two particles per cell through the wall; at
+#: h = t/4 twice as many)
+FBAR_NT = (2, 4)
 
 
 def design(level: str) -> dict[str, list[Point]]:
@@ -178,6 +188,7 @@ def design(level: str) -> dict[str, list[Point]]:
             pts += [Point(scene, h_over_t=0.5, n_t=n) for n in (2, 4)]
             pts += [Point(scene, h_over_t=0.5, n_t=4, aspect=a) for a in (4.0, 2.0, 0.5)]
             pts += [Point(scene, basis=b, h_over_t=0.5, n_t=4) for b in BASES[:3]]
+            pts += [Point(scene, h_over_t=0.5, n_t=n, volumetric="fbar") for n in FBAR_NT]
             if scene == "impact":
                 pts += [Point(scene, h_over_t=0.5, n_t=4, speed=v) for v in (5.0, 16.5, 60.0,
                                                                                 125.0)]
@@ -198,6 +209,12 @@ def design(level: str) -> dict[str, list[Point]]:
             pts += [Point(scene, basis=b, h_over_t=0.25, n_t=8) for b in BASES[:3]]
         pts += [Point(scene, basis=b, h_over_t=0.5, n_t=8) for b in BASES]
         pts += [Point(scene, h_over_t=0.25, n_t=8, cfl=c) for c in (0.4, 0.8)]
+        # anti-locking: F-bar at one and two particles per cell through the wall, at h = t/4
+        # and t/2 (docs/theory.md, Volumetric locking)
+        for h in (0.25, 0.5):
+            for n in FBAR_NT:
+                pts += [Point(scene, h_over_t=h, n_t=round(n * 0.5 / h), volumetric=v)
+                        for v in ("standard", "fbar")]
         if scene == "impact":
             pts += [Point(scene, h_over_t=0.25, n_t=8, speed=v)
                     for v in (1.0, 2.0, 5.0, 16.5, 30.0, 60.0, 125.0)]
@@ -355,7 +372,7 @@ def richardson(f1: float, f2: float, f3: float, ratio: float = 2.0) -> dict[str,
 # ----------------------------------------------------------------------------------------------
 
 COLUMNS = ["scene", "name", "reference", "basis", "scheme", "h_over_t", "n_t", "n_c", "aspect",
-           "cfl", "speed", "particles", "steps", "status", "exit_code", "wall_s", "cpu_s",
+           "cfl", "speed", "volumetric", "particles", "steps", "status", "exit_code", "wall_s", "cpu_s",
            "runtime_ratio", "mps", "energy_error", "error",
            "err_F_L2", "err_F_smooth", "noise", "err_energy_50", "force_mean", "force_over_dh",
            "energy_50",

@@ -1,0 +1,229 @@
+!> volumetric = 'fbar' (issue 17): the patch test (a homogeneous deformation is reproduced
+!! exactly: the averaged volume change equals the particle's, F is unchanged and the stresses
+!! equal the standard treatment's to round-off), and a nearly incompressible closed form that
+!! the standard treatment locks on: a thick elastic cylinder under a radial body force.
+!!   usage: test_fbar [SCRATCH] [--nu=NU] [--h=H] [--nt=N] [--damping=C] [--t=T] [--basis=B]
+!!          (experiments: one cylinder run of each treatment with these settings)
+! SPDX-License-Identifier: MIT
+!
+! Cylinder (plane strain, r_inner a, r_outer b, free surfaces, body force rho g e_r, quarter
+! model): with k = rho g / (lambda + 2 mu) the radial displacement is
+!   u(r) = A r + B / r - k r^2 / 3,
+! and sigma_rr(a) = sigma_rr(b) = 0 give, with c = k (3 lambda + 4 mu) / 3,
+!   B = c (b - a) / (2 mu (1/a^2 - 1/b^2)),   A = (c a + 2 mu B / a^2) / (2 (lambda + mu)).
+! As nu -> 1/2 it tends to the isochoric u = B / r with B = rho g (b - a) / (2 mu (1/a^2 -
+! 1/b^2)): the cylinder can only deform by shear, which is what a locking discretisation cannot
+! represent.
+program test_fbar
+  use mpm_kinds, only: wp
+  use mpm_constants, only: BASIS_LINEAR, BASIS_CPDI2, basis_names, SCHEME_MUSL, SCHEME_USF, &
+                           scheme_names, PLANE_STRAIN, MODEL_ELASTIC, MODEL_J2, SECTOR_QUARTER, &
+                           VOLUMETRIC_STANDARD, VOLUMETRIC_FBAR
+  use mpm_config, only: config_t, config_resolve
+  use mpm_scene_builder, only: scene_new, scene_add_material, scene_add_ring, scene_add_rect
+  use mpm_setup, only: setup_sim
+  use mpm_solver, only: sim_t, solver_step
+  use mpm_weights, only: weights_compute
+  use mpm_deformation, only: deformation_update
+  use mpm_fbar, only: fbar_force_stress
+  use testing, only: begin_test, check, check_close, finish_tests
+  implicit none
+  ! the cylinder
+  real(wp), parameter :: a = 0.01_wp, b = 0.02_wp, E = 10.0e6_wp, rho = 1000.0_wp
+  real(wp), parameter :: g0 = 500.0_wp        ! body acceleration [m/s^2]: u(a) / a about 1e-3
+  character(len=256) :: arg
+  real(wp) :: nu, h, damping, t_end, e_std, e_fbar
+  integer :: nt, k, basis
+  logical :: experiment
+
+  nu = 0.499_wp
+  h = 2.0e-3_wp
+  nt = 10
+  damping = 6000.0_wp
+  t_end = 4.0e-3_wp
+  basis = BASIS_CPDI2
+  experiment = .false.
+  do k = 1, command_argument_count()
+    call get_command_argument(k, arg)
+    if (arg(1:2) /= '--') cycle
+    experiment = .true.
+    if (arg(1:5) == '--nu=') read(arg(6:), *) nu
+    if (arg(1:4) == '--h=') read(arg(5:), *) h
+    if (arg(1:5) == '--nt=') read(arg(6:), *) nt
+    if (arg(1:10) == '--damping=') read(arg(11:), *) damping
+    if (arg(1:4) == '--t=') read(arg(5:), *) t_end
+    if (trim(arg) == '--basis=linear') basis = BASIS_LINEAR
+  end do
+  if (experiment) then
+    e_std = cylinder_error(VOLUMETRIC_STANDARD)
+    e_fbar = cylinder_error(VOLUMETRIC_FBAR)
+    print '(a,f8.4,a,f8.4)', 'cylinder: standard error ', e_std, ', fbar error ', e_fbar
+    call finish_tests('test_fbar')
+  end if
+
+  call test_patch(BASIS_LINEAR, 2, SCHEME_MUSL)
+  call test_patch(BASIS_CPDI2, 1, SCHEME_MUSL)
+  call test_patch(BASIS_CPDI2, 2, SCHEME_USF)
+  call test_cylinder()
+  call finish_tests('test_fbar')
+
+contains
+
+  !> A case of one material and one body, resolved and set up.
+  subroutine must_setup(cfg_in, s)
+    type(config_t), intent(in) :: cfg_in
+    type(sim_t), intent(out) :: s
+    type(config_t) :: cfg
+    integer :: stat
+    character(len=:), allocatable :: errmsg
+    cfg = cfg_in
+    call config_resolve(cfg, stat, errmsg)
+    call check(stat == 0, 'config_resolve: '//errmsg)
+    if (stat /= 0) error stop 1
+    call setup_sim(cfg, s, stat, errmsg)
+    call check(stat == 0, 'setup_sim: '//errmsg)
+    if (stat /= 0) error stop 1
+  end subroutine must_setup
+
+  !> Patch test: a J2 block (ppc x ppc particles per cell) under the affine grid velocity
+  !! v = G x (stretch, shear and spin, tr G /= 0), 60 steps of step 6 of both treatments from
+  !! the same state, far into the plastic range. Every particle's L is G, so the averaged volume
+  !! change must equal the particle's (relative 1e-13: a few roundings of a weighted mean), F
+  !! must be the same bit for bit (the treatment never touches it), and the stresses, plastic
+  !! strains and the forces' stress must equal the standard ones to round-off (1e-11 of the
+  !! largest stress).
+  subroutine test_patch(bas, ppc, scheme)
+    integer, intent(in) :: bas, ppc, scheme
+    type(config_t) :: cfg
+    type(sim_t) :: s1, s2
+    real(wp) :: smax, djmax, dev
+    character(len=8) :: tag
+    write(tag, '(i0,a,i0)') ppc, 'x', ppc
+    call begin_test('patch test, '//trim(basis_names(bas))//' '//trim(scheme_names(scheme))// &
+                    ', '//trim(tag)//' particles per cell')
+    cfg = scene_new('patch', 1.0_wp, 0.01_wp, bas, scheme, PLANE_STRAIN)
+    call scene_add_material(cfg, 'm', MODEL_J2, 1.0e9_wp, 0.3_wp, 1000.0_wp, &
+                            sigma_y=1.0e6_wp, hardening=1.0e7_wp)
+    call scene_add_rect(cfg, [0.013_wp, -0.004_wp], [0.06_wp, 0.04_wp], 6*ppc, 4*ppc)
+    call run_patch(cfg, VOLUMETRIC_STANDARD, s1)
+    call run_patch(cfg, VOLUMETRIC_FBAR, s2)
+    call check(s2%prm%volumetric == VOLUMETRIC_FBAR, 'the second run is fbar')
+    djmax = maxval(abs(s2%wk%dj))
+    call check(djmax > 0.0_wp, 'the volume changes')
+    call check(maxval(abs(s2%wk%djbar - s2%wk%dj)) <= 1.0e-13_wp*djmax, &
+               'averaged volume change = the particle''s (Jbar = J)')
+    call check(all(s2%p%F == s1%p%F), 'F identical')
+    call check(all(s2%p%vol == s1%p%vol), 'areas identical')
+    call check(maxval(s1%p%eqps) > 10.0_wp*1.0e6_wp/1.0e9_wp, 'far into the plastic range')
+    smax = maxval(abs(s1%p%stress))
+    call check_close(reshape(s2%p%stress, [size(s2%p%stress)]), &
+                     reshape(s1%p%stress, [size(s1%p%stress)]), &
+                     'stresses = standard', atol=1.0e-11_wp*smax)
+    call check_close(s2%p%eqps, s1%p%eqps, 'plastic strains = standard', &
+                     atol=1.0e-11_wp*maxval(s1%p%eqps))
+    call fbar_force_stress(s2%p, s2%g, s2%wk)
+    dev = maxval(abs(s2%wk%sforce - s2%p%stress))
+    call check(dev <= 1.0e-11_wp*smax, 'the forces'' stress = the stress')
+  end subroutine test_patch
+
+  !> Set up the patch with a treatment and run 60 steps of step 6 under v = G x.
+  subroutine run_patch(cfg_in, vol_id, s)
+    type(config_t), intent(in) :: cfg_in
+    integer, intent(in) :: vol_id
+    type(sim_t), intent(out) :: s
+    real(wp), parameter :: gv(2, 2) = reshape([0.3_wp, -0.1_wp, 0.2_wp, -0.5_wp], [2, 2])
+    real(wp), parameter :: dt = 1.0e-3_wp
+    type(config_t) :: cfg
+    real(wp) :: x(2)
+    integer :: n, step, stat
+    character(len=:), allocatable :: errmsg
+    cfg = cfg_in
+    cfg%solver%volumetric_id = vol_id
+    call must_setup(cfg, s)
+    s%wk%par = .false.
+    errmsg = ''
+    call weights_compute(s%prm, s%state_t, s%g, s%wk, s%diag, stat, errmsg)
+    call check(stat == 0, 'weights: '//errmsg)
+    do n = 1, s%g%nn
+      x = s%g%origin + s%g%h*[real(mod(n - 1, s%g%nx), wp), real((n - 1)/s%g%nx, wp)]
+      s%g%vel(:, n) = matmul(gv, x)
+    end do
+    do step = 1, 60
+      call deformation_update(s%prm, s%state_t, s%g, s%wk, dt, stat, errmsg)
+      if (stat /= 0) exit
+    end do
+    call check(stat == 0, 'deformation_update: '//errmsg)
+  end subroutine run_patch
+
+  !> The thick cylinder at nu = 0.499, 2 particles per cell through the wall (5 cells): the
+  !! standard treatment locks (radial displacement a fraction of the closed form's), fbar is
+  !! within 5 % of it (RMS over the particles, relative to the RMS of the closed form).
+  subroutine test_cylinder()
+    call begin_test('thick cylinder under a radial body force, nu = 0.499 (locking)')
+    e_std = cylinder_error(VOLUMETRIC_STANDARD)
+    e_fbar = cylinder_error(VOLUMETRIC_FBAR)
+    print '(a,f8.4,a,f8.4)', 'cylinder: RMS error of u_r, standard ', e_std, ', fbar ', e_fbar
+    call check(e_fbar < 0.05_wp, 'fbar within 5 % of the closed form')
+    call check(e_std > 4.0_wp*e_fbar, 'the standard treatment locks (error > 4 x fbar''s)')
+  end subroutine test_cylinder
+
+  !> Closed-form radial displacement of the cylinder at radius r [m] (program header).
+  pure real(wp) function u_exact(r) result(u)
+    real(wp), intent(in) :: r
+    real(wp) :: lam, mu, kk, c, bb, aa
+    lam = E*nu/((1.0_wp + nu)*(1.0_wp - 2.0_wp*nu))
+    mu = E/(2.0_wp*(1.0_wp + nu))
+    kk = rho*g0/(lam + 2.0_wp*mu)
+    c = kk*(3.0_wp*lam + 4.0_wp*mu)/3.0_wp
+    bb = c*(b - a)/(2.0_wp*mu*(1.0_wp/a**2 - 1.0_wp/b**2))
+    aa = (c*a + 2.0_wp*mu*bb/a**2)/(2.0_wp*(lam + mu))
+    u = aa*r + bb/r - kk*r*r/3.0_wp
+  end function u_exact
+
+  !> Run the cylinder with a treatment: the body force rises smoothly over the first quarter of
+  !! the run, mass-proportional damping settles it; the RMS over the particles of the radial
+  !! displacement's error, relative to the RMS of the closed form.
+  real(wp) function cylinder_error(vol_id) result(err)
+    integer, intent(in) :: vol_id
+    type(config_t) :: cfg
+    type(sim_t) :: s
+    real(wp), allocatable :: X0(:, :)
+    real(wp) :: r, er(2), ramp, t_ramp, se, sx, ur
+    integer :: ip, k, stat
+    character(len=:), allocatable :: errmsg
+    cfg = scene_new('cylinder', t_end, h, basis, SCHEME_MUSL, PLANE_STRAIN)
+    cfg%solver%volumetric_id = vol_id
+    cfg%solver%damping = damping
+    cfg%run%cfl = 0.2_wp
+    call scene_add_material(cfg, 'rubber', MODEL_ELASTIC, E, nu, rho, sigma_y=1.0_wp)
+    call scene_add_ring(cfg, [0.0_wp, 0.0_wp], a, b, nt, sector=SECTOR_QUARTER)
+    call must_setup(cfg, s)
+    X0 = s%p%x(:, 1:s%p%np)
+    allocate(s%prm%bacc(2, s%p%np))
+    t_ramp = 0.25_wp*t_end
+    stat = 0
+    errmsg = ''
+    do k = 1, 10000000
+      if (s%t >= s%prm%t_end) exit
+      ramp = 1.0_wp
+      if (s%t < t_ramp) ramp = sin(0.5_wp*acos(-1.0_wp)*s%t/t_ramp)**2
+      do ip = 1, s%p%np
+        s%prm%bacc(:, ip) = ramp*g0*X0(:, ip)/norm2(X0(:, ip))
+      end do
+      call solver_step(s, stat, errmsg)
+      if (stat /= 0) exit
+    end do
+    call check(stat == 0, 'run: '//errmsg)
+    se = 0.0_wp
+    sx = 0.0_wp
+    do ip = 1, s%p%np
+      r = norm2(X0(:, ip))
+      er = X0(:, ip)/r
+      ur = dot_product(s%p%x(:, ip) - X0(:, ip), er)
+      se = se + (ur - u_exact(r))**2
+      sx = sx + u_exact(r)**2
+    end do
+    err = sqrt(se/sx)
+  end function cylinder_error
+
+end program test_fbar
