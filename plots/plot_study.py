@@ -57,9 +57,17 @@ def read_table(path: Path) -> list[dict[str, Any]]:
     return rows
 
 
+def volumetric(r: dict[str, Any]) -> str:
+    """The run's &solver volumetric ('standard' in tables from before that factor)."""
+    v = r.get("volumetric")
+    return v if isinstance(v, str) and v else "standard"
+
+
 def centre(r: dict[str, Any], **changes: Any) -> bool:
-    """Is r the centre point of the sweeps (CPDI2, MUSL, cfl 0.2, aspect 1, 30 m/s) with
-    ``changes`` applied?"""
+    """Is r the centre point of the sweeps (CPDI2, MUSL, cfl 0.2, aspect 1, 30 m/s, standard
+    volumetric treatment) with ``changes`` applied?"""
+    if volumetric(r) != changes.pop("volumetric", "standard"):
+        return False
     want = {"basis": "cpdi2", "scheme": "musl", "cfl": 0.2, "aspect": 1.0}
     if r["scene"] == "impact":
         want["speed"] = 30.0
@@ -110,6 +118,7 @@ def advice(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
                         **({k: best[k] for k in ("name", "basis", "scheme", "h_over_t", "n_t",
                                                  "n_c", "aspect", "cfl", "particles", "cpu_s",
                                                  "runtime_ratio", "error")}
+                           | {"volumetric": volumetric(best)}
                            if best else {"name": "none within the study"})})
     return out
 
@@ -121,6 +130,8 @@ def settings(r: dict[str, Any]) -> str:
         text += f", aspect {r['aspect']:g}"
     if not math.isclose(r["cfl"], 0.2):
         text += f", cfl {r['cfl']:g}"
+    if volumetric(r) != "standard":
+        text += f", {volumetric(r)}"
     return text
 
 
@@ -131,10 +142,14 @@ def fig_accuracy_runtime(rows, adv, out: Path) -> None:
               and np.isfinite(r["error"]) and r["error"] > 0
               and not (scene == "impact" and r["speed"] != 30.0)]
         for b, (col, mk) in BASIS_STYLE.items():
-            sel = [r for r in rs if r["basis"] == b]
+            sel = [r for r in rs if r["basis"] == b and volumetric(r) == "standard"]
             if sel:
                 ax.loglog([r["cpu_s"] for r in sel], [100 * r["error"] for r in sel], mk,
                           color=col, mfc="none" if b != "cpdi2" else col, ms=6, label=b)
+        sel = [r for r in rs if volumetric(r) == "fbar"]
+        if sel:
+            ax.loglog([r["cpu_s"] for r in sel], [100 * r["error"] for r in sel], "D",
+                      color="C4", ms=6, label="fbar (anti-locking)")
         front = pareto([(r["cpu_s"], r["error"]) for r in rs])
         if front:
             c, e = zip(*front)
@@ -377,7 +392,7 @@ def main(argv: list[str] | None = None) -> int:
     adv = advice(rows)
     with open(out / f"advice_{args.level}.csv", "w", newline="") as fh:
         keys = ["scene", "target", "name", "basis", "scheme", "h_over_t", "n_t", "n_c", "aspect",
-                "cfl", "particles", "cpu_s", "runtime_ratio", "error"]
+                "cfl", "volumetric", "particles", "cpu_s", "runtime_ratio", "error"]
         w = csv.DictWriter(fh, fieldnames=keys, extrasaction="ignore")
         w.writeheader()
         for a in adv:

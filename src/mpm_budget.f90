@@ -9,7 +9,7 @@
 ! particle) and its work arrays (8); grid_memory_bytes (72 per node);
 ! buffers_memory_bytes (40 per node and thread beyond the first); tiles_memory_bytes (44 bytes
 ! and the span sums per tile of 16 nodes); the snapshot writer's temporaries (corners, quads, F,
-! columns: 128 per particle), with volumetric = 'fbar' mpm_fbar's work arrays (48 bytes per
+! columns: 128 per particle), with volumetric = 'fbar' mpm_fbar's work arrays (80 bytes per
 ! particle, 16 per node), and a fixed 32 MiB for the program and its libraries. Counts are
 ! reals, so that a length typed in the wrong unit cannot overflow an integer.
 module mpm_budget
@@ -99,7 +99,7 @@ contains
                             + 40.0_wp*real(b%threads - 1, wp) &
                             + (44.0_wp + 8.0_wp*real(1 + 2*b%nwall, wp))/16.0_wp)
     if (cfg%solver%volumetric_id == VOLUMETRIC_FBAR) then   ! mpm_fbar's work arrays
-      b%particle_bytes = b%particle_bytes + b%particles*48.0_wp
+      b%particle_bytes = b%particle_bytes + b%particles*80.0_wp
       b%grid_bytes = b%grid_bytes + b%nodes*16.0_wp
     end if
     b%total = b%particle_bytes + b%grid_bytes + base_bytes

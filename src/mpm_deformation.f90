@@ -42,14 +42,14 @@ contains
     if (fbar) then
       call fbar_volume_change(st%p, g, wk, dt)
     else if (.not. allocated(wk%dj)) then
-      allocate(wk%dj(0), wk%djbar(0), wk%sforce(4, 0))   ! not used
+      allocate(wk%dj(0), wk%djbar(0), wk%sforce(4, 0), wk%lgrad(2, 2, 0))   ! not used
     end if
     !$omp parallel do default(none) schedule(static) shared(prm, st, g, wk, dt, nchunk, fbar) &
     !$omp   private(ic) reduction(max: bad) if(wk%par)
     do ic = 1, nchunk
       call deformation_kernel(1 + (ic - 1)*chunk, min(ic*chunk, st%p%np), st%p%np, g%nn, &
              wk%nb, g%nx, wk%blk, wk%gw, g%vel, dt, prm%mats, prm%plane, st%p%mat, st%p%vol0, &
-             fbar, size(wk%dj), wk%dj, wk%djbar, st%p%v, st%p%F, st%p%vol, st%p%stress, &
+             fbar, size(wk%dj), wk%lgrad, wk%dj, wk%djbar, st%p%v, st%p%F, st%p%vol, st%p%stress, &
              st%p%eqps, st%p%wplastic, wk%chunk_sum(:, ic), bad)
     end do
     !$omp end parallel do
@@ -80,8 +80,8 @@ contains
   !! and stored elastic energy go to csum; bad(1:3) = largest particle with det F <= 0, a
   !! failed stress update, a non-finite result.
   subroutine deformation_kernel(ip0, ip1, np, nn, nb, nx, blk, gw, vel, dt, mats, plane, mat, &
-                                vol0, fbar, ndj, dj, djbar, v, F, vol, stress, eqps, wplastic, &
-                                csum, bad)
+                                vol0, fbar, ndj, lgrad, dj, djbar, v, F, vol, stress, eqps, &
+                                wplastic, csum, bad)
     integer, intent(in) :: ip0, ip1        !! particles
     integer, intent(in) :: np, nn, nb, nx  !! particles, nodes, block width, nodes along x
     integer, intent(in) :: blk(2, np)      !! block origins
@@ -94,6 +94,7 @@ contains
     real(wp), intent(in) :: vol0(np)       !! initial area [m^2]
     logical, intent(in) :: fbar            !! the stress update sees the F-bar rate
     integer, intent(in) :: ndj             !! np with fbar, else 0
+    real(wp), intent(in) :: lgrad(2, 2, ndj)  !! velocity gradient (fbar: computed already) [1/s]
     real(wp), intent(in) :: dj(ndj)        !! volume change over the step det(I + dt L) - 1 [-]
     real(wp), intent(in) :: djbar(ndj)     !! its average over the neighbourhood [-]
     real(wp), intent(in) :: v(2, np)       !! velocity [m/s]
@@ -108,7 +109,11 @@ contains
     real(wp) :: L(2, 2), Fn(2, 2), J, dwp, wel
     csum = 0.0_wp
     do ip = ip0, ip1
-      call fbar_velocity_gradient(nb, nx, blk(:, ip), gw(:, :, ip), nn, vel, L)
+      if (fbar) then
+        L = lgrad(:, :, ip)
+      else
+        call fbar_velocity_gradient(nb, nx, blk(:, ip), gw(:, :, ip), nn, vel, L)
+      end if
       Fn(1, 1) = F(1, 1, ip) + dt*(L(1, 1)*F(1, 1, ip) + L(1, 2)*F(2, 1, ip))
       Fn(1, 2) = F(1, 2, ip) + dt*(L(1, 1)*F(1, 2, ip) + L(1, 2)*F(2, 2, ip))
       Fn(2, 1) = F(2, 1, ip) + dt*(L(2, 1)*F(1, 1, ip) + L(2, 2)*F(2, 1, ip))

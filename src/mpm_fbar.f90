@@ -26,8 +26,8 @@ module mpm_fbar
 
 contains
 
-  !> Each particle's volume change over the step, dj = det(I + dt L) - 1, into wk%dj, and its
-  !! average over the neighbourhood into wk%djbar.
+  !> Each particle's velocity gradient into wk%lgrad, its volume change over the step,
+  !! dj = det(I + dt L) - 1, into wk%dj, and its average over the neighbourhood into wk%djbar.
   subroutine fbar_volume_change(p, g, wk, dt)
     type(particles_t), intent(in) :: p     !! particles (areas at the start of the step)
     type(grid_t), intent(in) :: g          !! grid velocities
@@ -40,7 +40,7 @@ contains
     !$omp   if(wk%par)
     do ic = 1, nchunk
       call volume_change_kernel(1 + (ic - 1)*chunk, min(ic*chunk, p%np), p%np, g%nn, wk%nb, &
-                                g%nx, wk%blk, wk%gw, g%vel, dt, wk%dj)
+                                g%nx, wk%blk, wk%gw, g%vel, dt, wk%lgrad, wk%dj)
     end do
     !$omp end parallel do
     call node_average(p%np, g%nn, wk%nb, g%nx, wk%blk, wk%w, wk%par, p%vol, wk%dj, &
@@ -115,9 +115,10 @@ contains
     type(work_t), intent(inout) :: wk      !! work arrays
     integer, intent(in) :: np, nn          !! particles, nodes
     if (allocated(wk%dj)) then
-      if (size(wk%dj) /= np) deallocate(wk%dj, wk%djbar, wk%sforce)
+      if (size(wk%dj) /= np) deallocate(wk%dj, wk%djbar, wk%sforce, wk%lgrad)
     end if
-    if (.not. allocated(wk%dj)) allocate(wk%dj(np), wk%djbar(np), wk%sforce(4, np))
+    if (.not. allocated(wk%dj)) allocate(wk%dj(np), wk%djbar(np), wk%sforce(4, np), &
+                                         wk%lgrad(2, 2, np))
     if (allocated(wk%node_sum)) then
       if (size(wk%node_sum, 2) /= nn) deallocate(wk%node_sum)
     end if
@@ -151,25 +152,28 @@ contains
     call node_clear(np, nn, nb, nx, blk, node_sum)
   end subroutine node_average
 
-  !> dj(ip) = det(I + dt L) - 1 of particles ip0..ip1.
-  subroutine volume_change_kernel(ip0, ip1, np, nn, nb, nx, blk, gw, vel, dt, dj)
+  !> L and dj(ip) = det(I + dt L) - 1 of particles ip0..ip1.
+  subroutine volume_change_kernel(ip0, ip1, np, nn, nb, nx, blk, gw, vel, dt, lgrad, dj)
     integer, intent(in) :: ip0, ip1        !! particles
     integer, intent(in) :: np, nn, nb, nx  !! particles, nodes, block width, nodes along x
     integer, intent(in) :: blk(2, np)      !! block origins
     real(wp), intent(in) :: gw(2, nb*nb, np)  !! gradients [1/m]
     real(wp), intent(in) :: vel(2, nn)     !! node velocity [m/s]
     real(wp), intent(in) :: dt             !! time step [s]
+    real(wp), intent(inout) :: lgrad(2, 2, np)  !! velocity gradient [1/s]
     real(wp), intent(inout) :: dj(np)      !! volume change over the step [-]
     integer :: ip
     real(wp) :: L(2, 2)
     do ip = ip0, ip1
       call fbar_velocity_gradient(nb, nx, blk(:, ip), gw(:, :, ip), nn, vel, L)
+      lgrad(:, :, ip) = L
       ! det(I + dt L) - 1 without the cancellation of the 1
       dj(ip) = dt*(L(1, 1) + L(2, 2)) + dt*dt*(L(1, 1)*L(2, 2) - L(1, 2)*L(2, 1))
     end do
   end subroutine volume_change_kernel
 
-  !> Node sums of phi V q and phi V over all particles, in particle order.
+  !> Node sums of phi V q and phi V over all particles, in particle order; then each node's
+  !! average into node_sum(1, :) (node_sum(2, :) back to zero), one division per node.
   subroutine node_scatter(np, nn, nb, nx, blk, w, vol, q, node_sum)
     integer, intent(in) :: np, nn, nb, nx  !! particles, nodes, block width, nodes along x
     integer, intent(in) :: blk(2, np)      !! block origins
@@ -189,9 +193,20 @@ contains
         end do
       end do
     end do
+    do ip = 1, np
+      do b = 0, nb - 1
+        n = 1 + blk(1, ip) + nx*(blk(2, ip) + b)
+        do a = n, n + nb - 1
+          if (node_sum(2, a) /= 0.0_wp) then  ! (zero: no weight there, or averaged already)
+            node_sum(1, a) = node_sum(1, a)/node_sum(2, a)
+            node_sum(2, a) = 0.0_wp
+          end if
+        end do
+      end do
+    end do
   end subroutine node_scatter
 
-  !> qbar(ip) = sum_i phi_ip node_sum(1, i)/node_sum(2, i) of particles ip0..ip1.
+  !> qbar(ip) = sum_i phi_ip Q_i of particles ip0..ip1 (Q_i = node_sum(1, i), node_scatter).
   subroutine node_gather_kernel(ip0, ip1, np, nn, nb, nx, blk, w, node_sum, qbar)
     integer, intent(in) :: ip0, ip1        !! particles
     integer, intent(in) :: np, nn, nb, nx  !! particles, nodes, block width, nodes along x
@@ -207,7 +222,7 @@ contains
         n = 1 + blk(1, ip) + nx*(blk(2, ip) + b)
         do a = 0, nb - 1
           k = 1 + a + nb*b
-          if (w(k, ip) /= 0.0_wp) s = s + w(k, ip)*(node_sum(1, n + a)/node_sum(2, n + a))
+          s = s + w(k, ip)*node_sum(1, n + a)
         end do
       end do
       qbar(ip) = s

@@ -103,6 +103,7 @@ contains
                                   + 8_i8*size(wk%chunk_sum, kind=i8)
       if (allocated(wk%dj)) b = b + 8_i8*(size(wk%dj, kind=i8) + size(wk%djbar, kind=i8))
       if (allocated(wk%sforce)) b = b + 8_i8*size(wk%sforce, kind=i8)
+      if (allocated(wk%lgrad)) b = b + 8_i8*size(wk%lgrad, kind=i8)
       if (allocated(wk%node_sum)) b = b + 8_i8*size(wk%node_sum, kind=i8)
     end associate
     if (allocated(s%prm%bacc)) b = b + 8_i8*size(s%prm%bacc, kind=i8)

@@ -99,6 +99,7 @@ module mpm_state
     real(wp), allocatable :: dj(:)         !! volume change over the step det(I + dt L) - 1 (np)
     real(wp), allocatable :: djbar(:)      !! its average over the neighbourhood (np) [-]
     real(wp), allocatable :: sforce(:,:)   !! stress of the internal forces (4, np) [Pa]
+    real(wp), allocatable :: lgrad(:,:,:)  !! velocity gradient of the step (2, 2, np) [1/s]
     real(wp), allocatable :: node_sum(:,:) !! node sums of phi V q and phi V (2, nn)
     real(wp), allocatable :: wall_work(:,:) !! per wall: velocity over the step, point, normal,
                                            !! velocity over the step before (8, nwall) [m/s, m, -]

@@ -1,22 +1,27 @@
 !> &solver deterministic = .true. (issue 6): bit-identical results with 1 and 2 threads, and
 !! agreement to round-off (rtol 1e-12) with the default per-thread scatter, on a short
-!! elastic-plastic ring impact (contact, a 'slip' mirror plane, gravity, damping).
+!! elastic-plastic ring impact (contact, a 'slip' mirror plane, gravity, damping); also with
+!! volumetric = 'fbar' (its node sums are serial, its particle loops parallel).
 ! SPDX-License-Identifier: MIT
 program test_deterministic
   !$ use omp_lib, only: omp_set_num_threads
   use mpm_kinds, only: wp
   use mpm_constants, only: BASIS_UGIMP, BASIS_CPDI2, basis_names, SCHEME_USF, SCHEME_MUSL, &
                            scheme_names, PLANE_STRAIN, MODEL_J2, RATE_NONE, SHAPE_RING, &
-                           SECTOR_HALF, CONTACT_FRICTIONLESS
+                           SECTOR_HALF, CONTACT_FRICTIONLESS, VOLUMETRIC_STANDARD, &
+                           VOLUMETRIC_FBAR
   use mpm_config, only: config_t
   use mpm_setup, only: setup_sim
   use mpm_solver, only: sim_t, solver_step
   use testing, only: begin_test, check, check_close, finish_tests
   implicit none
   integer, parameter :: nsteps = 40
+  integer :: volumetric = VOLUMETRIC_STANDARD   ! &solver volumetric of ring_case
 
   call compare(BASIS_CPDI2, SCHEME_MUSL)
   call compare(BASIS_UGIMP, SCHEME_USF)
+  volumetric = VOLUMETRIC_FBAR
+  call compare(BASIS_CPDI2, SCHEME_MUSL)
   !$ call omp_set_num_threads(2)
   call finish_tests('test_deterministic')
 
@@ -38,6 +43,7 @@ contains
     cfg%solver%plane_id = PLANE_STRAIN
     cfg%solver%damping = 2.0_wp
     cfg%solver%deterministic = deterministic
+    cfg%solver%volumetric_id = volumetric
     cfg%grid%h = 0.025_wp
     cfg%grid%fitted = .true.
     allocate(cfg%materials(1), cfg%bodies(1), cfg%walls(1), cfg%probes(0))
@@ -88,6 +94,7 @@ contains
     type(sim_t) :: d1, d2, f1, f2
     character(len=:), allocatable :: what
     what = trim(basis_names(basis))//' '//trim(scheme_names(scheme))
+    if (volumetric == VOLUMETRIC_FBAR) what = what//', fbar'
     d1 = run(basis, scheme, .true., 1)
     d2 = run(basis, scheme, .true., 2)
     f1 = run(basis, scheme, .false., 1)

@@ -215,6 +215,9 @@ def design(level: str) -> dict[str, list[Point]]:
             for n in FBAR_NT:
                 pts += [Point(scene, h_over_t=h, n_t=round(n * 0.5 / h), volumetric=v)
                         for v in ("standard", "fbar")]
+        # (elongated particles suit the F-bar at one particle per cell: docs/validation.md)
+        pts += [Point(scene, h_over_t=0.25, n_t=4, aspect=2.0, volumetric=v)
+                for v in ("standard", "fbar")]
         if scene == "impact":
             pts += [Point(scene, h_over_t=0.25, n_t=8, speed=v)
                     for v in (1.0, 2.0, 5.0, 16.5, 30.0, 60.0, 125.0)]
