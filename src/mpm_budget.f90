@@ -6,8 +6,10 @@
 ! The byte counts are those of the allocations (docs/performance.md, "Memory per particle"):
 ! particles_memory_bytes (23 reals and 6 integers per particle, 2 reals per corner), twice (the
 ! driver keeps a copy as the last good state); the basis cache of step 1 (24 nb^2 + 8 bytes per
-! particle) and its work arrays (8); grid_memory_bytes (72 per node);
-! buffers_memory_bytes (40 per node and thread beyond the first); tiles_memory_bytes (44 bytes
+! particle) and its work arrays (8); grid_memory_bytes (72 per node and velocity field);
+! buffers_memory_bytes (40 per node, field and thread beyond the first); with several fields
+! (bodies in contact) the field of each particle and corner and the particle list (8 per
+! particle, 4 per corner) and the contact node map (4 per node); tiles_memory_bytes (44 bytes
 ! and the span sums per tile of 16 nodes); the snapshot writer's temporaries (corners, quads, F,
 ! columns: 128 per particle), with volumetric = 'fbar' mpm_fbar's work arrays (80 bytes per
 ! particle, 16 per node), and a fixed 32 MiB for the program and its libraries. Counts are
@@ -22,6 +24,7 @@ module mpm_budget
   implicit none
   private
   public :: budget_t, budget_estimate, budget_check, budget_threads, budget_max_nodes, bytes_text
+  public :: contact_fields
 
   real(wp), parameter :: base_bytes = 32.0_wp*1048576.0_wp  !! program, runtime, HDF5 [bytes]
   real(wp), parameter :: max_index = 2147483647.0_wp       !! largest default integer [-]
@@ -36,6 +39,7 @@ module mpm_budget
     integer :: nb = 3                      !! block width of the basis [nodes]
     integer :: threads = 1                 !! threads that scatter [-]
     integer :: nwall = 0                   !! walls, mirror planes included [-]
+    integer :: nf = 1                      !! velocity fields per node (contact_fields) [-]
     real(wp) :: particle_bytes = 0.0_wp    !! particles, their good-state copy, basis cache,
                                            !! work arrays, output temporaries [bytes]
     real(wp) :: grid_bytes = 0.0_wp        !! grid fields, thread buffers, tiles [bytes]
@@ -95,15 +99,28 @@ contains
     b%particle_bytes = 2.0_wp*(b%particles*(23.0_wp*8.0_wp + 6.0_wp*4.0_wp) + &
                                b%corners*16.0_wp) &
                        + b%particles*(24.0_wp*real(b%nb, wp)**2 + 8.0_wp + 8.0_wp + 128.0_wp)
-    b%grid_bytes = b%nodes*(72.0_wp &
-                            + 40.0_wp*real(b%threads - 1, wp) &
+    b%nf = contact_fields(cfg)
+    b%grid_bytes = b%nodes*(72.0_wp*real(b%nf, wp) &
+                            + 40.0_wp*real(b%nf*(b%threads - 1), wp) &
                             + (44.0_wp + 8.0_wp*real(1 + 2*b%nwall, wp))/16.0_wp)
     if (cfg%solver%volumetric_id == VOLUMETRIC_FBAR) then   ! mpm_fbar's work arrays
       b%particle_bytes = b%particle_bytes + b%particles*80.0_wp
       b%grid_bytes = b%grid_bytes + b%nodes*16.0_wp
     end if
+    if (b%nf > 1) then                      ! mpm_body_contact: fields of the particles and
+      b%particle_bytes = b%particle_bytes + 8.0_wp*b%particles + 4.0_wp*b%corners  ! corners,
+      b%grid_bytes = b%grid_bytes + 4.0_wp*b%nodes       ! the contact node of each node
+    end if
     b%total = b%particle_bytes + b%grid_bytes + base_bytes
   end function budget_estimate
+
+  !> Velocity fields per grid node: one per body where there are several (each body its own
+  !! velocity field, mpm_body_contact), else 1.
+  pure integer function contact_fields(cfg) result(nf)
+    type(config_t), intent(in) :: cfg      !! the case
+    nf = 1
+    if (size(cfg%bodies) > 1) nf = size(cfg%bodies)
+  end function contact_fields
 
   !> Particles, corners and the largest particle extent of a body (ring_counts and rect_counts
   !! of mpm_particles, in reals).
@@ -149,7 +166,8 @@ contains
     character(len=:), allocatable :: what, hints
     stat = 0
     errmsg = ''
-    if (b%particles > max_index .or. b%corners > max_index .or. b%nodes > max_index) then
+    if (b%particles > max_index .or. b%corners > max_index .or. &
+        b%nodes*real(b%nf, wp) > max_index) then
       what = 'more particles or grid nodes than this program can index (2^31 - 1)'
     else if (known .and. b%total > available) then
       what = 'about '//bytes_text(b%total)//' of memory, more than the '// &
@@ -195,7 +213,7 @@ contains
     real(wp), intent(in) :: available      !! memory available [bytes]
     logical, intent(in) :: known           !! available is known
     real(wp) :: n
-    n = max_index
+    n = max_index/real(b%nf, wp)            ! every field of every node must be indexable
     if (known .and. b%nodes > 0.0_wp) &
       n = min(n, max(available - b%particle_bytes - base_bytes, 0.0_wp)/(b%grid_bytes/b%nodes))
   end function budget_max_nodes

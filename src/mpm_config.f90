@@ -16,7 +16,8 @@ module mpm_config
                            SECTOR_QUARTER, CONTACT_FRICTIONLESS, CONTACT_COULOMB, FLOW_LINEAR, &
                            FLOW_JOHNSON_COOK
   use mpm_config_types, only: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, &
-                              body_cfg_t, wall_cfg_t, probe_cfg_t, unset_real, iunset
+                              body_cfg_t, wall_cfg_t, probe_cfg_t, contact_cfg_t, unset_real, &
+                              iunset
   use mpm_config_text, only: itoa, fmt_real, fmt_short, fmt_vec, fmt_list
   use mpm_config_table, only: n_groups, group_names, group_id
   use mpm_config_lexer, only: reader_t, load_lines, has_content, scan_source, check_groups, &
@@ -29,7 +30,7 @@ module mpm_config
   implicit none
   private
   public :: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, body_cfg_t, &
-            wall_cfg_t, probe_cfg_t
+            wall_cfg_t, probe_cfg_t, contact_cfg_t
   public :: read_config, config_resolve, write_config, write_config_unit, default_config
   public :: unset_real
 
@@ -74,7 +75,7 @@ contains
     type(values_t), allocatable :: v
     logical :: ok
     integer :: n_of(n_groups), first_of(n_groups)
-    integer, allocatable :: occ_mat(:), occ_body(:)
+    integer, allocatable :: occ_mat(:), occ_body(:), occ_con(:)
     character(len=512) :: iomsg, iomsg2
 
     stat = 0
@@ -104,19 +105,20 @@ contains
     call scan_source(rd)
     call check_groups(rd, n_of, first_of)
     allocate(cfg%materials(n_of(4)), cfg%bodies(n_of(5)), cfg%walls(n_of(6)), &
-             cfg%probes(n_of(7)))
-    allocate(occ_mat(n_of(4)), occ_body(n_of(5)))
+             cfg%probes(n_of(7)), cfg%contacts(n_of(8)))
+    allocate(occ_mat(n_of(4)), occ_body(n_of(5)), occ_con(n_of(8)))
     do io = 1, rd%n_occ
       k = rd%occ(io)%index
       ig = group_id(rd%occ(io)%group)
       if (ig == 4) occ_mat(k) = io
       if (ig == 5) occ_body(k) = io
+      if (ig == 8) occ_con(k) = io
       if (ig == 0 .or. (ig <= 3 .and. k > 1)) cycle     ! reported by check_groups
       call read_group(rd, io, v, ok)
       if (ok) call check_group(rd, io, ig, k, v, cfg)
     end do
 
-    call cross_checks(rd, cfg, first_of, occ_mat, occ_body)
+    call cross_checks(rd, cfg, first_of, occ_mat, occ_body, occ_con)
     n_warn = rd%n_warn
     call advice_checks(rd, cfg, first_of, occ_body)
 
@@ -175,18 +177,19 @@ contains
     type(reader_t) :: rd
     type(config_t) :: out
     integer :: ig, k, io, n(n_groups), first_of(n_groups)
-    integer, allocatable :: occ_mat(:), occ_body(:)
+    integer, allocatable :: occ_mat(:), occ_body(:), occ_con(:)
     type(values_t), allocatable :: v
     stat = 0
     errmsg = ''
+    if (.not. allocated(cfg%contacts)) allocate(cfg%contacts(0))
     rd%file = trim(cfg%file)
     if (len(rd%file) == 0) rd%file = 'config'
     out%file = cfg%file
     allocate(rd%err(8), rd%warn(8), rd%occ(8), rd%lines(1), v)
     n = [1, 1, 1, size(cfg%materials), size(cfg%bodies), count(.not. cfg%walls%mirror), &
-         size(cfg%probes)]
+         size(cfg%probes), size(cfg%contacts)]
     allocate(out%materials(n(4)), out%bodies(n(5)), out%walls(n(6)), out%probes(n(7)), &
-             occ_mat(n(4)), occ_body(n(5)))
+             out%contacts(n(8)), occ_mat(n(4)), occ_body(n(5)), occ_con(n(8)))
     first_of = 0
     do ig = 1, n_groups
       do k = 1, n(ig)
@@ -195,12 +198,13 @@ contains
         if (k == 1) first_of(ig) = io
         if (ig == 4) occ_mat(k) = io
         if (ig == 5) occ_body(k) = io
+        if (ig == 8) occ_con(k) = io
         call config_values(cfg, ig, k, v)
         rd%occ(io)%read_ok = .true.
         call check_group(rd, io, ig, k, v, out)
       end do
     end do
-    call cross_checks(rd, out, first_of, occ_mat, occ_body)
+    call cross_checks(rd, out, first_of, occ_mat, occ_body, occ_con)
     call advice_checks(rd, out, first_of, occ_body)
     if (rd%n_err > 0) then
       stat = EXIT_INPUT
@@ -210,6 +214,7 @@ contains
       call move_alloc(out%bodies, cfg%bodies)
       call move_alloc(out%walls, cfg%walls)
       call move_alloc(out%probes, cfg%probes)
+      call move_alloc(out%contacts, cfg%contacts)
       cfg%run = out%run
       cfg%solver = out%solver
       cfg%grid = out%grid
@@ -241,6 +246,8 @@ contains
       call check_wall(rd, io, v, cfg%walls(k))
     case (7)
       call check_probe(rd, io, v, cfg%probes(k))
+    case (8)
+      call check_contact(rd, io, v, cfg%contacts(k))
     end select
     rd%occ(io)%ok = rd%n_err == n0
   end subroutine check_group
@@ -559,6 +566,39 @@ contains
     if (chk_v(rd, io, v, 'point') == 2) p%point = vvec(v, 'point')
   end subroutine check_probe
 
+  !> &contact: the law and its friction; the bodies are checked against the &body groups in
+  !! mpm_config_check (they may come later in the file).
+  subroutine check_contact(rd, io, v, c)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io
+    type(values_t), intent(inout) :: v
+    type(contact_cfg_t), intent(inout) :: c
+    real(wp) :: b(2), friction
+    b = vvec(v, 'bodies')
+    if (chk_v(rd, io, v, 'bodies') == 2) then
+      if (any(b < 0.0_wp) .or. any(b /= aint(b)) .or. any(b > 1.0e6_wp)) then
+        call err_var(rd, io, 'bodies', fmt_vec(b), 'not two whole numbers >= 0')
+      else if (count(b == 0.0_wp) == 1) then
+        call err_var(rd, io, 'bodies', fmt_vec(b), 'one body given with 0 (0, 0 stands for '// &
+          'every pair not named elsewhere)')
+      else if (b(1) == b(2) .and. b(1) > 0.0_wp) then
+        call err_var(rd, io, 'bodies', fmt_vec(b), 'a body cannot be in contact with itself')
+      else
+        c%bodies = nint(b)
+      end if
+    end if
+    call take_e(rd, io, v, 'law', c%law, c%law_id)
+    friction = vreal(v, 'friction')
+    if (chk_r(rd, io, v, 'friction')) then
+      if (friction > 0.0_wp .and. c%law_id > 0 .and. c%law_id /= CONTACT_COULOMB) then
+        call err_var(rd, io, 'friction', fmt_real(friction), 'has no effect with law = '''// &
+          trim(c%law)//'''; set law = ''coulomb'' or friction = 0')
+      else
+        c%friction = friction
+      end if
+    end if
+  end subroutine check_contact
+
   !> A case with one group of each kind and every default; the required numbers are left
   !! unset (written as comments by write_config). For `tubempm --defaults`.
   subroutine default_config(cfg)
@@ -567,7 +607,7 @@ contains
     cfg%solver%basis_id = BASIS_CPDI2
     cfg%solver%scheme_id = SCHEME_MUSL
     cfg%solver%plane_id = PLANE_STRAIN
-    allocate(cfg%materials(1), cfg%bodies(1), cfg%walls(1), cfg%probes(1))
+    allocate(cfg%materials(1), cfg%bodies(1), cfg%walls(1), cfg%probes(1), cfg%contacts(1))
     cfg%materials(1)%model_id = MODEL_J2
     cfg%materials(1)%rate_law_id = RATE_NONE
     cfg%materials(1)%flow_stress_id = FLOW_LINEAR
@@ -578,5 +618,6 @@ contains
     cfg%walls(1)%normal = unset_real
     cfg%walls(1)%contact_id = CONTACT_FRICTIONLESS
     cfg%probes(1)%point = unset_real
+    cfg%contacts(1)%law_id = CONTACT_FRICTIONLESS
   end subroutine default_config
 end module mpm_config

@@ -20,10 +20,10 @@ module mpm_config_check
 contains
 
   !> Defaults that depend on other groups, references, bounds, the fixed time step.
-  subroutine cross_checks(rd, cfg, first_of, occ_mat, occ_body)
+  subroutine cross_checks(rd, cfg, first_of, occ_mat, occ_body, occ_con)
     type(reader_t), intent(inout) :: rd
     type(config_t), intent(inout) :: cfg
-    integer, intent(in) :: first_of(n_groups), occ_mat(:), occ_body(:)
+    integer, intent(in) :: first_of(n_groups), occ_mat(:), occ_body(:), occ_con(:)
     integer :: k, j, id, io_run, io_solver, io_grid
     logical :: all_named, all_ok
     character(len=:), allocatable :: names_txt, want
@@ -66,6 +66,10 @@ contains
       io_solver, 'volumetric', '''fbar''', 'needs plane = ''strain'' and no &material of '// &
       'model = ''neohookean''', '''standard'', or ''fbar'' with plane = ''strain'' and the '// &
       'models ''elastic'' and ''j2''')
+    if (io_solver > 0 .and. cfg%solver%volumetric_id == VOLUMETRIC_FBAR .and. &
+        size(cfg%bodies) > 1) call err_var(rd, io_solver, 'volumetric', '''fbar''', &
+      'averages the volume change within one velocity field, and each of the '// &
+      itoa(size(cfg%bodies))//' bodies has its own', '''standard'' with several bodies, or one &body')
     ! body -> material
     do k = 1, size(cfg%bodies)
       if (.not. rd%occ(occ_body(k))%read_ok .or. size(cfg%materials) == 0) cycle
@@ -127,7 +131,43 @@ contains
     ! a half or quarter model: nothing may move across its mirror planes (mpm_symmetry)
     call symmetry_checks(rd, cfg)
 
+    call contact_checks(rd, cfg, occ_con)
   end subroutine cross_checks
+
+  !> &contact: the bodies named exist, and no pair (nor 0, 0) is named twice.
+  subroutine contact_checks(rd, cfg, occ_con)
+    type(reader_t), intent(inout) :: rd
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: occ_con(:)
+    integer :: k, j, nb, b(2)
+    nb = size(cfg%bodies)
+    do k = 1, size(cfg%contacts)
+      if (.not. rd%occ(occ_con(k))%ok) cycle
+      b = cfg%contacts(k)%bodies
+      if (maxval(b) > nb) then
+        call err_var(rd, occ_con(k), 'bodies', itoa(b(1))//', '//itoa(b(2)), 'there is no '// &
+          '&body #'//itoa(maxval(b))//' (the file has '//itoa(nb)//')', 'two different '// &
+          'bodies from 1 to '//itoa(nb)//', or 0, 0 for every pair not named elsewhere')
+        cycle
+      end if
+      do j = 1, k - 1
+        if (.not. rd%occ(occ_con(j))%ok) cycle
+        if (same_pair(cfg%contacts(j)%bodies, b)) then
+          call err_var(rd, occ_con(k), 'bodies', itoa(b(1))//', '//itoa(b(2)), &
+            'this pair is already named by &contact #'//itoa(j)//' (line '// &
+            itoa(rd%occ(occ_con(j))%line)//')', 'each pair of bodies (and 0, 0) in one '// &
+            '&contact only')
+          exit
+        end if
+      end do
+    end do
+  end subroutine contact_checks
+
+  !> The same unordered pair of bodies.
+  pure logical function same_pair(a, b)
+    integer, intent(in) :: a(2), b(2)
+    same_pair = (a(1) == b(1) .and. a(2) == b(2)) .or. (a(1) == b(2) .and. a(2) == b(1))
+  end function same_pair
 
   !> A fixed time step must not exceed the stable limit at cfl = 1.
   subroutine check_fixed_dt(rd, cfg, io_run)

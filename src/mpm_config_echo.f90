@@ -14,7 +14,7 @@ module mpm_config_echo
                            contact_names, flow_stress_names, FLOW_JOHNSON_COOK, &
                            volumetric_names, VOLUMETRIC_FBAR
   use mpm_config_types, only: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, &
-                              body_cfg_t, wall_cfg_t, probe_cfg_t, unset_real
+                              body_cfg_t, wall_cfg_t, probe_cfg_t, contact_cfg_t, unset_real
   use mpm_config_text, only: itoa, quote, fmt_real, fill, fmt_vec, fmt_logical, finite
   use mpm_config_table, only: specs, n_specs, group_specs, echo_comment, spec_index
   use mpm_config_values, only: values_t
@@ -110,6 +110,12 @@ contains
         call write_group(w, e, k)
       end do
     end if
+    if (allocated(cfg%contacts)) then
+      do k = 1, size(cfg%contacts)
+        call pack_contact(cfg%contacts(k), e)
+        call write_group(w, e, k)
+      end do
+    end if
     stat = 0
     errmsg = ''
     if (w%ios /= 0) then
@@ -146,6 +152,8 @@ contains
       call pack_wall(pack(cfg%walls, .not. cfg%walls%mirror), k, e)
     case (7)
       call pack_probe(cfg%probes(k), e)
+    case (8)
+      call pack_contact(cfg%contacts(k), e)
     end select
     idx = group_specs(e%v%group)
     do j = 1, size(idx)
@@ -339,6 +347,15 @@ contains
     call put_r(e, 'point', p%point)
   end subroutine pack_probe
 
+  subroutine pack_contact(c, e)
+    type(contact_cfg_t), intent(in) :: c
+    type(echo_t), intent(inout) :: e
+    call start(e, 'contact')
+    call put_r(e, 'bodies', real(c%bodies, wp))
+    call put_c(e, 'law', enum_name(c%law_id, contact_names(1:3), c%law))
+    call put_r(e, 'friction', [c%friction])
+  end subroutine pack_contact
+
   !> The body variables that belong to one shape.
   pure function only_names(shape) result(names)
     character(len=*), intent(in) :: shape
@@ -430,7 +447,9 @@ contains
     case ('l')
       s = fmt_logical(v%l(r))
     case default
-      if (specs(r)%n == 2) then
+      if (specs(r)%whole) then
+        s = itoa(nint(v%r(1, r)))//', '//itoa(nint(v%r(2, r)))
+      else if (specs(r)%n == 2) then
         s = fmt_vec(v%r(1:2, r))
       else
         s = fmt_real(v%r(1, r))

@@ -23,11 +23,11 @@ module mpm_config_table
   public :: group_id, spec_index, group_specs, var_list, var_names, allowed_text, enum_names, &
             echo_comment
 
-  integer, parameter :: n_groups = 7
+  integer, parameter :: n_groups = 8
   character(len=*), parameter :: group_names(n_groups) = [character(len=8) :: &
-    'run', 'solver', 'grid', 'material', 'body', 'wall', 'probe']
+    'run', 'solver', 'grid', 'material', 'body', 'wall', 'probe', 'contact']
   logical, parameter :: group_repeatable(n_groups) = &
-    [.false., .false., .false., .true., .true., .true., .true.]
+    [.false., .false., .false., .true., .true., .true., .true., .true.]
 
   real(wp), parameter :: big = huge(1.0_wp)
 
@@ -43,6 +43,8 @@ module mpm_config_table
     logical :: l0 = .false.                 !! default of a logical
     logical :: c_blank = .false.            !! the reader starts from '' (given or not?)
     logical :: required = .false.
+    logical :: whole = .false.              !! real values that must be whole numbers (echo
+                                            !! writes them as integers)
     real(wp) :: lo = -big, hi = big         !! range
     logical :: lo_open = .false., hi_open = .false.  !! lo < x (not <=), x < hi (not <=)
     integer :: max_len = name_len           !! longest text
@@ -53,7 +55,7 @@ module mpm_config_table
     character(len=48) :: comment = ''       !! echo comment: meaning [unit]; % = the names
   end type var_spec_t
 
-  integer, parameter :: n_specs = 59
+  integer, parameter :: n_specs = 61
   character(len=*), parameter :: s0 = 'a real number >= 0 [s] (default 0)'
   character(len=*), parameter :: v0 = '2 finite real numbers [m/s] (default 0, 0)'
   character(len=*), parameter :: lu = '2 real numbers [m] each for lower and upper, lower '// &
@@ -204,7 +206,15 @@ module mpm_config_table
     var_spec_t('probe', 'point', n=2, r0=big, required=.true., unset='huge', &
       unset_note=rq//'the particle nearest to it is recorded [m]', &
       allowed='2 finite real numbers [m] (required)', &
-      comment='the particle nearest to it is recorded [m]')]
+      comment='the particle nearest to it is recorded [m]'), &
+    ! ---------------------------------------------------------------------------- &contact
+    var_spec_t('contact', 'bodies', n=2, r0=0.0_wp, lo=0.0_wp, whole=.true., &
+      allowed='2 integers: two different bodies by their order in the file (1, 2, ...), '// &
+      'or 0, 0 for every pair not named in another &contact (default 0, 0)', &
+      comment='the two bodies (0, 0 = every other pair) [-]'), &
+    var_spec_t('contact', 'law', 'e', c0='frictionless', comment='%'), &
+    var_spec_t('contact', 'friction', lo=0.0_wp, allowed='a real number >= 0, and > 0 only '// &
+      'with law = ''coulomb'' (default 0)', comment='Coulomb coefficient [-]')]
 
 contains
 
@@ -293,6 +303,8 @@ contains
       names = sector_names
     case ('contact')
       names = contact_names
+    case ('law')
+      names = contact_names(1:3)             ! between bodies: no mirror plane ('slip')
     case default
       allocate(names(0))
     end select

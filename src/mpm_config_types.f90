@@ -9,7 +9,7 @@ module mpm_config_types
   implicit none
   private
   public :: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, body_cfg_t, &
-            wall_cfg_t, probe_cfg_t
+            wall_cfg_t, probe_cfg_t, contact_cfg_t
   public :: unset_real, iunset
 
   type :: run_cfg_t
@@ -105,6 +105,14 @@ module mpm_config_types
     real(wp) :: point(2) = 0.0_wp                  !! the particle nearest at t = 0 is recorded [m]
   end type probe_cfg_t
 
+  !> &contact (repeatable): how two bodies meet
+  type :: contact_cfg_t
+    integer :: bodies(2) = 0                       !! the two bodies (0, 0: every other pair)
+    character(len=name_len) :: law = 'frictionless'  !! frictionless | coulomb | stick
+    integer :: law_id = 0                          !! code of mpm_constants (CONTACT_*)
+    real(wp) :: friction = 0.0_wp                  !! Coulomb coefficient [-]
+  end type contact_cfg_t
+
   !> The whole case.
   type :: config_t
     character(len=path_len) :: file = ''           !! the namelist file read
@@ -115,6 +123,7 @@ module mpm_config_types
     type(body_cfg_t), allocatable :: bodies(:)
     type(wall_cfg_t), allocatable :: walls(:)
     type(probe_cfg_t), allocatable :: probes(:)
+    type(contact_cfg_t), allocatable :: contacts(:)
   end type config_t
 
   !> Marks a required number that was not given (wall and probe points, normals in

@@ -64,22 +64,24 @@ contains
     type(tiles_t), intent(inout) :: tl     !! live spans (span sums untouched)
     type(work_t), intent(inout) :: wk      !! per-wall data of the step
     real(wp), intent(in) :: dt             !! time step [s]
-    integer :: k, i0, i1, j0, j1, i, j, n
+    integer :: k, i0, i1, j0, j1, i, j, n, f
     real(wp) :: tol
     call wall_setup(st, g, wk, dt, tol)
     !$omp parallel do default(none) schedule(static) shared(st, g, tl, wk, dt, tol) &
-    !$omp   private(k, i0, i1, j0, j1, i, j, n) if(wk%par)
+    !$omp   private(k, i0, i1, j0, j1, i, j, n, f) if(wk%par)
     do k = 1, tl%nspan
       call tiles_span(tl, k, i0, i1, j0, j1)
-      do j = j0, j1
-        do i = i0, i1
-          n = 1 + i + g%nx*j
-          if (g%mass(n) > g%mass_cut) then
-            g%vel(:, n) = g%mom(:, n)/g%mass(n)
-            if (st%nwall > 0) call node_walls(st, wk, g, tl, i, j, n, tol, 0, 0.0_wp)
-          else
-            g%vel(:, n) = 0.0_wp
-          end if
+      do f = 0, g%nf - 1
+        do j = j0, j1
+          do i = i0, i1
+            n = 1 + i + g%nx*j + f*g%nn
+            if (g%mass(n) > g%mass_cut) then
+              g%vel(:, n) = g%mom(:, n)/g%mass(n)
+              if (st%nwall > 0) call node_walls(st, wk, g, tl, i, j, n, tol, 0, 0.0_wp)
+            else
+              g%vel(:, n) = 0.0_wp
+            end if
+          end do
         end do
       end do
     end do
@@ -97,7 +99,7 @@ contains
     type(tiles_t), intent(inout) :: tl     !! live spans, partial sums per span
     type(work_t), intent(inout) :: wk      !! per-wall data, surface points
     real(wp), intent(in) :: dt             !! time step [s]
-    integer :: k, i0, i1, j0, j1, i, j, n, nact, iw
+    integer :: k, i0, i1, j0, j1, i, j, n, nact, iw, f
     real(wp) :: v0(2), v1(2), fac, edamp, damping, tol, flip
     call wall_setup(st, g, wk, dt, tol)
     call surface_forces(prm, st, g, wk, dt)
@@ -107,29 +109,31 @@ contains
     nact = 0
     !$omp parallel do default(none) schedule(static) &
     !$omp   shared(st, g, tl, wk, dt, fac, damping, tol, flip) &
-    !$omp   private(k, i0, i1, j0, j1, i, j, n, v0, v1, edamp) reduction(+: nact) if(wk%par)
+    !$omp   private(k, i0, i1, j0, j1, i, j, n, v0, v1, edamp, f) reduction(+: nact) if(wk%par)
     do k = 1, tl%nspan
       call tiles_span(tl, k, i0, i1, j0, j1)
       edamp = 0.0_wp
       tl%span_sum(:, k) = 0.0_wp
-      do j = j0, j1
-        do i = i0, i1
-          n = 1 + i + g%nx*j
-          if (.not. g%mass(n) > g%mass_cut) then
-            g%vel(:, n) = 0.0_wp
-            g%dvel(:, n) = 0.0_wp
-            cycle
-          end if
-          nact = nact + 1
-          v0 = g%mom(:, n)/g%mass(n)
-          v1 = v0 + dt*g%force(:, n)/g%mass(n)
-          if (damping > 0.0_wp) then
-            edamp = edamp + 0.5_wp*g%mass(n)*(1.0_wp - fac*fac)*dot_product(v1, v1)
-            v1 = fac*v1
-          end if
-          g%vel(:, n) = v1
-          g%dvel(:, n) = v1 - v0
-          if (st%nwall > 0) call node_walls(st, wk, g, tl, i, j, n, tol, k, flip)
+      do f = 0, g%nf - 1
+        do j = j0, j1
+          do i = i0, i1
+            n = 1 + i + g%nx*j + f*g%nn
+            if (.not. g%mass(n) > g%mass_cut) then
+              g%vel(:, n) = 0.0_wp
+              g%dvel(:, n) = 0.0_wp
+              cycle
+            end if
+            nact = nact + 1
+            v0 = g%mom(:, n)/g%mass(n)
+            v1 = v0 + dt*g%force(:, n)/g%mass(n)
+            if (damping > 0.0_wp) then
+              edamp = edamp + 0.5_wp*g%mass(n)*(1.0_wp - fac*fac)*dot_product(v1, v1)
+              v1 = fac*v1
+            end if
+            g%vel(:, n) = v1
+            g%dvel(:, n) = v1 - v0
+            if (st%nwall > 0) call node_walls(st, wk, g, tl, i, j, n, tol, k, flip)
+          end do
         end do
       end do
       tl%span_sum(1, k) = edamp
@@ -169,7 +173,8 @@ contains
                           stiffness(prm, g), wk%surf(iw))
       st%e_contact = st%e_contact + surface_energy(wk%surf(iw))
       call surface_push(wk%surf(iw), g%origin, g%h, g%nx, g%ny, g%mass, g%mass_cut, wk%nb, &
-                        wk%blk, wk%w, wk%wall_work(5:6, iw), dt, g%force, imp)
+                        wk%blk, wk%w, wk%wall_work(5:6, iw), dt, g%force, imp, g%nf, &
+                        prm%field, prm%corner_field)
       st%walls(iw)%impulse = st%walls(iw)%impulse + imp
     end do
   end subroutine surface_forces
@@ -197,8 +202,8 @@ contains
           do a = 1, wk%surf(iw)%nnode
             if (wk%surf(iw)%nw(a, c) == 0.0_wp) cycle
             n = wk%surf(iw)%node(a, c)
-            i = mod(n - 1, g%nx)
-            j = (n - 1)/g%nx
+            i = mod(mod(n - 1, g%nn), g%nx)     ! the node of any field
+            j = mod(n - 1, g%nn)/g%nx
             xn = g%origin + g%h*[real(i, wp), real(j, wp)]
             dist = dot_product(xn - wk%wall_work(3:4, jw), wk%wall_work(5:6, jw)) - tol
             if (dist > 0.0_wp) cycle

@@ -48,9 +48,9 @@ contains
     !$omp   private(ic) reduction(max: bad) if(wk%par)
     do ic = 1, nchunk
       call deformation_kernel(1 + (ic - 1)*chunk, min(ic*chunk, st%p%np), st%p%np, g%nn, &
-             wk%nb, g%nx, wk%blk, wk%gw, g%vel, dt, prm%mats, prm%plane, st%p%mat, st%p%vol0, &
-             fbar, size(wk%dj), wk%lgrad, wk%dj, wk%djbar, st%p%v, st%p%F, st%p%vol, st%p%stress, &
-             st%p%eqps, st%p%wplastic, wk%chunk_sum(:, ic), bad)
+             g%nf, prm%field, wk%nb, g%nx, wk%blk, wk%gw, g%vel, dt, prm%mats, prm%plane, &
+             st%p%mat, st%p%vol0, fbar, size(wk%dj), wk%lgrad, wk%dj, wk%djbar, st%p%v, st%p%F, &
+             st%p%vol, st%p%stress, st%p%eqps, st%p%wplastic, wk%chunk_sum(:, ic), bad)
     end do
     !$omp end parallel do
     st%e_plastic = st%e_plastic + sum(wk%chunk_sum(1, 1:nchunk))
@@ -79,14 +79,16 @@ contains
   !> Deformation and stress of particles ip0..ip1 (one chunk); the chunk's plastic dissipation
   !! and stored elastic energy go to csum; bad(1:3) = largest particle with det F <= 0, a
   !! failed stress update, a non-finite result.
-  subroutine deformation_kernel(ip0, ip1, np, nn, nb, nx, blk, gw, vel, dt, mats, plane, mat, &
-                                vol0, fbar, ndj, lgrad, dj, djbar, v, F, vol, stress, eqps, &
-                                wplastic, csum, bad)
+  subroutine deformation_kernel(ip0, ip1, np, nn, nf, fld, nb, nx, blk, gw, vel, dt, mats, &
+                                plane, mat, vol0, fbar, ndj, lgrad, dj, djbar, v, F, vol, &
+                                stress, eqps, wplastic, csum, bad)
     integer, intent(in) :: ip0, ip1        !! particles
     integer, intent(in) :: np, nn, nb, nx  !! particles, nodes, block width, nodes along x
+    integer, intent(in) :: nf              !! velocity fields
+    integer, intent(in), allocatable :: fld(:)  !! field of each particle (nf > 1) (np)
     integer, intent(in) :: blk(2, np)      !! block origins
     real(wp), intent(in) :: gw(2, nb*nb, np)  !! gradients [1/m]
-    real(wp), intent(in) :: vel(2, nn)     !! node velocity [m/s]
+    real(wp), intent(in) :: vel(2, nn*nf)  !! node velocity [m/s]
     real(wp), intent(in) :: dt             !! time step [s]
     type(material_t), intent(in) :: mats(:)  !! materials
     integer, intent(in) :: plane           !! PLANE_* code
@@ -105,14 +107,17 @@ contains
     real(wp), intent(inout) :: wplastic(np)  !! plastic work [J/m]
     real(wp), intent(out) :: csum(2)       !! plastic dissipation, elastic energy [J/m]
     integer, intent(inout) :: bad(3)       !! failing particles (see above)
-    integer :: ip, mstat
+    integer :: ip, mstat, off
     real(wp) :: L(2, 2), Fn(2, 2), J, dwp, wel
     csum = 0.0_wp
+    off = 0
     do ip = ip0, ip1
-      if (fbar) then
+      if (fbar) then                ! (fbar has one velocity field: mpm_config_check)
         L = lgrad(:, :, ip)
       else
-        call fbar_velocity_gradient(nb, nx, blk(:, ip), gw(:, :, ip), nn, vel, L)
+        if (nf > 1) off = nn*(fld(ip) - 1)
+        call fbar_velocity_gradient(nb, nx, blk(:, ip), gw(:, :, ip), nn, &
+                                    vel(:, off + 1:off + nn), L)
       end if
       Fn(1, 1) = F(1, 1, ip) + dt*(L(1, 1)*F(1, 1, ip) + L(1, 2)*F(2, 1, ip))
       Fn(1, 2) = F(1, 2, ip) + dt*(L(1, 1)*F(1, 2, ip) + L(1, 2)*F(2, 2, ip))
@@ -156,10 +161,11 @@ contains
     real(wp) :: dev
     if (prm%basis /= BASIS_CPDI2) return
     nchunk = (p%nc + chunk - 1)/chunk
-    !$omp parallel do default(none) schedule(static) shared(p, g, dt, nchunk) private(ic) if(wk%par)
+    !$omp parallel do default(none) schedule(static) shared(prm, p, g, dt, nchunk) private(ic) &
+    !$omp   if(wk%par)
     do ic = 1, nchunk
-      call corners_kernel(1 + (ic - 1)*chunk, min(ic*chunk, p%nc), p%nc, g%nn, g%nx, &
-                          g%origin, g%h, g%vel, dt, p%xc)
+      call corners_kernel(1 + (ic - 1)*chunk, min(ic*chunk, p%nc), p%nc, g%nn, g%nf, &
+                          prm%corner_field, g%nx, g%origin, g%h, g%vel, dt, p%xc)
     end do
     !$omp end parallel do
     dev = 0.0_wp
@@ -174,13 +180,16 @@ contains
     diag%area_dev = max(diag%area_dev, dev)
   end subroutine domains_update
 
-  !> Corners ic0..ic1 move with the bilinear interpolant of the node velocity.
-  subroutine corners_kernel(ic0, ic1, nc, nn, nx, origin, h, vel, dt, xc)
+  !> Corners ic0..ic1 move with the bilinear interpolant of the node velocity (of their own
+  !! field, cfld, when nf > 1).
+  subroutine corners_kernel(ic0, ic1, nc, nn, nf, cfld, nx, origin, h, vel, dt, xc)
     integer, intent(in) :: ic0, ic1        !! corners
     integer, intent(in) :: nc, nn, nx      !! corners, nodes, nodes along x
+    integer, intent(in) :: nf              !! velocity fields
+    integer, intent(in), allocatable :: cfld(:)  !! field of each corner (nf > 1) (nc)
     real(wp), intent(in) :: origin(2)      !! grid origin [m]
     real(wp), intent(in) :: h              !! cell size [m]
-    real(wp), intent(in) :: vel(2, nn)     !! node velocity [m/s]
+    real(wp), intent(in) :: vel(2, nn*nf)  !! node velocity [m/s]
     real(wp), intent(in) :: dt             !! time step [s]
     real(wp), intent(inout) :: xc(2, nc)   !! corner positions [m]
     integer :: ic, i0, j0, n
@@ -188,6 +197,7 @@ contains
     do ic = ic0, ic1
       call bilinear_at(xc(:, ic), origin, h, i0, j0, w4)
       n = 1 + i0 + nx*j0
+      if (nf > 1) n = n + nn*(cfld(ic) - 1)
       v = w4(1)*vel(:, n) + w4(2)*vel(:, n + 1) + w4(3)*vel(:, n + nx) + w4(4)*vel(:, n + nx + 1)
       xc(:, ic) = xc(:, ic) + dt*v
     end do

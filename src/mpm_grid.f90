@@ -7,6 +7,10 @@
 ! particles afresh), so it can be moved or enlarged between steps at no cost but allocation.
 !
 ! The node fields mass, mom and force are zero outside the live tiles (mpm_tiles).
+!
+! Multi-field contact (mpm_body_contact): with nf > 1 velocity fields every node carries nf
+! copies of its fields, one per contact field (a body, or part of one), field f of node n at
+! n + (f - 1) nn: the arrays hold nn * nf nodes. With one field (one body) nothing changes.
 module mpm_grid
   use mpm_kinds, only: wp, i8
   implicit none
@@ -22,12 +26,13 @@ module mpm_grid
     real(wp) :: inv_h = 0.0_wp           !! 1 / h [1/m]
     integer :: nx = 0, ny = 0            !! nodes along x and y
     integer :: nn = 0                    !! nx * ny
+    integer :: nf = 1                    !! velocity fields per node (mpm_body_contact)
     logical :: fixed = .false.           !! bounds given by the user: never grown
-    real(wp), allocatable :: mass(:)     !! nodal mass [kg per unit depth]
-    real(wp), allocatable :: mom(:,:)    !! nodal momentum (2, nn) [kg m/s]
-    real(wp), allocatable :: force(:,:)  !! nodal force (2, nn) [N]
-    real(wp), allocatable :: vel(:,:)    !! nodal velocity after the update (2, nn) [m/s]
-    real(wp), allocatable :: dvel(:,:)   !! velocity change over the step (2, nn) [m/s]
+    real(wp), allocatable :: mass(:)     !! nodal mass (nn nf) [kg per unit depth]
+    real(wp), allocatable :: mom(:,:)    !! nodal momentum (2, nn nf) [kg m/s]
+    real(wp), allocatable :: force(:,:)  !! nodal force (2, nn nf) [N]
+    real(wp), allocatable :: vel(:,:)    !! nodal velocity after the update (2, nn nf) [m/s]
+    real(wp), allocatable :: dvel(:,:)   !! velocity change over the step (2, nn nf) [m/s]
     integer :: nactive = 0               !! nodes with mass above mass_cut this step
     real(wp) :: mass_cut = 0.0_wp        !! active-node cut-off, 1e-12 of the largest mass [kg/m]
   end type grid_t
@@ -44,14 +49,17 @@ module mpm_grid
 contains
 
   !> Allocate a grid whose nodes span [lower, upper] (rounded outward to whole cells),
-  !! with a node lattice passing through `anchor`.
-  subroutine grid_init(g, lower, upper, h, anchor)
+  !! with a node lattice passing through `anchor`, and nf velocity fields (default 1).
+  subroutine grid_init(g, lower, upper, h, anchor, nf)
     type(grid_t), intent(inout) :: g      !! the grid
     real(wp), intent(in) :: lower(2)      !! lower corner to cover [m]
     real(wp), intent(in) :: upper(2)      !! upper corner to cover [m]
     real(wp), intent(in) :: h             !! cell size [m]
     real(wp), intent(in) :: anchor(2)     !! a point that must be a node [m]
+    integer, intent(in), optional :: nf   !! velocity fields per node
     integer :: i0(2), i1(2)
+    g%nf = 1
+    if (present(nf)) g%nf = max(nf, 1)
     g%h = h
     g%inv_h = 1.0_wp/h
     i0 = floor((lower - anchor)*g%inv_h + 1.0e-9_wp)
@@ -62,12 +70,14 @@ contains
     call grid_allocate(g)
   end subroutine grid_init
 
-  !> (Re)allocate the node fields for the current nx, ny; all zero.
+  !> (Re)allocate the node fields for the current nx, ny and nf; all zero.
   subroutine grid_allocate(g)
     type(grid_t), intent(inout) :: g      !! the grid
+    integer :: n
     g%nn = g%nx*g%ny
+    n = g%nn*g%nf
     if (allocated(g%mass)) deallocate(g%mass, g%mom, g%force, g%vel, g%dvel)
-    allocate(g%mass(g%nn), g%mom(2, g%nn), g%force(2, g%nn), g%vel(2, g%nn), g%dvel(2, g%nn))
+    allocate(g%mass(n), g%mom(2, n), g%force(2, n), g%vel(2, n), g%dvel(2, n))
     g%mass = 0.0_wp
     g%mom = 0.0_wp
     g%force = 0.0_wp
@@ -76,8 +86,9 @@ contains
     g%nactive = 0
   end subroutine grid_allocate
 
-  !> Make sure threads 1..nthreads-1 have zeroed scatter buffers of nn nodes (no-op when they
-  !! exist; a grid of another size gets new ones, as many as before at least).
+  !> Make sure threads 1..nthreads-1 have zeroed scatter buffers of nn nodes (all fields: the
+  !! grid's nn nf; no-op when they exist; a grid of another size gets new ones, as many as
+  !! before at least).
   subroutine grid_thread_buffers(b, nn, nthreads)
     type(buffers_t), intent(inout) :: b   !! the buffers
     integer, intent(in) :: nn             !! nodes of the grid
@@ -119,11 +130,11 @@ contains
     x(2) = g%origin(2) + g%h*real((n - 1)/g%nx, wp)
   end function grid_node_x
 
-  !> Memory held by the grid's node fields [bytes]: per node 9 reals.
+  !> Memory held by the grid's node fields [bytes]: per node and field 9 reals.
   pure function grid_memory_bytes(g) result(b)
     type(grid_t), intent(in) :: g         !! the grid
     integer(i8) :: b
-    b = int(g%nx, i8)*int(g%ny, i8)*72_i8
+    b = int(g%nx, i8)*int(g%ny, i8)*72_i8*int(g%nf, i8)
   end function grid_memory_bytes
 
   !> Memory held by the scatter buffers [bytes]: 5 reals per node and buffer.

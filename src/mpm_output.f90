@@ -9,6 +9,7 @@ module mpm_output
   use mpm_kinds, only: wp, i8
   use mpm_solver, only: sim_t
   use mpm_walls, only: wall_travel
+  use mpm_material, only: material_energy_density
   use mpm_strings, only: itoa
   implicit none
   private
@@ -52,7 +53,7 @@ contains
     logical, intent(in), optional :: append  !! continue an existing file (restart)
     character(len=512) :: msg
     character(len=:), allocatable :: header
-    integer :: k
+    integer :: k, i, j
     logical :: app
     app = .false.
     if (present(append)) app = append
@@ -85,6 +86,19 @@ contains
                '_vx,probe'//itoa(k)//'_vy,probe'//itoa(k)//'_eqps'
     end do
     header = header//',damped,step,dt,energy_error'
+    if (s%prm%nbody > 1) then                ! several bodies: per body, then per pair
+      do k = 1, s%prm%nbody
+        header = header//',body'//itoa(k)//'_x,body'//itoa(k)//'_y,body'//itoa(k)// &
+          '_vx,body'//itoa(k)//'_vy,body'//itoa(k)//'_kinetic,body'//itoa(k)// &
+          '_strain,body'//itoa(k)//'_plastic'
+      end do
+      do i = 1, s%prm%nbody - 1
+        do j = i + 1, s%prm%nbody
+          header = header//',contact'//itoa(i)//'_'//itoa(j)//'_force,contact'//itoa(i)// &
+            '_'//itoa(j)//'_fx,contact'//itoa(i)//'_'//itoa(j)//'_fy'
+        end do
+      end do
+    end if
     write(h%unit, '(a)', iostat=stat, iomsg=msg) header
     if (stat /= 0) errmsg = 'cannot write '//trim(path)//': '//trim(msg)
   end subroutine history_open
@@ -98,7 +112,8 @@ contains
     logical, intent(in) :: force           !! write regardless of the interval
     integer, intent(out) :: stat           !! 0 or iostat
     character(len=:), allocatable, intent(out) :: errmsg  !! the I/O problem
-    real(wp) :: row(4*s%nwall + 13 + 5*size(h%probe)), f(2), c(2), cv(2)
+    real(wp) :: row(4*s%nwall + 13 + 5*size(h%probe) + &
+                    merge(7*s%prm%nbody + 3*s%prm%npair, 0, s%prm%nbody > 1)), f(2), c(2), cv(2)
     integer :: k, i, ip
     character(len=512) :: msg
     stat = 0
@@ -143,6 +158,8 @@ contains
     row(i + 2) = real(s%step, wp)
     row(i + 3) = s%dt
     row(i + 4) = s%energy_error
+    i = i + 4
+    if (s%prm%nbody > 1) call body_columns(h, s, row(i + 1:))
     row = row + 0.0_wp                     ! no negative zeros in the file
     write(h%unit, '(es24.16e3,*(:",",es24.16e3))', iostat=stat, iomsg=msg) row
     if (stat /= 0) then
@@ -153,6 +170,61 @@ contains
     h%rows = h%rows + 1
     h%last_time = s%t
   end subroutine history_write
+
+  !> The columns of several bodies: per body its centre of mass and velocity (of the full
+  !! structure), kinetic, stored elastic and plastic energy; per pair of bodies i < j the
+  !! normal force between them and the force on body i, the mean since the previous row (the
+  !! pair's impulse sums are reset), summed with its images in the mirror planes.
+  subroutine body_columns(h, s, row)
+    type(history_t), intent(in) :: h       !! the history file (last row time, depth, factor)
+    type(sim_t), intent(inout) :: s        !! simulation (the pairs' sums are reset)
+    real(wp), intent(out) :: row(:)        !! 7 per body, then 3 per pair
+    real(wp) :: m(s%prm%nbody), mx(2, s%prm%nbody), mv(2, s%prm%nbody), e(3, s%prm%nbody)
+    real(wp) :: f(3), c(2), cv(2), mn(2)
+    integer :: ip, k, j, ib
+    m = 0.0_wp
+    mx = 0.0_wp
+    mv = 0.0_wp
+    e = 0.0_wp
+    do ip = 1, s%p%np
+      ib = s%p%body(ip)
+      m(ib) = m(ib) + s%p%mass(ip)
+      mx(:, ib) = mx(:, ib) + s%p%mass(ip)*s%p%x(:, ip)
+      mv(:, ib) = mv(:, ib) + s%p%mass(ip)*s%p%v(:, ip)
+      e(1, ib) = e(1, ib) + 0.5_wp*s%p%mass(ip)*dot_product(s%p%v(:, ip), s%p%v(:, ip))
+      e(2, ib) = e(2, ib) + s%p%vol(ip)*material_energy_density(s%prm%mats(s%p%mat(ip)), &
+                 s%prm%plane, s%p%stress(:, ip), s%p%F(:, :, ip))
+      e(3, ib) = e(3, ib) + s%p%wplastic(ip)
+    end do
+    do k = 1, s%prm%nbody
+      c = mx(:, k)/m(k)
+      cv = mv(:, k)/m(k)
+      do j = 1, s%nwall                      ! the full body's centre lies on the planes
+        if (.not. s%walls(j)%mirror) cycle
+        mn = s%walls(j)%normal
+        c = c - dot_product(c - s%walls(j)%point, mn)*mn
+        cv = cv - dot_product(cv, mn)*mn
+      end do
+      row(7*k - 6:7*k - 5) = c
+      row(7*k - 4:7*k - 3) = cv
+      row(7*k - 2:7*k) = e(:, k)*h%depth*h%factor
+    end do
+    do k = 1, s%prm%npair
+      if (s%t > h%last_time) then
+        f = s%pair_acc(:, k)/(s%t - h%last_time)
+      else
+        f = s%pair_force(:, k)
+      end if
+      s%pair_acc(:, k) = 0.0_wp
+      do j = 1, s%nwall                      ! with the images in the mirror planes
+        if (.not. s%walls(j)%mirror) cycle
+        mn = s%walls(j)%normal
+        f(1) = 2.0_wp*f(1)
+        f(2:3) = 2.0_wp*f(2:3) - 2.0_wp*dot_product(f(2:3), mn)*mn
+      end do
+      row(7*s%prm%nbody + 3*k - 2:7*s%prm%nbody + 3*k) = f*h%depth
+    end do
+  end subroutine body_columns
 
   !> Close the history file.
   subroutine history_close(h)

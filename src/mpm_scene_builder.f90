@@ -39,7 +39,7 @@ contains
     if (present(plane)) cfg%solver%plane_id = plane
     cfg%grid%h = h
     cfg%grid%fitted = .true.
-    allocate(cfg%materials(0), cfg%bodies(0), cfg%walls(0), cfg%probes(0))
+    allocate(cfg%materials(0), cfg%bodies(0), cfg%walls(0), cfg%probes(0), cfg%contacts(0))
   end function scene_new
 
   !> Add a &material.

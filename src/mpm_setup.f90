@@ -6,7 +6,7 @@ module mpm_setup
   use mpm_constants, only: pi, EXIT_INPUT, SHAPE_RING, SHAPE_RECT, SECTOR_FULL, SECTOR_HALF, &
                            SECTOR_QUARTER, CONTACT_SLIP, BASIS_LINEAR, basis_names, &
                            scheme_names, plane_names, sector_names, volumetric_names, &
-                           VOLUMETRIC_STANDARD
+                           VOLUMETRIC_STANDARD, CONTACT_FRICTIONLESS, contact_names
   use mpm_config, only: config_t
   use mpm_particles, only: particles_allocate, ring_counts, ring_fill, rect_counts, rect_fill
   use mpm_grid, only: grid_init
@@ -19,7 +19,7 @@ module mpm_setup
   use mpm_weights, only: weights_compute
   use mpm_advice, only: advice_check, advice_wall_time, cfl_in_use, cfl_automatic, cfl_text
   use mpm_budget, only: budget_t, budget_estimate, budget_check, budget_threads, &
-                        budget_max_nodes, bytes_text
+                        budget_max_nodes, bytes_text, contact_fields
   use mpm_sys, only: sys_memory_available
   implicit none
   private
@@ -115,6 +115,7 @@ contains
         nc = nc + ncb
       end associate
     end do
+    call setup_fields(cfg, s)
     ! walls: the input's, then the mirror planes of the sector (if not given already)
     call setup_walls(cfg, sector_id, walls)
     call move_alloc(walls, s%walls)
@@ -144,7 +145,7 @@ contains
       hi = hi + margin
       anchor = cfg%bodies(1)%center
       if (sector_id /= SECTOR_FULL) anchor = first_sector_center(cfg)
-      call grid_init(s%g, lo, hi, cfg%grid%h, anchor)
+      call grid_init(s%g, lo, hi, cfg%grid%h, anchor, s%prm%nf)
       s%g%fixed = .false.
     else
       ! the given bounds, rounded outward to whole cells of a lattice through `lower`, or
@@ -153,7 +154,7 @@ contains
       mirror_at = first_sector_center(cfg)
       if (sector_id /= SECTOR_FULL) anchor(1) = mirror_at(1)      ! the plane x = cx
       if (sector_id == SECTOR_QUARTER) anchor(2) = mirror_at(2)   ! and y = cy
-      call grid_init(s%g, cfg%grid%lower, cfg%grid%upper, cfg%grid%h, anchor)
+      call grid_init(s%g, cfg%grid%lower, cfg%grid%upper, cfg%grid%h, anchor, s%prm%nf)
       s%g%fixed = .true.
       call fixed_grid_fits(cfg, s, stat, errmsg)
       if (stat /= 0) return
@@ -161,6 +162,53 @@ contains
     call tiles_init(s%tiles, s%g)
     call solver_init_energy(s)
   end subroutine setup_sim
+
+  !> Contact between bodies (mpm_body_contact): with several bodies, one velocity field per
+  !! body (the field of every particle and corner), and the law of every pair of bodies:
+  !! frictionless, or that of the &contact naming the pair, or of the &contact with bodies =
+  !! 0, 0; the pairs' impulse sums for history.csv.
+  subroutine setup_fields(cfg, s)
+    type(config_t), intent(in) :: cfg      !! the case
+    type(sim_t), intent(inout) :: s        !! particles in place; fields, laws set
+    integer :: nb, ip, a, k, i, j
+    nb = size(cfg%bodies)
+    s%prm%nbody = nb
+    s%prm%nf = contact_fields(cfg)
+    if (s%prm%nf < 2) return
+    allocate(s%prm%field(s%p%np), s%prm%corner_field(s%p%nc), s%prm%field_body(s%prm%nf))
+    s%prm%field = s%p%body(1:s%p%np)
+    s%prm%corner_field = 1
+    do ip = 1, s%p%np
+      do a = 1, 4
+        s%prm%corner_field(s%p%corner(a, ip)) = s%prm%field(ip)
+      end do
+    end do
+    s%prm%field_body = [(k, k = 1, s%prm%nf)]
+    s%prm%npair = (nb*(nb - 1))/2
+    allocate(s%prm%pair_law(nb, nb), s%prm%pair_mu(nb, nb))
+    s%prm%pair_law = CONTACT_FRICTIONLESS
+    s%prm%pair_mu = 0.0_wp
+    do k = 1, size(cfg%contacts)             ! 0, 0 first: every pair not named elsewhere
+      if (any(cfg%contacts(k)%bodies /= 0)) cycle
+      s%prm%pair_law = cfg%contacts(k)%law_id
+      s%prm%pair_mu = cfg%contacts(k)%friction
+    end do
+    do k = 1, size(cfg%contacts)
+      i = cfg%contacts(k)%bodies(1)
+      j = cfg%contacts(k)%bodies(2)
+      if (i == 0) cycle
+      s%prm%pair_law(i, j) = cfg%contacts(k)%law_id
+      s%prm%pair_law(j, i) = cfg%contacts(k)%law_id
+      s%prm%pair_mu(i, j) = cfg%contacts(k)%friction
+      s%prm%pair_mu(j, i) = cfg%contacts(k)%friction
+    end do
+    do i = 1, nb                             ! a body is one field: no contact with itself
+      s%prm%pair_law(i, i) = 0
+    end do
+    allocate(s%pair_acc(3, s%prm%npair), s%pair_force(3, s%prm%npair))
+    s%pair_acc = 0.0_wp
+    s%pair_force = 0.0_wp
+  end subroutine setup_fields
 
   !> A fixed grid must hold the node block of every particle at t = 0, or step 1 would stop
   !! the run ("left the grid"): step 1's own test (weights_compute) run now, refused as an
@@ -237,6 +285,21 @@ contains
     end if
   end subroutine setup_walls
 
+  !> The law of every pair of bodies, 'pairs 1-2 frictionless, 1-3 coulomb (0.3), ...'.
+  function pair_laws_text(s) result(text)
+    type(sim_t), intent(in) :: s           !! simulation (pair laws)
+    character(len=:), allocatable :: text
+    integer :: i, j
+    text = 'pairs'
+    do i = 1, s%prm%nbody - 1
+      do j = i + 1, s%prm%nbody
+        if (len(text) > 5) text = text//','
+        text = text//' '//itoa(i)//'-'//itoa(j)//' '//trim(contact_names(s%prm%pair_law(i, j)))
+        if (s%prm%pair_mu(i, j) > 0.0_wp) text = text//' ('//rtoa(s%prm%pair_mu(i, j))//')'
+      end do
+    end do
+  end function pair_laws_text
+
   !> Centre of the first ring body modelled as a sector [m].
   pure function first_sector_center(cfg) result(c)
     type(config_t), intent(in) :: cfg      !! the case
@@ -298,6 +361,8 @@ contains
     call append_msg(report, line)
     if (.not. s%g%fixed) call append_msg(report, '      (fitted to the bodies plus two '// &
       'cells; it grows when the material moves out)')
+    if (s%prm%nf > 1) call append_msg(report, 'contact between bodies: '// &
+      itoa(s%prm%nf)//' velocity fields (one per body), '//pair_laws_text(s))
     write(line, '(a,i0,4a)') 'walls: ', s%nwall, ' (', &
       plural(count(s%walls(:)%mirror), 'mirror plane'), ' added by the sector)'
     call append_msg(report, line)

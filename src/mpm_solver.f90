@@ -8,6 +8,8 @@
 !      mpm_tiles        binning: live tiles (the grid region with material), colour groups
 !   2. mpm_transfer     P2G: mass, momentum, internal and body forces
 !   3. mpm_contact      grid update, damping and walls (reaction = momentum added / dt)
+!      mpm_body_contact contact between bodies (several velocity fields: detected after the
+!                       P2G of step 2, applied in steps 2 (USF), 3 and 5)
 !   4. mpm_transfer     G2P: FLIP/PIC velocity blend, positions
 !   5. mpm_transfer, mpm_contact   MUSL: momenta mapped back, walls re-applied
 !   6. mpm_deformation  L, F, volume, stress; CPDI domains (corners, centroids)
@@ -33,6 +35,7 @@ module mpm_solver
   use mpm_transfer, only: transfer_p2g, transfer_g2p, transfer_g2p_coloured
   use mpm_contact, only: grid_velocity_walls, grid_update_walls, contact_begin_step, &
                          contact_reactions, contact_energy, contact_check
+  use mpm_body_contact, only: body_contact_detect, body_contact_apply, body_contact_reactions
   use mpm_deformation, only: deformation_update, domains_update
   use mpm_timers, only: clock_seconds, PHASE_BASIS, PHASE_P2G, PHASE_GRID, PHASE_G2P, &
                         PHASE_REMAP, PHASE_STRESS, PHASE_CORNERS, PHASE_OTHER
@@ -137,7 +140,9 @@ contains
     if (s%prm%scheme == SCHEME_USF) then
       call transfer_p2g(s%prm, s%p, s%g, s%tiles, s%bufs, s%wk, mass_momentum=.true., &
                         force=.false.)
+      call body_contact_detect(s%prm, s%state_t, s%g, s%tiles, s%wk)
       call grid_velocity_walls(s%state_t, s%g, s%tiles, s%wk, dt)
+      call body_contact_apply(s%prm, s%g, s%wk, dt, record=.false.)
       call tick(s%diag, PHASE_P2G, clock)
       call deformation_update(s%prm, s%state_t, s%g, s%wk, dt, stat, errmsg)
       if (stat /= 0) return
@@ -147,10 +152,12 @@ contains
     else                                     ! the stress is the previous step's
       call transfer_p2g(s%prm, s%p, s%g, s%tiles, s%bufs, s%wk, mass_momentum=.true., &
                         force=.true.)
+      call body_contact_detect(s%prm, s%state_t, s%g, s%tiles, s%wk)
     end if
     call tick(s%diag, PHASE_P2G, clock)
     ! 3. grid update, damping and walls
     call grid_update_walls(s%prm, s%state_t, s%g, s%tiles, s%wk, dt)
+    call body_contact_apply(s%prm, s%g, s%wk, dt, record=.true.)   ! between bodies
     call contact_check(s%state_t, s%wk, s%g%h, stat, errmsg)
     if (stat /= 0) return
     call tick(s%diag, PHASE_GRID, clock)
@@ -165,6 +172,7 @@ contains
     ! 5. MUSL: the new particle momenta back on the grid, walls re-applied
     if (remap) then
       call grid_velocity_walls(s%state_t, s%g, s%tiles, s%wk, dt)
+      call body_contact_apply(s%prm, s%g, s%wk, dt, record=.false.)
       call tick(s%diag, PHASE_REMAP, clock)
     end if
     ! 6. deformation and stress (USF did it in step 2), then the particle domains
@@ -179,6 +187,7 @@ contains
     s%t = s%t + dt
     s%step = s%step + 1_i8
     call contact_reactions(s%state_t, dt)
+    call body_contact_reactions(s%prm, s%state_t, s%wk, dt)
     call energy_balance(s%prm, s%state_t, s%g%h, dt, stat, errmsg)
     call tick(s%diag, PHASE_OTHER, clock)
   end subroutine solver_step

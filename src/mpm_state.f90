@@ -20,6 +20,7 @@ module mpm_state
   use mpm_tiles, only: tiles_t
   use mpm_walls, only: wall_t, walls_write_state, walls_read_state
   use mpm_surface_contact, only: surface_work_t
+  use mpm_contact_law, only: field_contact_t
   use mpm_material, only: material_t
   use mpm_timers, only: n_phases
   use mpm_strings, only: itoa, rtoa
@@ -62,6 +63,17 @@ module mpm_state
     integer :: parallel_min = 4096         !! particles from which loops run in parallel: below,
                                            !! OpenMP start-up and barriers cost more than they save
     integer :: colour_band = 32768         !! particles per band of the deterministic sweep
+    ! contact between bodies (mpm_body_contact): one velocity field per body where there are
+    ! several (nf = 1: one field for all, the arrays below not allocated)
+    integer :: nf = 1                      !! velocity fields per node
+    integer :: nbody = 1                   !! bodies
+    integer :: npair = 0                   !! pairs of bodies i < j (nbody (nbody - 1) / 2)
+    integer, allocatable :: field(:)       !! field of each particle (np)
+    integer, allocatable :: corner_field(:)  !! field of each CPDI2 corner (nc)
+    integer, allocatable :: field_body(:)  !! body of each field (nf)
+    integer, allocatable :: pair_law(:,:)  !! CONTACT_* law between bodies i and j (nbody,
+                                           !! nbody)
+    real(wp), allocatable :: pair_mu(:,:)  !! their Coulomb coefficient (nbody, nbody) [-]
   end type params_t
 
   !> The state: everything a checkpoint holds (with the grid placement and diag_t's extremes).
@@ -83,6 +95,11 @@ module mpm_state
     real(wp) :: bal_max = 0.0_wp           !! largest |kin + strain + plastic + damped - ext - E0|
                                            !! [J/m]
     real(wp) :: ext_max = 0.0_wp           !! largest |external work| so far [J/m]
+    real(wp), allocatable :: pair_acc(:,:) !! per pair of bodies i < j: normal impulse and the
+                                           !! impulse on body i since the last history row
+                                           !! (3, npair) [kg/s per m]
+    real(wp), allocatable :: pair_force(:,:)  !! the same of the last step over dt (3, npair)
+                                           !! [N/m]
   end type state_t
 
   !> Work arrays of a step: the basis cache and per-particle lists (no meaning between steps).
@@ -104,6 +121,7 @@ module mpm_state
     real(wp), allocatable :: wall_work(:,:) !! per wall: velocity over the step, point, normal,
                                            !! velocity over the step before (8, nwall) [m/s, m, -]
     type(surface_work_t), allocatable :: surf(:)  !! per wall: surface points in contact
+    type(field_contact_t) :: fc            !! contact between fields: nodes, pairs, gaps
   end type work_t
 
   !> Diagnostics: measured, reported, never read back by the step. The extremes and the
@@ -150,6 +168,8 @@ contains
       st%bal_max, st%ext_max
     if (stat == 0) call walls_write_state(st%walls, u, stat, errmsg)
     if (stat == 0) call particles_write(st%p, u, stat, errmsg)
+    if (stat == 0 .and. allocated(st%pair_acc)) write(u, iostat=stat, iomsg=errmsg) &
+      st%pair_acc, st%pair_force
   end subroutine state_write
 
   !> Read a record of state_write into st, which mpm_setup has built from the same input
@@ -164,6 +184,8 @@ contains
       st%bal_max, st%ext_max
     if (stat == 0) call walls_read_state(st%walls, u, stat, errmsg)
     if (stat == 0) call particles_read(st%p, u, stat, errmsg)
+    if (stat == 0 .and. allocated(st%pair_acc)) read(u, iostat=stat, iomsg=errmsg) &
+      st%pair_acc, st%pair_force
   end subroutine state_read
 
   !> Write the diagnostics that span the run (extremes, growth count; not the phase times).

@@ -57,7 +57,7 @@ module mpm_surface_contact
     real(wp) :: gmin = 0.0_wp              !! the deepest gap among them (<= 0) [m]
     integer :: nnode = 4                   !! nodes per point (4, or the particle block nb^2)
     real(wp), allocatable :: xs(:,:)       !! CPDI2 corner positions (2, n) [m]
-    integer, allocatable :: owner(:)       !! the particle of a point, or 0 (a corner) (n)
+    integer, allocatable :: owner(:)       !! the particle of a point, or -(its corner id) (n)
     real(wp), allocatable :: fn(:)         !! normal penalty force (n) [N/m]
     real(wp), allocatable :: en(:)         !! penalty energy (n) [J/m]
     integer, allocatable :: node(:,:)      !! nodes of each point (nnode, n)
@@ -89,7 +89,7 @@ contains
       call corner_masses(p, wk)
       do ic = 1, p%nc
         d = (p%xc(1, ic) - xw(1))*normal(1) + (p%xc(2, ic) - xw(2))*normal(2)
-        if (d < 0.0_wp) call push(0, p%xc(:, ic), -kf*wk%corner_mass(ic)*d, &
+        if (d < 0.0_wp) call push(-ic, p%xc(:, ic), -kf*wk%corner_mass(ic)*d, &
                                   0.5_wp*kf*wk%corner_mass(ic)*d*d)
         wk%gmin = min(wk%gmin, d)
       end do
@@ -145,7 +145,7 @@ contains
   !! w, blk, nb of this step); impulse = the momentum they give the material over dt. Sets
   !! up the weights and the normal impulses that surface_friction reads.
   subroutine surface_push(wk, origin, h, nx, ny, mass, mass_cut, nb, blk, w, normal, dt, &
-                          force, impulse)
+                          force, impulse, nf, pfield, cfield)
     type(surface_work_t), intent(inout) :: wk  !! points; weights and normal impulses set
     real(wp), intent(in) :: origin(2)      !! position of node (0, 0) [m]
     real(wp), intent(in) :: h              !! cell size [m]
@@ -159,13 +159,19 @@ contains
     real(wp), intent(in) :: dt             !! time step [s]
     real(wp), intent(inout) :: force(:,:)  !! node force (2, nn) [N/m]
     real(wp), intent(out) :: impulse(2)    !! momentum given to the material [kg/s per m]
-    integer :: k, a, b, n, i0, j0, ip
+    integer, intent(in), optional :: nf    !! velocity fields (mpm_body_contact; default 1)
+    integer, intent(in), allocatable, optional :: pfield(:)  !! field of each particle (nf > 1)
+    integer, intent(in), allocatable, optional :: cfield(:)  !! field of each CPDI2 corner
+    integer :: k, a, b, n, i0, j0, ip, off, nfl
     real(wp) :: w4(4)
+    nfl = 1
+    if (present(nf)) nfl = nf
     impulse = 0.0_wp
     if (wk%npt == 0) return
     wk%nnode = 4
     if (wk%owner(1) > 0) wk%nnode = nb*nb
     call grow_nodes(wk, size(wk%fn))
+    off = 0
     do k = 1, wk%npt
       wk%s(k) = 0.0_wp
       wk%lam(:, k) = 0.0_wp
@@ -173,10 +179,17 @@ contains
       wk%wt(:, k) = 0.0_wp
       wk%nw(:, k) = 0.0_wp
       ip = wk%owner(k)
+      if (nfl > 1) then                      ! the nodes of the point's own field
+        if (ip > 0) then
+          off = nx*ny*(pfield(ip) - 1)
+        else
+          off = nx*ny*(cfield(-ip) - 1)
+        end if
+      end if
       if (ip > 0) then
         do b = 0, nb - 1
           do a = 0, nb - 1
-            wk%node(1 + a + nb*b, k) = 1 + blk(1, ip) + a + nx*(blk(2, ip) + b)
+            wk%node(1 + a + nb*b, k) = 1 + blk(1, ip) + a + nx*(blk(2, ip) + b) + off
             wk%nw(1 + a + nb*b, k) = w(1 + a + nb*b, ip)
           end do
         end do
@@ -184,7 +197,7 @@ contains
         call bilinear_at(wk%xs(:, k), origin, h, i0, j0, w4)
         if (i0 < 0 .or. j0 < 0 .or. i0 + 1 > nx - 1 .or. j0 + 1 > ny - 1) cycle
         wk%node(:, k) = [1 + i0 + nx*j0, 2 + i0 + nx*j0, 1 + i0 + nx*(j0 + 1), &
-                         2 + i0 + nx*(j0 + 1)]
+                         2 + i0 + nx*(j0 + 1)] + off
         wk%nw(:, k) = w4
       end if
       do a = 1, wk%nnode

@@ -121,22 +121,26 @@ contains
     if (.not. allocated(tl%span_sum)) allocate(tl%span_sum(nsum, size(tl%span, 2)))
   end subroutine tiles_bin
 
-  !> Zero mass, momentum and force on the live tiles: afterwards they are zero everywhere.
-  !! No live tiles remain. (Velocity and its change need no clearing: the grid update sets them
-  !! on every node of the live tiles, and nothing reads them elsewhere but with weight 0.)
+  !> Zero mass, momentum and force on the live tiles (every field): afterwards they are zero
+  !! everywhere. No live tiles remain. (Velocity and its change need no clearing: the grid
+  !! update sets them on every node of the live tiles, and nothing reads them elsewhere but
+  !! with weight 0.)
   subroutine tiles_clear_live(tl, g, par)
     type(tiles_t), intent(inout) :: tl    !! tiles
     type(grid_t), intent(inout) :: g      !! grid
     logical, intent(in) :: par            !! run in parallel
-    integer :: k, j, n0, n1
-    !$omp parallel do default(none) schedule(static) shared(tl, g) private(k, j, n0, n1) if(par)
+    integer :: k, j, n0, n1, f
+    !$omp parallel do default(none) schedule(static) shared(tl, g) private(k, j, n0, n1, f) &
+    !$omp   if(par)
     do k = 1, tl%nspan
-      do j = tl%span(3, k), tl%span(4, k)
-        n0 = 1 + tl%span(1, k) + g%nx*j
-        n1 = 1 + tl%span(2, k) + g%nx*j
-        g%mass(n0:n1) = 0.0_wp
-        g%mom(:, n0:n1) = 0.0_wp
-        g%force(:, n0:n1) = 0.0_wp
+      do f = 0, g%nf - 1
+        do j = tl%span(3, k), tl%span(4, k)
+          n0 = 1 + tl%span(1, k) + g%nx*j + f*g%nn
+          n1 = 1 + tl%span(2, k) + g%nx*j + f*g%nn
+          g%mass(n0:n1) = 0.0_wp
+          g%mom(:, n0:n1) = 0.0_wp
+          g%force(:, n0:n1) = 0.0_wp
+        end do
       end do
     end do
     !$omp end parallel do

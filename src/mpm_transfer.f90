@@ -68,7 +68,7 @@ contains
     has_bacc = allocated(prm%bacc)
     nt = 1
     !$ if (wk%par) nt = omp_get_max_threads()
-    call grid_thread_buffers(bf, g%nn, nt)
+    call grid_thread_buffers(bf, g%nn*g%nf, nt)
     !$omp parallel default(none) &
     !$omp   shared(prm, p, g, tl, bf, wk, stress, np, has_bacc, do_mass, do_force) &
     !$omp   private(it, nt, ip0, ip1, k) if(wk%par)
@@ -79,14 +79,14 @@ contains
     ip0 = 1 + int(int(np, i8)*int(it, i8)/int(nt, i8))
     ip1 = int(int(np, i8)*int(it + 1, i8)/int(nt, i8))
     if (it == 0) then
-      call p2g_kernel(ip0, ip1, .false., wk%perm, np, g%nn, wk%nb, g%nx, wk%blk, wk%w, wk%gw, &
-                      p%mass, p%v, p%vol, stress, prm%gravity, has_bacc, prm%bacc, &
-                      do_mass, do_force, g%mass, g%mom, g%force)
+      call p2g_kernel(ip0, ip1, .false., wk%perm, np, g%nn, g%nf, prm%field, wk%nb, g%nx, &
+                      wk%blk, wk%w, wk%gw, p%mass, p%v, p%vol, stress, prm%gravity, &
+                      has_bacc, prm%bacc, do_mass, do_force, g%mass, g%mom, g%force)
     else
-      call p2g_kernel(ip0, ip1, .false., wk%perm, np, g%nn, wk%nb, g%nx, wk%blk, wk%w, wk%gw, &
-                      p%mass, p%v, p%vol, stress, prm%gravity, has_bacc, prm%bacc, &
-                      do_mass, do_force, bf%buf_mass(:, it), bf%buf_mom(:, :, it), &
-                      bf%buf_force(:, :, it))
+      call p2g_kernel(ip0, ip1, .false., wk%perm, np, g%nn, g%nf, prm%field, wk%nb, g%nx, &
+                      wk%blk, wk%w, wk%gw, p%mass, p%v, p%vol, stress, prm%gravity, &
+                      has_bacc, prm%bacc, do_mass, do_force, bf%buf_mass(:, it), &
+                      bf%buf_mom(:, :, it), bf%buf_force(:, :, it))
     end if
     if (nt > 1) then
       !$omp barrier
@@ -123,8 +123,8 @@ contains
       do k = tl%group_start(i), tl%group_start(i + 1) - 1
         t = tl%colour_tiles(k)
         call p2g_kernel(tl%tile_start(t), tl%tile_start(t + 1) - 1, .true., wk%perm, np, &
-                        g%nn, wk%nb, g%nx, wk%blk, wk%w, wk%gw, p%mass, p%v, p%vol, &
-                        stress, prm%gravity, has_bacc, prm%bacc, do_mass, do_force, &
+                        g%nn, g%nf, prm%field, wk%nb, g%nx, wk%blk, wk%w, wk%gw, p%mass, p%v, &
+                        p%vol, stress, prm%gravity, has_bacc, prm%bacc, do_mass, do_force, &
                         g%mass, g%mom, g%force)
       end do
       !$omp end do
@@ -133,13 +133,16 @@ contains
   end subroutine p2g_coloured
 
   !> Scatter of particles k0..k1 (perm(k0..k1) when sorted): mass m_p phi, momentum
-  !! m_p v_p phi, force -V sigma . grad phi + phi m_p (g + b_p) (docs/theory.md, step 1).
-  subroutine p2g_kernel(k0, k1, sorted, perm, np, nn, nb, nx, blk, w, gw, mass, v, vol, &
-                        stress, gravity, has_bacc, bacc, do_mass, do_force, &
+  !! m_p v_p phi, force -V sigma . grad phi + phi m_p (g + b_p) (docs/theory.md, step 1),
+  !! each particle into the nodes of its velocity field (fld, when nf > 1).
+  subroutine p2g_kernel(k0, k1, sorted, perm, np, nn, nf, fld, nb, nx, blk, w, gw, mass, v, &
+                        vol, stress, gravity, has_bacc, bacc, do_mass, do_force, &
                         gmass, gmom, gforce)
     integer, intent(in) :: k0, k1          !! range of particles (or of perm)
     logical, intent(in) :: sorted          !! particles are perm(k0..k1)
     integer, intent(in) :: np, nn, nb, nx  !! particles, nodes, block width, nodes along x
+    integer, intent(in) :: nf              !! velocity fields
+    integer, intent(in), allocatable :: fld(:)  !! field of each particle (nf > 1) (np)
     integer, intent(in) :: perm(np)        !! particle order (sorted only)
     integer, intent(in) :: blk(2, np)      !! block origins
     real(wp), intent(in) :: w(nb*nb, np)   !! weights [-]
@@ -152,19 +155,21 @@ contains
     logical, intent(in) :: has_bacc        !! per-particle body acceleration given
     real(wp), intent(in), allocatable :: bacc(:,:)  !! body acceleration (2, np) [m/s^2]
     logical, intent(in) :: do_mass, do_force  !! map mass and momentum, forces
-    real(wp), intent(inout) :: gmass(nn)   !! node mass [kg/m]
-    real(wp), intent(inout) :: gmom(2, nn) !! node momentum [kg/s]
-    real(wp), intent(inout) :: gforce(2, nn)  !! node force [N/m]
-    integer :: k, ip, a, b, kk, n
+    real(wp), intent(inout) :: gmass(nn*nf)   !! node mass [kg/m]
+    real(wp), intent(inout) :: gmom(2, nn*nf) !! node momentum [kg/s]
+    real(wp), intent(inout) :: gforce(2, nn*nf)  !! node force [N/m]
+    integer :: k, ip, a, b, kk, n, off
     real(wp) :: wm, sxx, syy, sxy, vp, fb(2)
     logical :: body
     body = has_bacc .or. any(gravity /= 0.0_wp)
+    off = 0
     do k = k0, k1
       ip = k
       if (sorted) ip = perm(k)
+      if (nf > 1) off = nn*(fld(ip) - 1)
       if (do_mass) then
         do b = 0, nb - 1
-          n = 1 + blk(1, ip) + nx*(blk(2, ip) + b)
+          n = 1 + blk(1, ip) + nx*(blk(2, ip) + b) + off
           do a = 0, nb - 1
             kk = 1 + a + nb*b
             wm = w(kk, ip)*mass(ip)
@@ -183,7 +188,7 @@ contains
           fb = mass(ip)*gravity
           if (has_bacc) fb = fb + mass(ip)*bacc(:, ip)
           do b = 0, nb - 1
-            n = 1 + blk(1, ip) + nx*(blk(2, ip) + b)
+            n = 1 + blk(1, ip) + nx*(blk(2, ip) + b) + off
             do a = 0, nb - 1
               kk = 1 + a + nb*b
               gforce(1, n + a) = gforce(1, n + a) - (sxx*gw(1, kk, ip) + sxy*gw(2, kk, ip)) &
@@ -194,7 +199,7 @@ contains
           end do
         else                                 ! no body force: the internal force only
           do b = 0, nb - 1
-            n = 1 + blk(1, ip) + nx*(blk(2, ip) + b)
+            n = 1 + blk(1, ip) + nx*(blk(2, ip) + b) + off
             do a = 0, nb - 1
               kk = 1 + a + nb*b
               gforce(1, n + a) = gforce(1, n + a) - (sxx*gw(1, kk, ip) + sxy*gw(2, kk, ip))
@@ -214,24 +219,26 @@ contains
     integer, intent(in) :: k               !! span index
     integer, intent(in) :: nbuf            !! buffers in use
     logical, intent(in) :: do_mass, do_mom, do_force  !! fields mapped
-    integer :: i0, i1, j0, j1, j, n0, n1, ib
+    integer :: i0, i1, j0, j1, j, n0, n1, ib, f
     call tiles_span(tl, k, i0, i1, j0, j1)
     do ib = 1, nbuf
-      do j = j0, j1
-        n0 = 1 + i0 + g%nx*j
-        n1 = 1 + i1 + g%nx*j
-        if (do_mass) then
-          g%mass(n0:n1) = g%mass(n0:n1) + bf%buf_mass(n0:n1, ib)
-          bf%buf_mass(n0:n1, ib) = 0.0_wp
-        end if
-        if (do_mom) then
-          g%mom(:, n0:n1) = g%mom(:, n0:n1) + bf%buf_mom(:, n0:n1, ib)
-          bf%buf_mom(:, n0:n1, ib) = 0.0_wp
-        end if
-        if (do_force) then
-          g%force(:, n0:n1) = g%force(:, n0:n1) + bf%buf_force(:, n0:n1, ib)
-          bf%buf_force(:, n0:n1, ib) = 0.0_wp
-        end if
+      do f = 0, g%nf - 1
+        do j = j0, j1
+          n0 = 1 + i0 + g%nx*j + f*g%nn
+          n1 = 1 + i1 + g%nx*j + f*g%nn
+          if (do_mass) then
+            g%mass(n0:n1) = g%mass(n0:n1) + bf%buf_mass(n0:n1, ib)
+            bf%buf_mass(n0:n1, ib) = 0.0_wp
+          end if
+          if (do_mom) then
+            g%mom(:, n0:n1) = g%mom(:, n0:n1) + bf%buf_mom(:, n0:n1, ib)
+            bf%buf_mom(:, n0:n1, ib) = 0.0_wp
+          end if
+          if (do_force) then
+            g%force(:, n0:n1) = g%force(:, n0:n1) + bf%buf_force(:, n0:n1, ib)
+            bf%buf_force(:, n0:n1, ib) = 0.0_wp
+          end if
+        end do
       end do
     end do
   end subroutine add_buffers
@@ -241,13 +248,15 @@ contains
     type(grid_t), intent(inout) :: g       !! grid
     type(tiles_t), intent(in) :: tl        !! live spans
     logical, intent(in) :: par             !! run in parallel
-    integer :: k, i0, i1, j0, j1, j
-    !$omp parallel do default(none) schedule(static) shared(g, tl) private(k, i0, i1, j0, j1, j) &
-    !$omp   if(par)
+    integer :: k, i0, i1, j0, j1, j, f
+    !$omp parallel do default(none) schedule(static) shared(g, tl) &
+    !$omp   private(k, i0, i1, j0, j1, j, f) if(par)
     do k = 1, tl%nspan
       call tiles_span(tl, k, i0, i1, j0, j1)
-      do j = j0, j1
-        g%mom(:, 1 + i0 + g%nx*j:1 + i1 + g%nx*j) = 0.0_wp
+      do f = 0, g%nf - 1
+        do j = j0, j1
+          g%mom(:, 1 + i0 + g%nx*j + f*g%nn:1 + i1 + g%nx*j + f*g%nn) = 0.0_wp
+        end do
       end do
     end do
     !$omp end parallel do
@@ -258,15 +267,17 @@ contains
     type(grid_t), intent(inout) :: g       !! grid
     type(tiles_t), intent(in) :: tl        !! live spans
     logical, intent(in) :: par             !! run in parallel
-    integer :: k, i0, i1, j0, j1, j
+    integer :: k, i0, i1, j0, j1, j, f
     real(wp) :: mmax
     mmax = 0.0_wp
-    !$omp parallel do default(none) schedule(static) shared(g, tl) private(k, i0, i1, j0, j1, j) &
-    !$omp   reduction(max: mmax) if(par)
+    !$omp parallel do default(none) schedule(static) shared(g, tl) &
+    !$omp   private(k, i0, i1, j0, j1, j, f) reduction(max: mmax) if(par)
     do k = 1, tl%nspan
       call tiles_span(tl, k, i0, i1, j0, j1)
-      do j = j0, j1
-        mmax = max(mmax, maxval(g%mass(1 + i0 + g%nx*j:1 + i1 + g%nx*j)))
+      do f = 0, g%nf - 1
+        do j = j0, j1
+          mmax = max(mmax, maxval(g%mass(1 + i0 + g%nx*j + f*g%nn:1 + i1 + g%nx*j + f*g%nn)))
+        end do
       end do
     end do
     !$omp end parallel do
@@ -296,7 +307,7 @@ contains
       call zero_momentum(g, tl, wk%par)
       nt = 1
       !$ if (wk%par) nt = omp_get_max_threads()
-      call grid_thread_buffers(bf, g%nn, nt)
+      call grid_thread_buffers(bf, g%nn*g%nf, nt)
     end if
     vmax = 0.0_wp
     !$omp parallel default(none) shared(prm, st, g, tl, bf, wk, dt, remap, has_bacc, nchunk, np) &
@@ -310,13 +321,14 @@ contains
     do c = c0, c1
       if (it == 0 .or. .not. remap) then
         call g2p_kernel(1 + (c - 1)*chunk, min(c*chunk, np), .false., wk%perm, np, g%nn, &
-               wk%nb, g%nx, wk%blk, wk%w, g%vel, g%dvel, prm%flip, dt, prm%gravity, has_bacc, &
-               prm%bacc, st%p%mass, st%p%v, st%p%x, remap, g%mom, wk%chunk_sum(:, c), vmax)
+               g%nf, prm%field, wk%nb, g%nx, wk%blk, wk%w, g%vel, g%dvel, prm%flip, dt, &
+               prm%gravity, has_bacc, prm%bacc, st%p%mass, st%p%v, st%p%x, remap, g%mom, &
+               wk%chunk_sum(:, c), vmax)
       else
         call g2p_kernel(1 + (c - 1)*chunk, min(c*chunk, np), .false., wk%perm, np, g%nn, &
-               wk%nb, g%nx, wk%blk, wk%w, g%vel, g%dvel, prm%flip, dt, prm%gravity, has_bacc, &
-               prm%bacc, st%p%mass, st%p%v, st%p%x, remap, bf%buf_mom(:, :, it), &
-               wk%chunk_sum(:, c), vmax)
+               g%nf, prm%field, wk%nb, g%nx, wk%blk, wk%w, g%vel, g%dvel, prm%flip, dt, &
+               prm%gravity, has_bacc, prm%bacc, st%p%mass, st%p%v, st%p%x, remap, &
+               bf%buf_mom(:, :, it), wk%chunk_sum(:, c), vmax)
       end if
     end do
     if (remap .and. nt > 1) then
@@ -357,8 +369,8 @@ contains
       do k = tl%group_start(i), tl%group_start(i + 1) - 1
         t = tl%colour_tiles(k)
         call g2p_kernel(tl%tile_start(t), tl%tile_start(t + 1) - 1, .true., wk%perm, np, &
-               g%nn, wk%nb, g%nx, wk%blk, wk%w, g%vel, g%dvel, prm%flip, dt, prm%gravity, &
-               has_bacc, prm%bacc, st%p%mass, st%p%v, st%p%x, .true., g%mom, &
+               g%nn, g%nf, prm%field, wk%nb, g%nx, wk%blk, wk%w, g%vel, g%dvel, prm%flip, dt, &
+               prm%gravity, has_bacc, prm%bacc, st%p%mass, st%p%v, st%p%x, .true., g%mom, &
                tl%colour_sum(:, k), vmax)
       end do
       !$omp end do
@@ -372,16 +384,18 @@ contains
 
   !> G2P of particles k0..k1 (perm(k0..k1) when sorted); their kinetic energy and work of
   !! body forces in csum; with remap also m_p v_p phi into gmom.
-  subroutine g2p_kernel(k0, k1, sorted, perm, np, nn, nb, nx, blk, w, vel, dvel, flip, dt, &
-                        gravity, has_bacc, bacc, mass, v, x, remap, gmom, csum, vmax)
+  subroutine g2p_kernel(k0, k1, sorted, perm, np, nn, nf, fld, nb, nx, blk, w, vel, dvel, &
+                        flip, dt, gravity, has_bacc, bacc, mass, v, x, remap, gmom, csum, vmax)
     integer, intent(in) :: k0, k1          !! range of particles (or of perm)
     logical, intent(in) :: sorted          !! particles are perm(k0..k1)
     integer, intent(in) :: np, nn, nb, nx  !! particles, nodes, block width, nodes along x
+    integer, intent(in) :: nf              !! velocity fields
+    integer, intent(in), allocatable :: fld(:)  !! field of each particle (nf > 1) (np)
     integer, intent(in) :: perm(np)        !! particle order (sorted only)
     integer, intent(in) :: blk(2, np)      !! block origins
     real(wp), intent(in) :: w(nb*nb, np)   !! weights [-]
-    real(wp), intent(in) :: vel(2, nn)     !! node velocity [m/s]
-    real(wp), intent(in) :: dvel(2, nn)    !! node velocity change [m/s]
+    real(wp), intent(in) :: vel(2, nn*nf)  !! node velocity [m/s]
+    real(wp), intent(in) :: dvel(2, nn*nf) !! node velocity change [m/s]
     real(wp), intent(in) :: flip           !! FLIP fraction [-]
     real(wp), intent(in) :: dt             !! time step [s]
     real(wp), intent(in) :: gravity(2)     !! gravity [m/s^2]
@@ -391,22 +405,24 @@ contains
     real(wp), intent(inout) :: v(2, np)    !! particle velocity [m/s]
     real(wp), intent(inout) :: x(2, np)    !! particle position [m]
     logical, intent(in) :: remap           !! map the new momenta
-    real(wp), intent(inout) :: gmom(2, nn) !! node momentum [kg/s]
+    real(wp), intent(inout) :: gmom(2, nn*nf) !! node momentum [kg/s]
     real(wp), intent(out) :: csum(2)       !! kinetic energy, body-force work [J/m]
     real(wp), intent(inout) :: vmax        !! largest squared speed [m^2/s^2]
-    integer :: kp, ip, a, b, k, n
+    integer :: kp, ip, a, b, k, n, off
     real(wp) :: vpic(2), dv(2), vnew(2), fb(2), ekin, wgrav, wm
     logical :: body
     body = has_bacc .or. any(gravity /= 0.0_wp)
     ekin = 0.0_wp
     wgrav = 0.0_wp
+    off = 0
     do kp = k0, k1
       ip = kp
       if (sorted) ip = perm(kp)
+      if (nf > 1) off = nn*(fld(ip) - 1)
       vpic = 0.0_wp
       dv = 0.0_wp
       do b = 0, nb - 1
-        n = 1 + blk(1, ip) + nx*(blk(2, ip) + b)
+        n = 1 + blk(1, ip) + nx*(blk(2, ip) + b) + off
         do a = 0, nb - 1
           k = 1 + a + nb*b
           vpic = vpic + w(k, ip)*vel(:, n + a)
@@ -425,7 +441,7 @@ contains
       vmax = max(vmax, dot_product(vnew, vnew))
       if (remap) then
         do b = 0, nb - 1
-          n = 1 + blk(1, ip) + nx*(blk(2, ip) + b)
+          n = 1 + blk(1, ip) + nx*(blk(2, ip) + b) + off
           do a = 0, nb - 1
             wm = w(1 + a + nb*b, ip)*mass(ip)
             gmom(1, n + a) = gmom(1, n + a) + wm*vnew(1)

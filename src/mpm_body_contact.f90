@@ -1,0 +1,372 @@
+!> Contact between bodies (multi-field MPM): each body has its own velocity field on the grid;
+!! where two fields share a node their surfaces are found from the particle domains, and the
+!! contact law (mpm_contact_law) exchanges momentum between them when the surfaces meet.
+! SPDX-License-Identifier: MIT
+!
+! Called by the step (mpm_solver) only where the case has more than one velocity field
+! (params_t%nf > 1); a case with one body never comes here and is computed as before.
+!   detect (after P2G of the masses): the contact nodes, where two fields or more have mass;
+!     at each the local centre of mass of every field, x_f = sum_p phi_ip m_p x_p / m_f over
+!     the particles of f; for each pair of fields (a, b) the normal n = (x_b - x_a) / |...|
+!     (from a into b; on a mirror plane its component across the plane is dropped); and the
+!     gap along n between the two surfaces: the smallest x . n over the domain corners of b's
+!     particles that touch the node minus the largest over a's, counting the corners within a
+!     cell of the node along the surface (CPDI2: the shared corners; CPDI1: x -+ F r10 -+ F
+!     r20; uGIMP and linear: x -+ F (half_x, 0) -+ F (0, half_y), the particle's square
+!     deformed with it). The surfaces are exact where the domains are (CPDI), so contact
+!     engages when they meet, not when the fields first share a node (a cell or more early).
+!     Why not the mass gradients (Bardenhagen et al. 2001) for n: where a wall is two cells
+!     thick both of its faces fall in a node's support and their contributions nearly cancel;
+!     on two rings t = 2h the gradient normal pointed the wrong way at half the contact nodes
+!     and the rings did not part. Why the corner window: without it the corners of a curved
+!     surface a cell or more aside of the node set the extremes, contact engages early, and
+!     two rings rebounded 5 % slower than one ring from a wall (2 % with it).
+!   apply (after the velocity update of step 3, and on the velocities of the MUSL re-map): at
+!     every pair entry, the impulse of the law (mpm_contact_law); in step 3 it also enters the
+!     velocity change that FLIP adds to the particles, and the pair's impulse for history.csv.
+!     The re-map needs it too: its velocities move the domains and deform the particles, and
+!     without the contact there the blocks of a pressed stack gained energy until exit 4 (at
+!     cfl 0.3 and above); it acts there without friction (see body_contact_apply).
+module mpm_body_contact
+  use mpm_kinds, only: wp
+  use mpm_constants, only: CONTACT_SLIP, CONTACT_FRICTIONLESS, BASIS_CPDI1, BASIS_CPDI2
+  use mpm_particles, only: particles_t
+  use mpm_grid, only: grid_t
+  use mpm_tiles, only: tiles_t, tiles_span
+  use mpm_contact_law, only: field_contact_t, contact_law_impulse, field_contact_reserve
+  use mpm_state, only: params_t, state_t, work_t
+  implicit none
+  private
+  public :: body_contact_detect, body_contact_apply, body_contact_reactions, pair_index
+
+  real(wp), parameter :: no_gap = 1.0e30_wp  !! gap of an entry whose surfaces were not found [m]
+  real(wp), parameter :: tang_window = 1.0_wp  !! corners count within this many cells of the
+                                               !! node along the surface [-]
+
+contains
+
+  !> Index of the pair of bodies i /= j among the pairs (1, 2), (1, 3), ..., (1, n), (2, 3),
+  !! ... of n bodies.
+  pure integer function pair_index(i, j, n) result(k)
+    integer, intent(in) :: i, j            !! the two bodies
+    integer, intent(in) :: n               !! bodies
+    integer :: a, b
+    a = min(i, j)
+    b = max(i, j)
+    k = (a - 1)*n - (a*(a - 1))/2 + (b - a)
+  end function pair_index
+
+  !> Contact nodes, normals and gaps of the step (after P2G of the masses).
+  subroutine body_contact_detect(prm, st, g, tl, wk)
+    type(params_t), intent(in) :: prm      !! parameters (fields, laws, basis)
+    type(state_t), intent(in) :: st        !! state (particles, walls)
+    type(grid_t), intent(in) :: g          !! grid (masses)
+    type(tiles_t), intent(in) :: tl        !! live spans
+    type(work_t), intent(inout) :: wk      !! basis cache; the contact work arrays
+    if (prm%nf < 2) return
+    call find_nodes(g, tl, prm%nf, wk%fc)
+    call field_gradients(prm, st%p, g, wk)
+    call find_pairs(prm, st, g, wk%fc)
+    call surface_gaps(prm, st%p, g, wk)
+  end subroutine body_contact_detect
+
+  !> The contact nodes: live nodes where two fields or more have mass above the cut-off.
+  subroutine find_nodes(g, tl, nf, fc)
+    type(grid_t), intent(in) :: g          !! grid
+    type(tiles_t), intent(in) :: tl        !! live spans
+    integer, intent(in) :: nf              !! fields
+    type(field_contact_t), intent(inout) :: fc  !! contact nodes
+    integer :: k, i0, i1, j0, j1, i, j, n0, f, cnt
+    if (allocated(fc%cmap)) then
+      if (size(fc%cmap) /= g%nn) deallocate(fc%cmap)
+    end if
+    if (.not. allocated(fc%cmap)) then
+      allocate(fc%cmap(g%nn))
+      fc%cmap = 0
+    else
+      fc%cmap(fc%node(1:fc%ncn)) = 0
+    end if
+    fc%ncn = 0
+    call field_contact_reserve(fc, nf, 64, 64)
+    do k = 1, tl%nspan
+      call tiles_span(tl, k, i0, i1, j0, j1)
+      do j = j0, j1
+        do i = i0, i1
+          n0 = 1 + i + g%nx*j
+          cnt = 0
+          do f = 0, nf - 1
+            if (g%mass(n0 + f*g%nn) > g%mass_cut) cnt = cnt + 1
+          end do
+          if (cnt < 2) cycle
+          call field_contact_reserve(fc, nf, fc%ncn + 1, 0)
+          fc%ncn = fc%ncn + 1
+          fc%node(fc%ncn) = n0
+          fc%cmap(n0) = fc%ncn
+        end do
+      end do
+    end do
+  end subroutine find_nodes
+
+  !> The first moment sum_p phi_ip m_p x_p of every field at the contact nodes (its local centre
+  !! of mass times its node mass), and the particles that touch them.
+  subroutine field_gradients(prm, p, g, wk)
+    type(params_t), intent(in) :: prm      !! parameters (fields)
+    type(particles_t), intent(in) :: p     !! particles
+    type(grid_t), intent(in) :: g          !! grid
+    type(work_t), intent(inout) :: wk      !! basis cache; gradients, particle list
+    integer :: ip, a, b, kk, c, nb
+    logical :: touched
+    associate (fc => wk%fc)
+      fc%grad(:, :, 1:fc%ncn) = 0.0_wp
+      fc%nplist = 0
+      if (fc%ncn == 0) return
+      if (.not. allocated(fc%plist)) allocate(fc%plist(p%np))
+      nb = wk%nb
+      do ip = 1, p%np
+        touched = .false.
+        do b = 0, nb - 1
+          do a = 0, nb - 1
+            kk = 1 + a + nb*b
+            if (wk%w(kk, ip) == 0.0_wp .and. all(wk%gw(:, kk, ip) == 0.0_wp)) cycle
+            c = fc%cmap(1 + wk%blk(1, ip) + a + g%nx*(wk%blk(2, ip) + b))
+            if (c == 0) cycle
+            fc%grad(:, prm%field(ip), c) = fc%grad(:, prm%field(ip), c) + &
+                                           (wk%w(kk, ip)*p%mass(ip))*p%x(:, ip)
+            touched = .true.
+          end do
+        end do
+        if (touched) then
+          fc%nplist = fc%nplist + 1
+          fc%plist(fc%nplist) = ip
+        end if
+      end do
+    end associate
+  end subroutine field_gradients
+
+  !> The pair entries: at each contact node every pair of fields with mass there whose bodies
+  !! have a law between them, with its normal (between the fields' local centres of mass; on
+  !! a mirror plane its component across the plane dropped, as the plane holds the node in
+  !! that direction).
+  subroutine find_pairs(prm, st, g, fc)
+    type(params_t), intent(in) :: prm      !! parameters (fields, laws)
+    type(state_t), intent(in) :: st        !! state (walls)
+    type(grid_t), intent(in) :: g          !! grid
+    type(field_contact_t), intent(inout) :: fc  !! pair entries
+    integer :: c, a, b, cnt, npn, ba, bb, n0, iw
+    real(wp) :: nv(2), len, xn(2), m(2)
+    logical :: has(prm%nf)
+    npn = 0
+    do c = 1, fc%ncn
+      cnt = 0
+      do a = 1, prm%nf
+        if (g%mass(fc%node(c) + g%nn*(a - 1)) > g%mass_cut) cnt = cnt + 1
+      end do
+      npn = npn + (cnt*(cnt - 1))/2
+    end do
+    call field_contact_reserve(fc, prm%nf, fc%ncn, npn)
+    fc%npn = 0
+    do c = 1, fc%ncn
+      fc%first(c) = fc%npn + 1
+      n0 = fc%node(c)
+      do a = 1, prm%nf
+        has(a) = g%mass(n0 + g%nn*(a - 1)) > g%mass_cut
+      end do
+      xn(1) = g%origin(1) + g%h*real(mod(n0 - 1, g%nx), wp)
+      xn(2) = g%origin(2) + g%h*real((n0 - 1)/g%nx, wp)
+      do a = 1, prm%nf - 1
+        if (.not. has(a)) cycle
+        do b = a + 1, prm%nf
+          if (.not. has(b)) cycle
+          ba = prm%field_body(a)
+          bb = prm%field_body(b)
+          if (prm%pair_law(ba, bb) == 0) cycle
+          ! the direction from a's local centre of mass at the node to b's
+          nv = fc%grad(:, b, c)/g%mass(n0 + g%nn*(b - 1)) - &
+               fc%grad(:, a, c)/g%mass(n0 + g%nn*(a - 1))
+          do iw = 1, st%nwall
+            if (st%walls(iw)%contact /= CONTACT_SLIP) cycle
+            m = st%walls(iw)%normal
+            if (dot_product(xn - st%walls(iw)%point, m) > 1.0e-6_wp*g%h) cycle
+            nv = nv - dot_product(nv, m)*m
+          end do
+          len = sqrt(nv(1)**2 + nv(2)**2)
+          if (.not. len > 1.0e-9_wp*g%h) cycle
+          fc%npn = fc%npn + 1
+          fc%pn_cn(fc%npn) = c
+          fc%pn_a(fc%npn) = a
+          fc%pn_b(fc%npn) = b
+          fc%pn_law(fc%npn) = prm%pair_law(ba, bb)
+          fc%pn_mu(fc%npn) = prm%pair_mu(ba, bb)
+          fc%pn_pair(fc%npn) = 0
+          if (ba /= bb) fc%pn_pair(fc%npn) = pair_index(ba, bb, prm%nbody)
+          fc%pn_n(:, fc%npn) = nv/len
+        end do
+      end do
+    end do
+    fc%first(fc%ncn + 1) = fc%npn + 1
+  end subroutine find_pairs
+
+  !> The gap of every pair entry: the smallest x . n over the domain corners of b's particles
+  !! that touch the node minus the largest over a's, counting the corners within a cell of
+  !! the node along the surface only.
+  subroutine surface_gaps(prm, p, g, wk)
+    type(params_t), intent(in) :: prm      !! parameters (fields, basis)
+    type(particles_t), intent(in) :: p     !! particles
+    type(grid_t), intent(in) :: g          !! grid
+    type(work_t), intent(inout) :: wk      !! basis cache; gaps
+    integer :: e
+    associate (fc => wk%fc)
+      call extremes(prm, p, g, wk)
+      fc%gap_min = no_gap
+      do e = 1, fc%npn
+        if (fc%pn_ext(1, e) > -huge(1.0_wp) .and. fc%pn_ext(2, e) < huge(1.0_wp)) then
+          fc%pn_gap(e) = fc%pn_ext(2, e) - fc%pn_ext(1, e)
+        else
+          fc%pn_gap(e) = no_gap
+        end if
+        fc%gap_min = min(fc%gap_min, fc%pn_gap(e))
+      end do
+    end associate
+  end subroutine surface_gaps
+
+  !> The extremes of a's and b's corners along the normal of every pair entry (pn_ext).
+  subroutine extremes(prm, p, g, wk)
+    type(params_t), intent(in) :: prm      !! parameters (fields, basis)
+    type(particles_t), intent(in) :: p     !! particles
+    type(grid_t), intent(in) :: g          !! grid
+    type(work_t), intent(inout) :: wk      !! basis cache; extremes
+    integer :: k, ip, f, a, b, kk, c, e, nb
+    real(wp) :: xq(2, 4), d(4), xn(2)
+    associate (fc => wk%fc)
+      fc%pn_ext(1, 1:fc%npn) = -huge(1.0_wp)
+      fc%pn_ext(2, 1:fc%npn) = huge(1.0_wp)
+      nb = wk%nb
+      do k = 1, fc%nplist
+        ip = fc%plist(k)
+        f = prm%field(ip)
+        xq = domain_corners(p, prm%basis, ip)
+        do b = 0, nb - 1
+          do a = 0, nb - 1
+            kk = 1 + a + nb*b
+            if (wk%w(kk, ip) == 0.0_wp .and. all(wk%gw(:, kk, ip) == 0.0_wp)) cycle
+            c = fc%cmap(1 + wk%blk(1, ip) + a + g%nx*(wk%blk(2, ip) + b))
+            if (c == 0) cycle
+            xn(1) = g%origin(1) + g%h*real(wk%blk(1, ip) + a, wp)
+            xn(2) = g%origin(2) + g%h*real(wk%blk(2, ip) + b, wp)
+            do e = fc%first(c), fc%first(c + 1) - 1
+              if (fc%pn_a(e) /= f .and. fc%pn_b(e) /= f) cycle
+              d = fc%pn_n(1, e)*xq(1, :) + fc%pn_n(2, e)*xq(2, :)
+              ! only the corners within a cell of the node along the surface
+              where (abs(fc%pn_n(2, e)*(xq(1, :) - xn(1)) - fc%pn_n(1, e)*(xq(2, :) - xn(2))) &
+                     > tang_window*g%h)
+                d = merge(-huge(1.0_wp), huge(1.0_wp), fc%pn_a(e) == f)
+              end where
+              if (fc%pn_a(e) == f) then
+                fc%pn_ext(1, e) = max(fc%pn_ext(1, e), maxval(d))
+              else
+                fc%pn_ext(2, e) = min(fc%pn_ext(2, e), minval(d))
+              end if
+            end do
+          end do
+        end do
+      end do
+    end associate
+  end subroutine extremes
+
+  !> The corners of the domain of particle ip as it is deformed now (for the gaps).
+  pure function domain_corners(p, basis, ip) result(xq)
+    type(particles_t), intent(in) :: p     !! particles
+    integer, intent(in) :: basis           !! BASIS_* code
+    integer, intent(in) :: ip              !! particle
+    real(wp) :: xq(2, 4)
+    real(wp) :: r1(2), r2(2)
+    if (basis == BASIS_CPDI2) then
+      xq(:, 1) = p%xc(:, p%corner(1, ip))
+      xq(:, 2) = p%xc(:, p%corner(2, ip))
+      xq(:, 3) = p%xc(:, p%corner(3, ip))
+      xq(:, 4) = p%xc(:, p%corner(4, ip))
+      return
+    end if
+    if (basis == BASIS_CPDI1) then
+      r1 = matmul(p%F(:, :, ip), p%r10(:, ip))
+      r2 = matmul(p%F(:, :, ip), p%r20(:, ip))
+    else
+      r1 = p%F(:, 1, ip)*p%half(1, ip)
+      r2 = p%F(:, 2, ip)*p%half(2, ip)
+    end if
+    xq(:, 1) = p%x(:, ip) - r1 - r2
+    xq(:, 2) = p%x(:, ip) + r1 - r2
+    xq(:, 3) = p%x(:, ip) + r1 + r2
+    xq(:, 4) = p%x(:, ip) - r1 + r2
+  end function domain_corners
+
+  !> The contact law at every pair entry on the node velocities (mpm_contact_law). With record
+  !! (step 3) the velocity changes also enter dvel (FLIP sees the contact) and the impulses
+  !! of the pairs of bodies are summed for the history. Without (the MUSL re-map, whose
+  !! velocities move the domains and deform the particles but carry no momentum) only the
+  !! normal part acts: friction there would let a body roll on the other with no friction
+  !! force on its momentum (measured: a ring on an incline with mu = 0.1 accelerated as if
+  !! frictionless while its domains rolled).
+  subroutine body_contact_apply(prm, g, wk, dt, record)
+    type(params_t), intent(in) :: prm      !! parameters (fields)
+    type(grid_t), intent(inout) :: g       !! grid: velocities (and their changes)
+    type(work_t), intent(inout) :: wk      !! pair entries; the pairs' impulses
+    real(wp), intent(in) :: dt             !! time step [s]
+    logical, intent(in) :: record          !! step 3: dvel and impulses
+    integer :: e, n0, na, nb, law
+    real(wp) :: j(2), pn, allow
+    if (prm%nf < 2) return
+    associate (fc => wk%fc)
+      if (record) then
+        if (.not. allocated(fc%pair_imp)) allocate(fc%pair_imp(3, prm%npair))
+        fc%pair_imp = 0.0_wp
+      end if
+      do e = 1, fc%npn
+        n0 = fc%node(fc%pn_cn(e))
+        na = n0 + g%nn*(fc%pn_a(e) - 1)
+        nb = n0 + g%nn*(fc%pn_b(e) - 1)
+        allow = max(fc%pn_gap(e), 0.0_wp)/dt
+        law = fc%pn_law(e)
+        if (.not. record) law = CONTACT_FRICTIONLESS   ! the re-map: no friction (below)
+        call contact_law_impulse(law, fc%pn_mu(e), g%mass(na), g%mass(nb), &
+                                 g%vel(:, na), g%vel(:, nb), fc%pn_n(:, e), allow, j, pn)
+        if (.not. pn > 0.0_wp) cycle
+        g%vel(:, na) = g%vel(:, na) + j/g%mass(na)
+        g%vel(:, nb) = g%vel(:, nb) - j/g%mass(nb)
+        if (.not. record) cycle
+        g%dvel(:, na) = g%dvel(:, na) + j/g%mass(na)
+        g%dvel(:, nb) = g%dvel(:, nb) - j/g%mass(nb)
+        call add_pair(prm, fc, e, j, pn)
+      end do
+    end associate
+  end subroutine body_contact_apply
+
+  !> Add impulse j on field a (and normal impulse pn) of entry e to its pair of bodies.
+  subroutine add_pair(prm, fc, e, j, pn)
+    type(params_t), intent(in) :: prm      !! parameters (bodies of the fields)
+    type(field_contact_t), intent(inout) :: fc  !! the pairs' impulses
+    integer, intent(in) :: e               !! pair entry
+    real(wp), intent(in) :: j(2)           !! impulse on field a [kg/s per m]
+    real(wp), intent(in) :: pn             !! normal impulse [kg/s per m]
+    integer :: ip
+    ip = fc%pn_pair(e)
+    if (ip == 0) return
+    fc%pair_imp(1, ip) = fc%pair_imp(1, ip) + pn
+    if (prm%field_body(fc%pn_a(e)) < prm%field_body(fc%pn_b(e))) then
+      fc%pair_imp(2:3, ip) = fc%pair_imp(2:3, ip) + j        ! on the first body of the pair
+    else
+      fc%pair_imp(2:3, ip) = fc%pair_imp(2:3, ip) - j
+    end if
+  end subroutine add_pair
+
+  !> End of a step: the pairs' impulses summed for the history, their force over the step.
+  subroutine body_contact_reactions(prm, st, wk, dt)
+    type(params_t), intent(in) :: prm      !! parameters (pairs)
+    type(state_t), intent(inout) :: st     !! state: the pairs' sums
+    type(work_t), intent(in) :: wk         !! the pairs' impulses of the step
+    real(wp), intent(in) :: dt             !! the step just taken [s]
+    if (prm%npair == 0 .or. .not. allocated(wk%fc%pair_imp)) return
+    st%pair_acc = st%pair_acc + wk%fc%pair_imp
+    st%pair_force = wk%fc%pair_imp/dt
+  end subroutine body_contact_reactions
+end module mpm_body_contact

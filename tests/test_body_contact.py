@@ -1,0 +1,222 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
+"""Contact between bodies (multi-field MPM, docs/theory.md "Contact between bodies"), run with the
+binary under test; every oracle is outside the contact code:
+
+1. two identical aluminium rings colliding head-on at +-30 m/s (frictionless) against one ring
+   hitting a frictionless rigid wall at 30 m/s, the same resolution (h = t/4): by symmetry the
+   same motion. Contact time (force above 1 % of its peak), rebound speed and plastic work of
+   a ring within 2 % of the wall run (the code's own surface-penalty wall contact);
+2. momentum in free collisions: the centre-of-mass velocity of all bodies (history com_vx,
+   com_vy = total momentum / total mass) stays at its initial value to 1e-12 of the largest
+   body speed, head-on (frictionless) and oblique with Coulomb friction (mu = 0.3, rings
+   spinning off); the energy error of the head-on run (summary.nml) is under 2 %;
+3. two steel blocks pressed together between a fixed wall and a platen ('stick' between them),
+   held, then released: after unloading the upper block moves away from the lower one
+   (relative normal velocity > 0) and lies above it; in no snapshot does a domain corner of
+   one block lie more than h/10 inside the other (corners tested against the other block's
+   particle quadrilaterals, depth = distance to its surface edges);
+4. a thick steel ring (r 10/20 mm) on a deformable steel block, gravity tilted by 30 degrees
+   (the incline): with mu = 0.5 above tan(30) k / (1 + k), k = I / (m r_o^2) = (r_i^2 +
+   r_o^2) / (2 r_o^2), it rolls with a = g sin(30) / (1 + k), within 2 % (velocity of its
+   centre of mass fitted linearly after 0.2 ms).
+
+    usage: TUBEMPM=build/debug/tubempm python3 tests/test_body_contact.py SCRATCH
+"""
+from __future__ import annotations
+
+import math
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "plots"))
+sys.path.insert(0, str(ROOT / "tests"))
+from mpmplot import readers  # noqa: E402
+from pycheck import Checks  # noqa: E402
+
+T = Checks("test_body_contact")
+check = T.check
+
+AL = ("&material name = 'al', E = 70.0e9, nu = 0.33, rho = 2700.0, sigma_y = 150.0e6, "
+      "hardening = 200.0e6 /\n")
+STEEL = "&material name = 'steel', model = 'elastic', E = 200.0e9, nu = 0.3, rho = 7800.0 /\n"
+
+
+def run(scratch: Path, name: str, text: str) -> tuple[dict, dict]:
+    """Run one scene; its history and summary."""
+    folder = scratch / name
+    folder.mkdir(parents=True, exist_ok=True)
+    nml = folder / f"{name}.nml"
+    nml.write_text(text.replace("OUT", str(folder / "out")))
+    res = subprocess.run([os.environ.get("TUBEMPM", str(ROOT / "bin" / "tubempm")), "--quiet",
+                          str(nml)], capture_output=True, text=True,
+                         env=dict(os.environ, OMP_NUM_THREADS="1"))
+    ok = check(res.returncode == 0, f"{name}: run completes (exit {res.returncode}: "
+                                    f"{res.stderr.strip()[-300:]})")
+    if not ok:
+        return {}, {}
+    return (readers.read_history(folder / "out" / "history.csv"),
+            readers.read_summary(folder / "out" / "summary.nml"))
+
+
+def within(a: float, b: float, rtol: float, what: str) -> None:
+    check(math.isfinite(a) and abs(a - b) <= rtol * abs(b),
+          f"{what}: {a:.6g} vs {b:.6g} ({100 * (a / b - 1):+.2f} %, allowed {100 * rtol:g} %)")
+    print(f"  {what}: {a:.6g} vs {b:.6g} ({100 * (a / b - 1):+.2f} %)")
+
+
+def contact_time(t: np.ndarray, f: np.ndarray) -> float:
+    on = t[f > 0.01 * f.max()]
+    return float(on[-1] - on[0])
+
+
+def head_on(scratch: Path) -> None:
+    ring = ("&body center = 0.0, {y}, r_inner = 10.0e-3, r_outer = 12.0e-3, n_thick = 8, "
+            "velocity = 0.0, {v}, sector = 'half' /\n")
+    run_ = ("&run t_end = 2.2e-4, cfl = 0.5, history_every = 0.25e-6, output_dir = 'OUT' /\n"
+            "&grid h = 0.5e-3 /\n" + AL)
+    h2, s2 = run(scratch, "head_on", run_ + ring.format(y=0.0125, v=-30.0)
+                 + ring.format(y=-0.0125, v=30.0))
+    h1, _ = run(scratch, "wall", run_ + ring.format(y=0.0125, v=-30.0)
+                + "&wall point = 0.0, 0.0, normal = 0.0, 1.0 /\n")
+    if not h2 or not h1:
+        return
+    print("head-on rings at +-30 m/s against one ring on a rigid wall at 30 m/s:")
+    within(contact_time(h2["time"], h2["contact1_2_force"]),
+           contact_time(h1["time"], h1["wall1_force"]), 0.02, "contact time [s]")
+    within(h2["body1_vy"][-1], h1["com_vy"][-1], 0.02, "rebound speed [m/s]")
+    within(h2["body1_plastic"][-1], h1["plastic"][-1], 0.02, "plastic work of a ring [J]")
+    drift = np.max(np.abs(h2["com_vy"] - h2["com_vy"][0]))
+    check(drift <= 1e-12 * 30.0, f"head-on: total momentum / mass changed by {drift:.3e} m/s "
+                                 "(allowed 1e-12 x 30 m/s)")
+    print(f"  head-on: com_vy drift {drift:.3e} m/s, energy_error {s2['energy_error']:.4f}")
+    check(s2["energy_error"] < 0.02, f"head-on: energy error {s2['energy_error']:.4f} < 0.02")
+
+
+def oblique(scratch: Path) -> None:
+    text = ("&run t_end = 2.0e-4, cfl = 0.5, history_every = 1.0e-6, output_dir = 'OUT' /\n"
+            "&grid h = 1.0e-3 /\n" + STEEL.replace("steel", "al").replace("200.0e9", "70.0e9")
+            .replace("7800.0", "2700.0").replace("0.3,", "0.33,") +
+            "&body center = 0.0, 0.0, r_inner = 10.0e-3, r_outer = 12.0e-3, n_thick = 4, "
+            "velocity = 20.0, 5.0 /\n"
+            "&body center = 0.0255, 0.010, r_inner = 10.0e-3, r_outer = 12.0e-3, n_thick = 4, "
+            "velocity = -20.0, -3.0 /\n"
+            "&contact law = 'coulomb', friction = 0.3 /\n")
+    h, _ = run(scratch, "oblique", text)
+    if not h:
+        return
+    check(h["contact1_2_force"].max() > 0.0, "oblique: the rings meet")
+    for c in ("com_vx", "com_vy"):
+        drift = np.max(np.abs(h[c] - h[c][0]))
+        check(drift <= 1e-12 * 20.0, f"oblique, coulomb: {c} changed by {drift:.3e} m/s "
+                                     "(allowed 1e-12 x 20 m/s)")
+        print(f"  oblique (coulomb): {c} drift {drift:.3e} m/s")
+    spin = abs(h["contact1_2_fx"]).max()
+    check(spin > 0.0, "oblique: a tangential force acted")
+
+
+def penetration(frame: dict) -> float:
+    """Deepest domain corner of one body inside another (distance to its surface edges) [m]."""
+    xc, quads, body = frame["corners"], frame["quads"].astype(int), frame["body"]
+    worst = 0.0
+    for a in np.unique(body):
+        for b in np.unique(body):
+            if a == b:
+                continue
+            qb = quads[body == b]
+            edges: dict[tuple[int, int], int] = {}
+            for q in qb:
+                for k in range(4):
+                    e = (min(q[k], q[(k + 1) % 4]), max(q[k], q[(k + 1) % 4]))
+                    edges[e] = edges.get(e, 0) + 1
+            surf = np.array([e for e, n in edges.items() if n == 1])
+            pts = xc[np.unique(quads[body == a].ravel())]
+            inside = np.zeros(len(pts), bool)
+            for q in qb:
+                v = xc[q]
+                ok = np.ones(len(pts), bool)
+                for k in range(4):
+                    p0, p1 = v[k], v[(k + 1) % 4]
+                    ok &= ((p1[0] - p0[0]) * (pts[:, 1] - p0[1])
+                           - (p1[1] - p0[1]) * (pts[:, 0] - p0[0])) > 0.0
+                inside |= ok
+            for p in pts[inside]:
+                pa, pb = xc[surf[:, 0]], xc[surf[:, 1]]
+                ab = pb - pa
+                s = np.clip(np.sum((p - pa) * ab, axis=1) / np.sum(ab * ab, axis=1), 0.0, 1.0)
+                worst = max(worst, float(np.min(np.linalg.norm(p - (pa + s[:, None] * ab),
+                                                               axis=1))))
+    return worst
+
+
+def press(scratch: Path) -> None:
+    h_cell = 1.0e-3
+    text = ("&run t_end = 8.0e-5, cfl = 0.5, history_every = 0.5e-6, snapshot_every = 5.0e-6, "
+            "output_dir = 'OUT' /\n&grid h = 1.0e-3 /\n" + STEEL +
+            "&body shape = 'rect', center = 0.0, 0.0025, size = 0.02, 0.005, n_x = 40, n_y = 10 /\n"
+            "&body shape = 'rect', center = 0.0, 0.0075, size = 0.02, 0.005, n_x = 40, n_y = 10 /\n"
+            "&wall point = 0.0, 0.0, normal = 0.0, 1.0 /\n"
+            "&wall point = 0.0, 0.010, normal = 0.0, -1.0, velocity = 0.0, -1.0,\n"
+            "      motion_t = 0.0, 2.0e-5, 2.1e-5, 4.0e-5, 4.1e-5,\n"
+            "      motion_f = 1.0, 1.0, 0.0, 0.0, -30.0 /\n"
+            "&contact bodies = 1, 2, law = 'stick' /\n")
+    h, _ = run(scratch, "press", text)
+    if not h:
+        return
+    check(h["contact1_2_force"].max() > 1.0e6, "press: the blocks were pressed together "
+                                               f"(peak {h['contact1_2_force'].max():.3g} N)")
+    rel = h["body2_vy"][-1] - h["body1_vy"][-1]
+    check(rel > 0.0, f"press: after unloading the blocks move apart (relative normal velocity "
+                     f"{rel:.4g} m/s > 0)")
+    h5 = scratch / "press" / "out" / "particles.h5"
+    frames = readers.read_frames(h5)
+    deep = max(penetration(readers.read_frame(h5, f)) for f in frames)
+    check(deep <= 0.1 * h_cell, f"press: deepest corner of one block inside the other "
+                                f"{deep:.3e} m <= h/10")
+    last = readers.read_frame(h5, frames[-1])
+    top = last["corners"][np.unique(last["quads"][last["body"] == 2].ravel()).astype(int)]
+    low = last["corners"][np.unique(last["quads"][last["body"] == 1].ravel()).astype(int)]
+    check(top[:, 1].min() > low[:, 1].max(), "press: at the end the upper block lies above "
+                                             "the lower one")
+    print(f"  press: relative velocity after release {rel:.4g} m/s, deepest corner {deep:.3e} m,"
+          f" {len(frames)} snapshots")
+
+
+def incline(scratch: Path) -> None:
+    g, theta, mu = 4000.0, math.radians(30.0), 0.5
+    ri, ro = 0.010, 0.020
+    k = (ri ** 2 + ro ** 2) / (2.0 * ro ** 2)
+    check(mu > math.tan(theta) * k / (1.0 + k), "incline: mu above the rolling limit")
+    text = ("&run t_end = 1.0e-3, cfl = 0.5, history_every = 1.0e-5, output_dir = 'OUT', "
+            f"gravity = {g * math.sin(theta)!r}, {-g * math.cos(theta)!r} /\n"
+            "&grid h = 2.5e-3 /\n" + STEEL +
+            f"&body center = -0.03, {ro!r}, r_inner = {ri!r}, r_outer = {ro!r}, n_thick = 8 /\n"
+            "&body shape = 'rect', center = 0.0, -0.005, size = 0.12, 0.01, n_x = 96, n_y = 8 /\n"
+            "&wall point = 0.0, -0.010, normal = 0.0, 1.0 /\n"
+            "&wall point = 0.06, 0.0, normal = -1.0, 0.0 /\n"
+            f"&contact bodies = 1, 2, law = 'coulomb', friction = {mu!r} /\n")
+    h, _ = run(scratch, "incline_roll", text)
+    if not h:
+        return
+    m = h["time"] >= 0.2e-3
+    a = float(np.polyfit(h["time"][m], h["body1_vx"][m], 1)[0])
+    within(a, g * math.sin(theta) / (1.0 + k), 0.02, "incline, rolling: acceleration [m/s^2]")
+
+
+def main() -> int:
+    scratch = Path(sys.argv[1] if len(sys.argv) > 1 else "/tmp/test_body_contact")
+    scratch.mkdir(parents=True, exist_ok=True)
+    head_on(scratch)
+    oblique(scratch)
+    press(scratch)
+    incline(scratch)
+    return T.summary()
+
+
+if __name__ == "__main__":
+    sys.exit(main())
