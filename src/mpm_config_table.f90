@@ -55,7 +55,7 @@ module mpm_config_table
     character(len=48) :: comment = ''       !! echo comment: meaning [unit]; % = the names
   end type var_spec_t
 
-  integer, parameter :: n_specs = 61
+  integer, parameter :: n_specs = 62
   character(len=*), parameter :: s0 = 'a real number >= 0 [s] (default 0)'
   character(len=*), parameter :: v0 = '2 finite real numbers [m/s] (default 0, 0)'
   character(len=*), parameter :: lu = '2 real numbers [m] each for lower and upper, lower '// &

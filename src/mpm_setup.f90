@@ -123,18 +123,7 @@ contains
     do k = 1, s%nwall
       s%walls(k)%point = s%walls(k)%point0
     end do
-    ! solver parameters
-    s%prm%basis = cfg%solver%basis_id
-    s%prm%scheme = cfg%solver%scheme_id
-    s%prm%plane = cfg%solver%plane_id
-    s%prm%volumetric = max(cfg%solver%volumetric_id, VOLUMETRIC_STANDARD)
-    s%prm%flip = cfg%solver%flip
-    s%prm%damping = cfg%solver%damping
-    s%prm%deterministic = cfg%solver%deterministic
-    s%prm%cfl = cfl_in_use(cfg)            ! the input's, or the automatic value (cfl = 0)
-    s%prm%dt_fixed = cfg%run%dt
-    s%prm%t_end = cfg%run%t_end
-    s%prm%gravity = cfg%run%gravity
+    call setup_params(cfg, s)
     ! grid: given bounds, or the bodies' extent plus two cells (it grows when material leaves)
     if (cfg%grid%fitted) then
       lo = minval(s%p%xc, dim=2)
@@ -162,6 +151,23 @@ contains
     call tiles_init(s%tiles, s%g)
     call solver_init_energy(s)
   end subroutine setup_sim
+
+  !> The solver parameters copied from the case (immutable in the step).
+  subroutine setup_params(cfg, s)
+    type(config_t), intent(in) :: cfg      !! the case (validated)
+    type(sim_t), intent(inout) :: s        !! the simulation: s%prm set
+    s%prm%basis = cfg%solver%basis_id
+    s%prm%scheme = cfg%solver%scheme_id
+    s%prm%plane = cfg%solver%plane_id
+    s%prm%volumetric = max(cfg%solver%volumetric_id, VOLUMETRIC_STANDARD)
+    s%prm%flip = cfg%solver%flip
+    s%prm%damping = cfg%solver%damping
+    s%prm%deterministic = cfg%solver%deterministic
+    s%prm%cfl = cfl_in_use(cfg)            ! the input's, or the automatic value (cfl = 0)
+    s%prm%dt_fixed = cfg%run%dt
+    s%prm%t_end = cfg%run%t_end
+    s%prm%gravity = cfg%run%gravity
+  end subroutine setup_params
 
   !> Contact between bodies (mpm_body_contact): with several bodies, one velocity field per
   !! body (the field of every particle and corner), and the law of every pair of bodies:
