@@ -173,7 +173,7 @@ contains
                           stiffness(prm, g), wk%surf(iw))
       st%e_contact = st%e_contact + surface_energy(wk%surf(iw))
       call surface_push(wk%surf(iw), g%origin, g%h, g%nx, g%ny, g%mass, g%mass_cut, wk%nb, &
-                        wk%blk, wk%w, wk%wall_work(5:6, iw), dt, g%force, imp, g%nf, &
+                        wk%blk, wk%w, wk%gw, wk%wall_work(5:6, iw), dt, g%force, imp, g%nf, &
                         prm%field, prm%corner_field)
       st%walls(iw)%impulse = st%walls(iw)%impulse + imp
     end do

@@ -5,14 +5,20 @@
 ! The material surface is a set of points x_c: the CPDI2 domain corners, or the corners of each
 ! particle's CPDI1 parallelogram (x -+ F r10 -+ F r20) or uGIMP / linear square (x -+ half).
 ! Each point carries a share m_c of the particle mass (a quarter of each particle it is a
-! corner of). A CPDI2 corner moves with the bilinear interpolant of the node velocities,
-! v_c = sum_i N_i(x_c) v_i, so its force goes to the nodes with the weights N_i(x_c). The
-! corners of the other bases are those of the domain deformed with the particle, x -+ F r,
-! which move with the grid's velocity at them to first order; their forces go to the nodes
-! with the same bilinear weights N_i(x_c) (every point is a corner: owner 0). Corners of the
-! undeformed uGIMP square were not: they sink into the plane as the particle compresses, with
-! no force doing that work (5 % energy error on a plastic block). The particle-weight path of
-! surface_push (owner > 0, the particle's own weights S_ip) is not used by surface_points.
+! corner of). The force of a point goes to the nodes with the weights of the velocity the
+! code moves the point with, so that it does work on exactly the velocity that changes the
+! gap and the contact energy is conserved to the order of the time integration:
+! - a CPDI2 corner moves with the bilinear interpolant of the node velocities,
+!   v_c = sum_i N_i(x_c) v_i: weights N_i(x_c);
+! - a corner x_p + F r0 of the other bases (the domain deformed with the particle) moves as
+!   the particle's position and F do, v_p + L F r0 = sum_i (S_ip + grad S_ip . r) v_i with
+!   r = x_c - x_p: weights S_ip + grad S_ip . r (they sum to 1, so the momentum given is
+!   still the force times dt). The grid's weights N_i(x_c) at such a corner did not match its
+!   motion where the corner and its particle lie in different cells: a uGIMP block between
+!   platens gained 4.7 % energy in plane stress (0.33 % with these weights), a linear one 5 %,
+!   which stopped the run (docs/verification.md). Corners of the undeformed uGIMP square sink
+!   into the plane as the particle compresses, with no force doing that work (5 % energy
+!   error).
 !
 ! Normal contact (docs/theory.md, "Wall contact"): a point whose gap to the plane
 ! g_c = (x_c - x_w) . n is negative at the start of the step takes the force
@@ -56,7 +62,8 @@ module mpm_surface_contact
     integer :: npt = 0                     !! points gathered
     real(wp) :: gmin = 0.0_wp              !! the deepest gap among them (<= 0) [m]
     integer :: nnode = 4                   !! nodes per point (4, or the particle block nb^2)
-    real(wp), allocatable :: xs(:,:)       !! CPDI2 corner positions (2, n) [m]
+    real(wp), allocatable :: xs(:,:)       !! CPDI2 corner positions, or (owner > 0) the corner's
+                                           !! offset from its particle x_c - x_p (2, n) [m]
     integer, allocatable :: owner(:)       !! the particle of a point, or -(its corner id) (n)
     real(wp), allocatable :: fn(:)         !! normal penalty force (n) [N/m]
     real(wp), allocatable :: en(:)         !! penalty energy (n) [J/m]
@@ -114,7 +121,7 @@ contains
       xq(:, 4) = p%x(:, ip) - r1 + r2
       do a = 1, 4
         d = dot_product(xq(:, a) - xw, normal)
-        if (d < 0.0_wp) call push(0, xq(:, a), -kf*0.25_wp*p%mass(ip)*d, &
+        if (d < 0.0_wp) call push(ip, xq(:, a) - p%x(:, ip), -kf*0.25_wp*p%mass(ip)*d, &
                                   0.125_wp*kf*p%mass(ip)*d*d)
         wk%gmin = min(wk%gmin, d)
       end do
@@ -141,10 +148,12 @@ contains
   end function surface_energy
 
   !> The penalty forces of the points gathered, added to the node forces of the active nodes
-  !! (CPDI2 corners: the bilinear weights at the corner; particles: their own basis weights
-  !! w, blk, nb of this step); impulse = the momentum they give the material over dt. Sets
-  !! up the weights and the normal impulses that surface_friction reads.
-  subroutine surface_push(wk, origin, h, nx, ny, mass, mass_cut, nb, blk, w, normal, dt, &
+  !! (CPDI2 corners: the bilinear weights at the corner; the corners of the other bases:
+  !! their particle's weights and gradients of this step extrapolated to the corner,
+  !! w + gw . (x_c - x_p), on the particle's block blk, nb); impulse = the momentum they give
+  !! the material over dt. Sets up the weights and the normal impulses that surface_friction
+  !! reads. With several velocity fields, each point acts on the nodes of its own field.
+  subroutine surface_push(wk, origin, h, nx, ny, mass, mass_cut, nb, blk, w, gw, normal, dt, &
                           force, impulse, nf, pfield, cfield)
     type(surface_work_t), intent(inout) :: wk  !! points; weights and normal impulses set
     real(wp), intent(in) :: origin(2)      !! position of node (0, 0) [m]
@@ -155,6 +164,7 @@ contains
     integer, intent(in) :: nb              !! particle block width (nodes per direction)
     integer, intent(in) :: blk(:,:)        !! lower-left node of each particle's block (2, np)
     real(wp), intent(in) :: w(:,:)         !! particle weights (nb*nb, np) [-]
+    real(wp), intent(in) :: gw(:,:,:)      !! their gradients (2, nb*nb, np) [1/m]
     real(wp), intent(in) :: normal(2)      !! unit normal into the material [-]
     real(wp), intent(in) :: dt             !! time step [s]
     real(wp), intent(inout) :: force(:,:)  !! node force (2, nn) [N/m]
@@ -189,8 +199,9 @@ contains
       if (ip > 0) then
         do b = 0, nb - 1
           do a = 0, nb - 1
-            wk%node(1 + a + nb*b, k) = 1 + blk(1, ip) + a + nx*(blk(2, ip) + b) + off
-            wk%nw(1 + a + nb*b, k) = w(1 + a + nb*b, ip)
+            n = 1 + a + nb*b
+            wk%node(n, k) = 1 + blk(1, ip) + a + nx*(blk(2, ip) + b) + off
+            wk%nw(n, k) = w(n, ip) + gw(1, n, ip)*wk%xs(1, k) + gw(2, n, ip)*wk%xs(2, k)
           end do
         end do
       else

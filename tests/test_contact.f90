@@ -20,7 +20,7 @@ program test_contact
   real(wp) :: mass(nn), force(2, nn), vel(2, nn), dvel(2, nn), v0(2, nn), imp(2), dt
   real(wp) :: nrm(2), w4(4), fsum(2)
   integer :: nodes(4), k, blk(2, 1)
-  real(wp) :: wdummy(4, 1)
+  real(wp) :: wdummy(4, 1), gwdummy(2, 4, 1)
   type(surface_work_t) :: wk
   type(particles_t) :: p
 
@@ -28,6 +28,7 @@ program test_contact
   nrm = [0.0_wp, 1.0_wp]
   blk = 0
   wdummy = 0.0_wp
+  gwdummy = 0.0_wp
 
   ! ---- CPDI2: the corners behind the plane, mass shares, forces, energies
   call begin_test('CPDI2 corners in contact: forces and energies in closed form')
@@ -61,8 +62,8 @@ program test_contact
   call begin_test('force spread with bilinear weights; impulse = momentum given')
   call grid_setup()
   call one_point([1.3_wp, 1.0_wp], -1.0e-3_wp, 2.0_wp)
-  call surface_push(wk, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, mass, 0.0_wp, 2, blk, wdummy, nrm, dt, &
-                    force, imp)
+  call surface_push(wk, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, mass, 0.0_wp, 2, blk, wdummy, gwdummy, &
+                    nrm, dt, force, imp)
   nodes = [1 + 1 + nx*1, 2 + 1 + nx*1, 1 + 1 + nx*2, 2 + 1 + nx*2]
   w4 = [0.7_wp, 0.3_wp, 0.0_wp, 0.0_wp]
   do k = 1, 4
@@ -77,8 +78,8 @@ program test_contact
   ! an inactive node takes nothing and the impulse says so
   call grid_setup()
   mass(nodes(2)) = 0.0_wp
-  call surface_push(wk, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, mass, 0.0_wp, 2, blk, wdummy, nrm, dt, &
-                    force, imp)
+  call surface_push(wk, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, mass, 0.0_wp, 2, blk, wdummy, gwdummy, &
+                    nrm, dt, force, imp)
   call check_close(force(2, nodes(2)), 0.0_wp, 'inactive node: no force', atol=0.0_wp)
   call check_close(imp(2), 0.7_wp*kf*2.0_wp*1.0e-3_wp*dt, 'impulse counts active nodes only', &
                    rtol=1e-12_wp)
@@ -154,8 +155,8 @@ contains
       q%xc(:, 2:4) = reshape([1.5_wp, 9.0_wp, 1.5_wp, 9.5_wp, 1.0_wp, 9.5_wp], [2, 3])
       call surface_points(q, BASIS_CPDI2, [0.0_wp, 1.0_wp], nrm, kf, wb)
       f1 = 0.0_wp
-      call surface_push(wb, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, m1, 0.0_wp, 2, blk, wdummy, nrm, &
-                        hstep, f1, imp1)
+      call surface_push(wb, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, m1, 0.0_wp, 2, blk, wdummy, gwdummy, &
+                        nrm, hstep, f1, imp1)
       v = v + hstep*f1(2, 1 + 1 + nx)/m1(1 + 1 + nx)
       y = y + hstep*v
       t = t + hstep
@@ -180,8 +181,8 @@ contains
     ! stick
     call grid_setup()
     call one_point([1.3_wp, 1.0_wp], -1.0e-3_wp, 2.0_wp)
-    call surface_push(wk, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, mass, 0.0_wp, 2, blk, wdummy, nrm, &
-                      dt, force, imp)
+    call surface_push(wk, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, mass, 0.0_wp, 2, blk, wdummy, gwdummy, &
+                      nrm, dt, force, imp)
     v0 = vel
     call surface_friction(wk, CONTACT_STICK, 0.0_wp, nrm, [0.5_wp, 0.0_wp], vel, dvel, imp)
     vc = matmul(vel(:, nodes), w4)
@@ -194,8 +195,8 @@ contains
                      atol=1e-15_wp)
     ! coulomb with a small mu: the bound holds exactly, opposing the slip
     call grid_setup()
-    call surface_push(wk, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, mass, 0.0_wp, 2, blk, wdummy, nrm, &
-                      dt, force, imp)
+    call surface_push(wk, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, mass, 0.0_wp, 2, blk, wdummy, gwdummy, &
+                      nrm, dt, force, imp)
     lam_n = wk%lam(1, 1)
     v0 = vel
     vt0 = dot_product(matmul(v0(:, nodes), w4), [1.0_wp, 0.0_wp]) - 0.5_wp
@@ -205,8 +206,8 @@ contains
     call check(imp(1)*vt0 < 0.0_wp, 'coulomb: friction opposes the slip')
     ! mu = 0: frictionless
     call grid_setup()
-    call surface_push(wk, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, mass, 0.0_wp, 2, blk, wdummy, nrm, &
-                      dt, force, imp)
+    call surface_push(wk, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, mass, 0.0_wp, 2, blk, wdummy, gwdummy, &
+                      nrm, dt, force, imp)
     v0 = vel
     call surface_friction(wk, CONTACT_COULOMB, 0.0_wp, nrm, [0.5_wp, 0.0_wp], vel, dvel, imp)
     call check_close(reshape(vel, [2*nn]), reshape(v0, [2*nn]), &
