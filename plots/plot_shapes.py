@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
-"""Deformed shapes of a tubempm run: the particle domains coloured by plastic strain.
+"""Deformed shapes of a tubempm run: the particle domains coloured by plastic strain (or, with
+``--colour body``, by the body each particle belongs to).
 
 One panel per snapshot of particles.h5 (by default up to six, spread evenly over the run),
 each particle drawn as its domain polygon (the CPDI corners) coloured by the equivalent
@@ -101,6 +102,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--edges", action="store_true", help="outline every particle domain")
     p.add_argument("--sector", action="store_true", help="a half or quarter model: draw the "
                    "computed part only (default: the whole tube, with its mirror images)")
+    p.add_argument("--colour", choices=("eqps", "body"), default="eqps",
+                   help="colour by equivalent plastic strain (default) or by body")
     args = p.parse_args(argv)
 
     try:
@@ -129,8 +132,12 @@ def main(argv: list[str] | None = None) -> int:
     size = float(max(hi - lo)) or 1.0
     pad = 0.07 * size
     lo, hi = lo - pad, hi + pad
-    vmax = max(float(np.max(f["eqps"])) for f in frames)
-    norm = Normalize(vmin=0.0, vmax=vmax if vmax > 0.0 else 1.0)
+    key = "eqps" if args.colour == "eqps" else "body"
+    vmax = max(float(np.max(f[key])) for f in frames)
+    vmin = 0.0 if key == "eqps" else 0.5
+    if key == "body":
+        vmax += 0.5
+    norm = Normalize(vmin=vmin, vmax=vmax if vmax > vmin else vmin + 1.0)
     tmax = max(float(f.get("time", 0.0)) for f in frames)
     tscale, tunit = (1e3, "ms") if tmax >= 1e-3 else (1e6, "µs")
 
@@ -143,7 +150,8 @@ def main(argv: list[str] | None = None) -> int:
     pc = None
     for ax, frame in zip(axes.flat, frames):
         verts = frame["corners"][frame["quads"]] * mm
-        pc = PolyCollection(verts, array=frame["eqps"], cmap=style.CMAP, norm=norm,
+        pc = PolyCollection(verts, array=np.asarray(frame[key], dtype=float), cmap=style.CMAP,
+                            norm=norm,
                             edgecolors=(0, 0, 0, 0.35) if args.edges else "face",
                             linewidths=0.15 if args.edges else 0.3, zorder=2)
         ax.add_collection(pc)
@@ -159,7 +167,7 @@ def main(argv: list[str] | None = None) -> int:
         ax.grid(False)
     for ax in list(axes.flat)[n:]:
         ax.set_visible(False)
-    label = "equivalent plastic strain [-]"
+    label = "equivalent plastic strain [-]" if key == "eqps" else "body [-]"
     if vmax <= 0.0:
         label += " (zero everywhere)"
     fig.colorbar(pc, ax=axes, label=label, shrink=0.9)

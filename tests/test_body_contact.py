@@ -3,6 +3,7 @@
 """Contact between bodies (multi-field MPM, docs/theory.md "Contact between bodies"), run with the
 binary under test; every oracle is outside the contact code:
 
+0. the scenes of namelists/contact/ pass --check;
 1. two identical aluminium rings colliding head-on at +-30 m/s (frictionless) against one ring
    hitting a frictionless rigid wall at 30 m/s, the same resolution (h = t/4): by symmetry the
    same motion. Contact time (force above 1 % of its peak), rebound speed and plastic work of
@@ -208,9 +209,21 @@ def incline(scratch: Path) -> None:
     within(a, g * math.sin(theta) / (1.0 + k), 0.02, "incline, rolling: acceleration [m/s^2]")
 
 
+def shipped() -> None:
+    """The scenes of namelists/contact/ are valid input (--check exits 0)."""
+    files = sorted((ROOT / "namelists" / "contact").glob("*.nml"))
+    check(len(files) >= 4, f"namelists/contact/ holds the contact scenes ({len(files)} files)")
+    for f in files:
+        res = subprocess.run([os.environ.get("TUBEMPM", str(ROOT / "bin" / "tubempm")),
+                              "--check", str(f)], capture_output=True, text=True)
+        check(res.returncode == 0, f"{f.name}: --check exits {res.returncode}: "
+                                   f"{res.stderr.strip()[-300:]}")
+
+
 def main() -> int:
     scratch = Path(sys.argv[1] if len(sys.argv) > 1 else "/tmp/test_body_contact")
     scratch.mkdir(parents=True, exist_ok=True)
+    shipped()
     head_on(scratch)
     oblique(scratch)
     press(scratch)

@@ -2,18 +2,24 @@
 # SPDX-License-Identifier: MIT
 # Run the paper's three scenes (namelists/crush.nml, impact.nml, wave.nml) with the release build
 # and write their figures to docs/figures/ (PNG) and their key numbers to docs/figures/scenes.txt.
+# The scenes of several bodies in contact (namelists/contact/: two_rings, nested,
+# nested_eccentric, stack) run when named; their figures are <scene>_bodies.png (forces and
+# energies per body), <scene>_shapes.png (coloured by body) and <scene>_eqps.png, their numbers
+# go to build/scenes.txt.
 # Two runs at once with one thread each (the machine has two cores).
 # A subset of the scenes writes its figures but not scenes.txt (the numbers of all three scenes):
 # its numbers go to build/scenes.txt instead.
 #   usage: tools/run_scenes.sh [scene ...]      (default: crush impact wave)
 set -eu
-usage() { echo "usage: tools/run_scenes.sh [crush] [impact] [wave]   (default: all three)"
-          echo "  runs namelists/<scene>.nml (release build bin/tubempm), writes docs/figures/<scene>.png"
-          echo "  and <scene>_shapes.png, and, for all three scenes, docs/figures/scenes.txt"; }
+usage() { echo "usage: tools/run_scenes.sh [crush] [impact] [wave] [two_rings] [nested] [nested_eccentric] [stack]"
+          echo "  (default: crush impact wave) runs namelists/<scene>.nml (namelists/contact/ for the"
+          echo "  scenes of several bodies; release build bin/tubempm), writes docs/figures/<scene>.png"
+          echo "  and <scene>_shapes.png (several bodies: <scene>_bodies.png, _shapes.png, _eqps.png),"
+          echo "  and, for the three paper scenes together, docs/figures/scenes.txt"; }
 for a in "$@"; do
   case $a in
     -h|--help) usage; exit 0 ;;
-    crush|impact|wave) ;;
+    crush|impact|wave|two_rings|nested|nested_eccentric|stack) ;;
     *) echo "ERROR [run_scenes]: unknown scene '$a'" >&2; usage >&2; exit 2 ;;
   esac
 done
@@ -24,9 +30,10 @@ numbers=docs/figures/scenes.txt
 [ "$scenes" = "crush impact wave" ] || numbers=build/scenes.txt
 [ -x bin/tubempm ] || { echo "ERROR [run_scenes]: bin/tubempm not found: run make first" >&2; exit 2; }
 mkdir -p docs/figures
+nml() { if [ -f "namelists/$1.nml" ]; then echo "namelists/$1.nml"; else echo "namelists/contact/$1.nml"; fi; }
 run() {
   local c=$1
-  OMP_NUM_THREADS=1 bin/tubempm --quiet "namelists/$c.nml" > "build/scene_$c.log" 2>&1 \
+  OMP_NUM_THREADS=1 bin/tubempm --quiet "$(nml "$c")" > "build/scene_$c.log" 2>&1 \
     || { echo "scene $c failed:"; tail -5 "build/scene_$c.log"; return 1; }
 }
 mkdir -p build
@@ -41,8 +48,14 @@ for p in "${pids[@]}"; do wait "$p" || fail=1; done
 for c in $scenes; do
   [ -f "out/$c/summary.nml" ] || continue
   { echo "== $c"; grep -E "status|steps|particles|wall_seconds|runtime_ratio|updates_per_second|energy_error" "out/$c/summary.nml"
-    $py plots/plot_case.py --case "namelists/$c.nml" --out "docs/figures/$c.png"
-    $py plots/plot_shapes.py --case "namelists/$c.nml" --out "docs/figures/${c}_shapes.png"
+    if [ -f "namelists/$c.nml" ]; then
+      $py plots/plot_case.py --case "namelists/$c.nml" --out "docs/figures/$c.png"
+      $py plots/plot_shapes.py --case "namelists/$c.nml" --out "docs/figures/${c}_shapes.png"
+    else
+      $py plots/plot_bodies.py --case "$(nml "$c")" --out "docs/figures/${c}_bodies.png"
+      $py plots/plot_shapes.py --case "$(nml "$c")" --colour body --out "docs/figures/${c}_shapes.png"
+      $py plots/plot_shapes.py --case "$(nml "$c")" --out "docs/figures/${c}_eqps.png"
+    fi
   } >> "$numbers" 2>&1
 done
 cat "$numbers"
