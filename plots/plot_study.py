@@ -132,7 +132,7 @@ def settings(r: dict[str, Any]) -> str:
     text = f"h/t {r['h_over_t']:g}, n_t {r['n_t']:g}, {r['basis']}"
     if not math.isclose(r["aspect"], 1.0):
         text += f", aspect {r['aspect']:g}"
-    if not math.isclose(r["cfl"], CENTRE_CFL.get(r.get("scene", ""), 0.2)):
+    if not math.isclose(r["cfl"], 0.2):
         text += f", cfl {r['cfl']:g}"
     if volumetric(r) != "standard":
         text += f", {volumetric(r)}"

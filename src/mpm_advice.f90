@@ -302,9 +302,9 @@ contains
       if (cfg%grid%h > 0.25_wp*t*(1.0_wp + 1.0e-9_wp) .and. &
           cfg%grid%h <= 0.5_wp*t*(1.0_wp + 1.0e-9_wp)) then
         write(line, '(a,i0,a,f5.2,a)') 'body ', ib, ': h/t = ', cfg%grid%h/t, &
-          ': the refinement study found errors of 15 % (crush force) and 25 to 29 % '// &
-          '(impact) at h = t/2 against 2 to 7 % at h = t/4 (docs/validation.md). '// &
-          'Use h <= t/4 with n_thick >= 2 t/h for about 5 %'
+          ': the refinement study found errors of 10 to 12 % (crush force against the '// &
+          'finite element curve) and 27 to 30 % (impact) at h = t/2 against 2 to 4 % at '// &
+          'h = t/4 (docs/validation.md). Use h <= t/4 with n_thick >= 2 t/h for 2 to 4 %'
         call append_msg(warnings, line)
       end if
     end associate
@@ -331,8 +331,8 @@ contains
     if (ppc < ppc_low .and. cfg%solver%volumetric_id == VOLUMETRIC_FBAR) then
       write(line, '(a,f5.2,a)') 'only ', ppc, ' particle(s) per cell through the wall '// &
         '(n_thick h / t): with volumetric = ''fbar'' the crush force at h = t/4, n_thick = 4 '// &
-        'is still 11 % above the finite element reference (+35 % without it; L2 error 15 % '// &
-        'against 49 %; docs/validation.md). Use n_thick >= 2 t/h for errors of a few %'
+        'is still 9 % above the finite element reference (+32 % without it; L2 error 9.9 % '// &
+        'against 32.9 %; docs/validation.md). Use n_thick >= 2 t/h for errors of a few %'
       call append_msg(warnings, line)
     else if (ppc < ppc_low) then
       write(line, '(a,f5.2,a)') 'only ', ppc, ' particle(s) per cell through the wall '// &
@@ -537,7 +537,7 @@ contains
         'curve, the platens approaching at ', study_crush_approach, ' m/s'
       if (v > 1.5_wp*study_crush_approach) then
         write(line, '(a,f0.2,a)') trim(line)//'; this input''s at ', v, ' m/s adds inertia: '// &
-          'at 10 m/s the study''s h = t/4 crush is 8 % from the static curve, at 2.5 m/s 2.6 %)'
+          'at 10 m/s the study''s h = t/4 crush is 8 % from the static curve, at 2.5 m/s 2.5 %)'
         call append_msg(text, trim(line))
       else
         call append_msg(text, trim(line)//')')

@@ -25,7 +25,7 @@ out/study-quick/ instead: it checks the machinery, its coarse reference is no re
 `--tables-only` recomputes the table from existing run folders without running anything.
 
 Levels: ``quick`` (under 10 minutes on 2 cores: coarse sweeps, its own coarse reference),
-``full`` (about 2 hours on 2 cores; the committed table and figures), ``all`` (full plus
+``full`` (1.5 CPU hours, about an hour on 2 cores; the committed table and figures), ``all`` (full plus
 n_t = 32 at h = t/8 for every scene, the crush's bases at h = t/4 and its aspect 1/2; several
 hours more).
 """
@@ -518,7 +518,7 @@ def collect(level: str, points: dict[str, list[Point]]) -> tuple[list[dict[str, 
                     row.update(errors(scene, metrics[name], metrics.get(ref.name), fe))
         # Richardson over h at the reference's n_t (h/t = 4 h_ref, 2 h_ref, h_ref)
         hs = [ref.h_over_t * 4, ref.h_over_t * 2, ref.h_over_t]
-        names = [Point(scene, h_over_t=h, n_t=ref.n_t).name for h in hs]
+        names = [Point(scene, h_over_t=h, n_t=ref.n_t, cfl=ref.cfl).name for h in hs]
         if all(n in metrics for n in names):
             keys = {"crush": ["force_mean", "energy_50"],
                     "impact": ["duration", "cor", "peak_10us"], "wave": ["wave_speed"]}[scene]
