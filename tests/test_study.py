@@ -325,10 +325,54 @@ def test_quasi_static_design() -> None:
     check(plot_study.CENTRE_CFL == study.CENTRE_CFL, "plot_study and study: same centre cfl")
 
 
+def test_mass_scaling_is_time_scaling() -> None:
+    """Why the study slows its crush instead of scaling the mass (docs/validation.md, "A
+    quasi-static crush"): for a rate-independent material, mass_scale m with the platen at
+    v / sqrt(m), the ramp, the record and the history interval times sqrt(m) is the same model in
+    the time t sqrt(m). With m = 4 (sqrt(m) = 2: every scaling exact in binary) a short crush
+    gives the same platen force at every history row, to round-off, at twice the time."""
+    import batch
+    from mpmplot import readers
+    exe = Path(os.environ.get("TUBEMPM", ROOT / "build" / "debug" / "tubempm"))
+    if not check(exe.is_file(), f"binary {exe} missing"):
+        return
+    tmp = Path(tempfile.mkdtemp(prefix="test_study_mass_"))
+    try:
+        base = ROOT / "namelists" / "crush.nml"
+        common = {"grid.h": 0.74e-3, "body.n_thick": 4, "run.threads": 1, "run.cfl": 0.8}
+        cases = []
+        for name, k, ms in (("plain", 1.0, 1.0), ("scaled", 2.0, 4.0)):
+            cases.append(batch.Case(name, base, {**common, "solver.mass_scale": ms,
+                                                 "run.t_end": 4.0e-4 * k,
+                                                 "run.history_every": 1.0e-5 * k,
+                                                 "run.snapshot_every": 4.0e-4 * k,
+                                                 "wall.velocity": (0.0, -5.0 / k),
+                                                 "wall.ramp": 2.0e-4 * k}))
+        res = batch.run_batch(cases, tmp, jobs=2, binary=exe, log=lambda m: None)
+        if not check(all(r["exit_code"] == 0 for r in res), f"mass scaling: both run {res}"):
+            return
+        a = readers.read_history(tmp / "plain" / "history.csv")
+        b = readers.read_history(tmp / "scaled" / "history.csv")
+        n = min(len(a["time"]), len(b["time"]))
+        check(n > 30 and len(a["time"]) == len(b["time"]), f"mass scaling: rows {n}")
+        check(np.allclose(b["time"][:n], 2.0 * a["time"][:n], rtol=1e-12, atol=1e-15),
+              "mass scaling: the scaled run's rows at twice the time")
+        fa, fb = a["wall1_force"][:n], b["wall1_force"][:n]
+        err = float(np.max(np.abs(fb - fa)) / np.max(np.abs(fa)))
+        check(np.max(np.abs(fa)) > 1.0e3 and err < 1.0e-9,
+              f"mass scaling: same platen force row by row (largest difference {err:.2e} of "
+              f"the peak {np.max(np.abs(fa)):.3g} N)")
+        da, db = a["wall1_disp"][:n], b["wall1_disp"][:n]
+        check(np.allclose(db, da, rtol=1e-9, atol=1e-15), "mass scaling: same platen travel")
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
 def main() -> int:
     for t in (test_render, test_richardson, test_pareto_advice, test_batch_runs,
               test_crush_metrics, test_check_advice, test_volumetric_factor,
-              test_crush_against_fe, test_quasi_static_design):
+              test_crush_against_fe, test_quasi_static_design,
+              test_mass_scaling_is_time_scaling):
         try:
             t()
         except Exception:                      # a crash is a failure, with its traceback
