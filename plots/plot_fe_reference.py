@@ -118,7 +118,7 @@ def main(argv: list[str] | None = None) -> int:
               f"{'/FE':>6s}  {'/DH':>6s}  {'self':>6s}  {'CPU s':>6s}")
         for row in rows:
             st = table.get(row["curve"], {})
-            self_err, cpu = st.get("err_F_L2", ""), st.get("cpu_s", "")
+            self_err, cpu = st.get("err_self", ""), st.get("cpu_s", "")
             wr.writerow([row["curve"], row["kind"], f"{row['err']:.5f}", f"{row['err_s']:.5f}",
                          f"{row['mean']:.4f}", f"{row['over_fe']:.5f}", f"{row['over_dh']:.5f}",
                          self_err, cpu])
@@ -138,20 +138,23 @@ def main(argv: list[str] | None = None) -> int:
         if p != meshes[-1][2]:
             bx.plot(xw, 100 * (smooth_on_window(x, f) - ref_s) / ref_s, color=col, lw=1.0,
                     label=f"FE {n_t}×{n_c}")
-    picks = [("crush_cpdi2_musl_h1_8_nt16_a1_cfl0.2", "C0"),
-             ("crush_cpdi2_musl_h1_4_nt8_a1_cfl0.2", "C1"),
-             ("crush_cpdi2_musl_h1_4_nt16_a1_cfl0.2", "C2"),
-             ("crush_cpdi2_musl_h1_4_nt4_a1_cfl0.2", "C3")]
-    names = {"crush_cpdi2_musl_h1_8_nt16_a1_cfl0.2": "MPM h = t/8, n_t = 16 (study ref.)",
-             "crush_cpdi2_musl_h1_4_nt8_a1_cfl0.2": "MPM h = t/4, n_t = 8",
-             "crush_cpdi2_musl_h1_4_nt16_a1_cfl0.2": "MPM h = t/4, n_t = 16",
-             "crush_cpdi2_musl_h1_4_nt4_a1_cfl0.2": "MPM h = t/4, n_t = 4"}
+    # the study's quasi-static crush runs (tools/study.py: centre cfl 0.8)
+    picks = [("crush_cpdi2_musl_h1_8_nt16_a1_cfl0.8", "C0"),
+             ("crush_cpdi2_musl_h1_4_nt8_a1_cfl0.8", "C1"),
+             ("crush_cpdi2_musl_h1_4_nt16_a1_cfl0.8", "C2"),
+             ("crush_cpdi2_musl_h1_4_nt4_a1_cfl0.8", "C3"),
+             ("crush_cpdi2_musl_h1_4_nt4_a1_cfl0.8_fbar", "C4")]
+    names = {"crush_cpdi2_musl_h1_8_nt16_a1_cfl0.8": "MPM h = t/8, n_t = 16 (study's finest)",
+             "crush_cpdi2_musl_h1_4_nt8_a1_cfl0.8": "MPM h = t/4, n_t = 8",
+             "crush_cpdi2_musl_h1_4_nt16_a1_cfl0.8": "MPM h = t/4, n_t = 16",
+             "crush_cpdi2_musl_h1_4_nt4_a1_cfl0.8": "MPM h = t/4, n_t = 4",
+             "crush_cpdi2_musl_h1_4_nt4_a1_cfl0.8_fbar": "MPM h = t/4, n_t = 4, fbar"}
     for name, col in picks:
         if name not in study:
             continue
         x, f, w, ws = study[name]
         e = rel_l2(w, ref)
-        thin = name.endswith("nt4_a1_cfl0.2")
+        thin = name.endswith("nt4_a1_cfl0.8")
         ax.plot(x, f / 1e3, color=col, lw=0.5 if thin else 0.8, alpha=0.5 if thin else 0.85,
                 label=f"{names[name]} ({100 * e:.1f} %)")
         if not thin:                   # n_t = 4 (about +30 %) would squash the others

@@ -39,7 +39,10 @@ SCENES = ("crush", "impact", "wave")
 BASIS_STYLE = {"linear": ("C0", "s"), "ugimp": ("C2", "^"), "cpdi1": ("C1", "D"),
                "cpdi2": ("C3", "o")}
 TARGETS = (0.05, 0.02, 0.01)
-HEADLINE = {"crush": "L2 error of F(δ), δ/D 0.05–0.5",
+#: The centre point's cfl per scene (as tools/study.py's CENTRE_CFL: the quasi-static crush
+#: runs at 0.8)
+CENTRE_CFL = {"crush": 0.8, "impact": 0.2, "wave": 0.2}
+HEADLINE = {"crush": "L2 error of F(δ) against FE, δ/D 0.05–0.5",
             "impact": "max rel. error: contact time, COR",
             "wave": "max arrival error / transit time to 180°"}
 
@@ -64,11 +67,12 @@ def volumetric(r: dict[str, Any]) -> str:
 
 
 def centre(r: dict[str, Any], **changes: Any) -> bool:
-    """Is r the centre point of the sweeps (CPDI2, MUSL, cfl 0.2, aspect 1, 30 m/s, standard
-    volumetric treatment) with ``changes`` applied?"""
+    """Is r the centre point of the sweeps (CPDI2, MUSL, the scene's centre cfl, aspect 1,
+    30 m/s, standard volumetric treatment) with ``changes`` applied?"""
     if volumetric(r) != changes.pop("volumetric", "standard"):
         return False
-    want = {"basis": "cpdi2", "scheme": "musl", "cfl": 0.2, "aspect": 1.0}
+    want = {"basis": "cpdi2", "scheme": "musl", "cfl": CENTRE_CFL.get(r["scene"], 0.2),
+            "aspect": 1.0}
     if r["scene"] == "impact":
         want["speed"] = 30.0
     want.update(changes)
@@ -189,7 +193,7 @@ def _ticks(ax, axis: str, values: list[float], labels: list[str]) -> None:
 def fig_error_factors(rows, out: Path) -> None:
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.6), layout="constrained", sharey=True)
     specs = [("h_over_t", "grid spacing h/t (n_t = 16)", {"n_t": 16.0},
-              [2, 1, 0.5, 0.25], ["2", "1", "1/2", "1/4"]),
+              [2, 1, 0.5, 0.25, 0.125], ["2", "1", "1/2", "1/4", "1/8"]),
              ("n_t", "particles through the wall n_t (h = t/4)", {"h_over_t": 0.25},
               [2, 4, 8, 16, 32], ["2", "4", "8", "16", "32"]),
              ("n_c", "particles around: n_c / n_c of square particles (h = t/4, n_t = 8)",
@@ -217,10 +221,12 @@ def fig_error_factors(rows, out: Path) -> None:
         for tgt in TARGETS:
             ax.axhline(100 * tgt, color="0.6", lw=0.7, ls=":")
         _legend(ax)
-    axes[0].set_ylabel("error [%] against the reference (h = t/8, n_t = 16)")
+    axes[0].set_ylabel("error [%] against the reference\n(crush: FE; impact, wave: "
+                       "h = t/8, n_t = 16)")
     _ticks(axes[0], "y", [1, 2, 5, 10, 20, 50, 100, 200, 500],
            ["1", "2", "5", "10", "20", "50", "100", "200", "500"])
-    fig.suptitle("which factor matters: one factor at a time, CPDI2 + MUSL, cfl 0.2")
+    fig.suptitle("which factor matters: one factor at a time, CPDI2 + MUSL, cfl 0.2 "
+                 "(quasi-static crush: 0.8)")
     fig.savefig(out / "error_factors.png", dpi=130)
     plt.close(fig)
 
@@ -260,8 +266,13 @@ def fig_crush(rows, folder: Path, out: Path, exp=None) -> None:
     fig, axes = plt.subplots(1, 2, figsize=(13, 4.8), layout="constrained", sharey=True)
     ring = scene.ring_properties(namelist.read_namelist(ROOT / "namelists" / "crush.nml"))
     _sweep_curves(axes, rows, "crush", folder, 1.0,
-                  lambda r: " (reference)" if r["name"] == r["reference"]
-                  else f" (L2 error {r['error']:.1%})")
+                  lambda r: f" (L2 error {r['error']:.1%})")
+    fe = ROOT / "docs" / "fe_reference" / "crush_fe.csv"
+    if fe.is_file():
+        a = np.loadtxt(fe, delimiter=",", skiprows=1, ndmin=2)
+        for ax in axes:
+            ax.plot(a[:, 1], a[:, 2] * 1e-3, color="k", lw=2.0, alpha=0.5,
+                    label="FE reference (CalculiX)")
     d = np.linspace(0, 0.6, 200)
     dh = theory.deruntz_hodge(d * ring["D"], ring["D"], ring["t"], ring["sigma_y"],
                                ring["plane"], ring["depth"])
@@ -274,7 +285,7 @@ def fig_crush(rows, folder: Path, out: Path, exp=None) -> None:
         ax.set_xlim(0, 0.55)
         ax.set_ylim(0, 3.5e-3 * float(np.interp(0.5, d, dh)))
         ax.set_xlabel("δ / D (curves above the frame are cut)")
-        ax.set_title(f"crush: {title}; shaded: error window")
+        ax.set_title(f"quasi-static crush: {title}; shaded: error window", fontsize=10)
         _legend(ax, fontsize=8, loc="upper left")
     axes[0].set_ylabel("platen force per metre [kN/m]")
     fig.savefig(out / "crush_curves.png", dpi=130)
@@ -358,7 +369,9 @@ def fig_shapes(rows, out: Path) -> None:
     ref = next((r for r in rows if r["scene"] == "crush"), None)
     if ref is None:
         return
-    run = ROOT / "out" / "study" / str(ref["reference"])
+    finest = ref.get("self_reference")
+    run = ROOT / "out" / "study" / str(finest if isinstance(finest, str) and finest
+                                       else ref["reference"])
     if not (run / "particles.h5").is_file():
         print(f"  crush_shapes.png: {run} not found (run the study); kept the old figure")
         return

@@ -134,7 +134,7 @@ program tubempm
   end if
   if (len(warnings) > 0) call print_warnings(warnings)
   if (check_only) then
-    call study_advice(cfg, s%g%h, advice)
+    call study_advice(cfg, s%g%h, s%walls(1:s%nwall), advice)
     if (len(advice) > 0) write(output_unit, '(a)') advice
     write(output_unit, '(a)') 'input ok: '//trim(case_file)
     stop

@@ -261,9 +261,118 @@ def test_volumetric_factor() -> None:
             check(ppc == [1.0, 2.0], f"volumetric: {level} {scene}: 1 and 2 particles per cell")
 
 
+def test_crush_against_fe() -> None:
+    """Crush errors against the finite element curve: a run whose F(delta) is the FE curve times
+    (1 + eps) has an L2 error, smoothed error and energy error of eps and a mean force of
+    (1 + eps) times FE's (all linear in F), whatever the self-reference says; the self-referenced
+    error is the second column. The FE curve's own mean force is the one docs/fe_reference's
+    convergence table gives for the finest mesh."""
+    import study
+    from mpmplot import namelist, scene
+    fe = study.fe_metrics()
+    if not check(fe is not None and "F_window" in fe, "FE curve read and over the window"):
+        return
+    conv = json.loads((ROOT / "docs" / "fe_reference" / "convergence.json").read_text())
+    finest = next((m for m in conv["meshes"] if m["mesh"] == conv["reference"]), {})
+    check(close(fe["force_mean"], float(finest.get("force_mean_N", math.nan)), 1e-4),
+          f"FE mean force {fe['force_mean']:.1f} N/m vs convergence.json's "
+          f"{finest.get('force_mean_N')}")
+    a = np.loadtxt(study.FE_CURVE, delimiter=",", skiprows=1, ndmin=2)
+    r = scene.ring_properties(namelist.read_namelist(study.SCENES["crush"]["base"]))
+    eps = 0.037
+    m = study.crush_curve_metrics(a[:, 0], (1.0 + eps) * a[:, 2], r)
+    ref = study.crush_curve_metrics(a[:, 0], (1.0 - eps) * a[:, 2], r)
+    e = study.errors("crush", m, ref, fe)
+    check(close(e["error"], eps, 1e-9) and close(e["err_F_L2"], eps, 1e-9),
+          f"L2 error against FE {e['error']} vs eps = {eps}")
+    check(close(e["err_F_smooth"], eps, 1e-9) and close(e["err_energy_50"], eps, 1e-9),
+          f"smoothed and energy errors against FE {e['err_F_smooth']}, {e['err_energy_50']}")
+    check(close(e["force_over_fe"], 1.0 + eps, 1e-12), f"mean over FE {e['force_over_fe']}")
+    want_self = 2.0 * eps / (1.0 - eps)
+    check(close(e["err_self"], want_self, 1e-9),
+          f"err_self against the finest run {e['err_self']} vs {want_self}")
+    e2 = study.errors("crush", m, None, fe)
+    check(close(e2["error"], eps, 1e-9) and math.isnan(e2["err_self"]),
+          "no finest run: FE error kept, err_self NaN")
+
+
+def test_quasi_static_design() -> None:
+    """The study's crush: its platens reach delta/D >= 0.5 (the window's end) by t_end even
+    if the ramp gave no travel at all (a lower bound), it approaches more slowly than the
+    shipped scene, every crush run is at the crush's centre cfl except the cfl sweep, and
+    plots/plot_study.py knows the same centre cfl per scene."""
+    import batch
+    import plot_study
+    import study
+    from mpmplot import namelist, scene
+    pts = study.design("full")["crush"]
+    case = pts[0].case()
+    nml = namelist.parse_namelist(batch.render(case.base.read_text(), case.overrides), "crush")
+    inputs = namelist.read_namelist(case.base)
+    D = scene.ring_properties(inputs)["D"]
+    w = nml["wall"][0]
+    v = abs(float(w["velocity"][1]))
+    travel_min = 2.0 * v * (float(nml["run"][0]["t_end"]) - float(w["ramp"]))
+    check(travel_min / D >= study.CRUSH_WINDOW[1],
+          f"crush reaches delta/D {travel_min / D:.3f} >= {study.CRUSH_WINDOW[1]}")
+    v_scene = abs(float(inputs["wall"][0]["velocity"][1]))
+    check(v < v_scene and close(2.0 * v, study.CRUSH_APPROACH, 1e-12),
+          f"quasi-static approach {2 * v} m/s, below the scene's {2 * v_scene} m/s")
+    off = [p.name for p in pts if not close(p.cfl, study.CENTRE_CFL["crush"], 1e-12)]
+    check(sorted(off) == sorted(p.name for p in pts if p.h_over_t == 0.25 and p.n_t == 8
+                                and p.aspect == 1.0 and p.cfl in (0.2, 0.4)),
+          f"crush runs off the centre cfl are the cfl sweep: {off}")
+    check(plot_study.CENTRE_CFL == study.CENTRE_CFL, "plot_study and study: same centre cfl")
+
+
+def test_mass_scaling_is_time_scaling() -> None:
+    """Why the study slows its crush instead of scaling the mass (docs/validation.md, "A
+    quasi-static crush"): for a rate-independent material, mass_scale m with the platen at
+    v / sqrt(m), the ramp, the record and the history interval times sqrt(m) is the same model in
+    the time t sqrt(m). With m = 4 (sqrt(m) = 2: every scaling exact in binary) a short crush
+    gives the same platen force at every history row, to round-off, at twice the time."""
+    import batch
+    from mpmplot import readers
+    exe = Path(os.environ.get("TUBEMPM", ROOT / "build" / "debug" / "tubempm"))
+    if not check(exe.is_file(), f"binary {exe} missing"):
+        return
+    tmp = Path(tempfile.mkdtemp(prefix="test_study_mass_"))
+    try:
+        base = ROOT / "namelists" / "crush.nml"
+        common = {"grid.h": 0.74e-3, "body.n_thick": 4, "run.threads": 1, "run.cfl": 0.8}
+        cases = []
+        for name, k, ms in (("plain", 1.0, 1.0), ("scaled", 2.0, 4.0)):
+            cases.append(batch.Case(name, base, {**common, "solver.mass_scale": ms,
+                                                 "run.t_end": 4.0e-4 * k,
+                                                 "run.history_every": 1.0e-5 * k,
+                                                 "run.snapshot_every": 4.0e-4 * k,
+                                                 "wall.velocity": (0.0, -5.0 / k),
+                                                 "wall.ramp": 2.0e-4 * k}))
+        res = batch.run_batch(cases, tmp, jobs=2, binary=exe, log=lambda m: None)
+        if not check(all(r["exit_code"] == 0 for r in res), f"mass scaling: both run {res}"):
+            return
+        a = readers.read_history(tmp / "plain" / "history.csv")
+        b = readers.read_history(tmp / "scaled" / "history.csv")
+        n = min(len(a["time"]), len(b["time"]))
+        check(n > 30 and len(a["time"]) == len(b["time"]), f"mass scaling: rows {n}")
+        check(np.allclose(b["time"][:n], 2.0 * a["time"][:n], rtol=1e-12, atol=1e-15),
+              "mass scaling: the scaled run's rows at twice the time")
+        fa, fb = a["wall1_force"][:n], b["wall1_force"][:n]
+        err = float(np.max(np.abs(fb - fa)) / np.max(np.abs(fa)))
+        check(np.max(np.abs(fa)) > 1.0e3 and err < 1.0e-9,
+              f"mass scaling: same platen force row by row (largest difference {err:.2e} of "
+              f"the peak {np.max(np.abs(fa)):.3g} N)")
+        da, db = a["wall1_disp"][:n], b["wall1_disp"][:n]
+        check(np.allclose(db, da, rtol=1e-9, atol=1e-15), "mass scaling: same platen travel")
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
 def main() -> int:
     for t in (test_render, test_richardson, test_pareto_advice, test_batch_runs,
-              test_crush_metrics, test_check_advice, test_volumetric_factor):
+              test_crush_metrics, test_check_advice, test_volumetric_factor,
+              test_crush_against_fe, test_quasi_static_design,
+              test_mass_scaling_is_time_scaling):
         try:
             t()
         except Exception:                      # a crash is a failure, with its traceback

@@ -76,6 +76,14 @@ def study_include(rows: list[dict[str, Any]], adv: list[dict[str, Any]], source:
     lines.append(arr("study_error", "real(wp)", [real(r["error"]) for r in runs]))
     lines.append(arr("study_cpu_s", "real(wp)", [real(r["cpu_s"]) for r in runs]))
     lines.append(arr("study_particles", "integer", [str(int(r["particles"])) for r in runs]))
+    # the relative approach speed of the study's (quasi-static) crush platens
+    speeds = {r["speed"] for r in rows if r["scene"] == "crush"
+              and math.isfinite(r.get("speed", math.nan))}
+    if len(speeds) > 1:
+        raise SystemExit(f"ERROR [advice_tables]: crush runs at several speeds {speeds}")
+    lines.append("! the relative approach speed of the study's crush platens [m/s] (0: unknown)\n")
+    lines.append(f"real(wp), parameter :: study_crush_approach = "
+                 f"{real(speeds.pop() if speeds else 0.0)}\n")
     lines.append(f"integer, parameter :: n_advice = {len(adv)}\n")
     lines.append(arr("advice_scene", "character(len=6)", [f"'{a['scene']:6s}'" for a in adv]))
     lines.append(arr("advice_target", "real(wp)", [real(a["target"]) for a in adv]))

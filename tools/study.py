@@ -5,24 +5,27 @@ scenes of Sinaie et al. (2018).
     python3 tools/study.py [--level quick|full|all] [--jobs N] [--tables-only] [--list]
                            [--backend slurm [--partition P] [--time T] [--account A] ...]
 
-Each scene is swept one factor at a time around a centre point (CPDI2, MUSL, cfl 0.2, square
-particles): the grid spacing h/t, the particles through the wall n_t, the particle aspect ratio
+Each scene is swept one factor at a time around a centre point (CPDI2, MUSL, cfl 0.2 (the
+quasi-static crush: 0.8), square particles): the grid spacing h/t, the particles through the wall n_t, the particle aspect ratio
 (length around / length through the wall, which sets n_c), the basis, the cfl number, for
 the impact the impact speed, and the volumetric treatment (``&solver volumetric = 'fbar'``, the
 anti-locking F-bar, against 'standard' at one and two particles per cell through the wall). Runs go to out/study/<case>/ through tools/batch.py (several at
 once, one thread each, finished runs skipped, interrupted runs re-run), or with
 ``--backend slurm`` as one Slurm job array (docs/batch.md).
 
-Then every run's metrics are computed against the scene's reference (the finest CPDI2 run of the
-level: h = t/8, n_t = 16 for full and all, h = t/4, n_t = 8 for quick; its own error is
-estimated by Richardson extrapolation over the h sweep) and written to
+The study's crush is quasi-static (the platens approach at CRUSH_APPROACH, not the shipped
+scene's 10 m/s), and every crush error is measured against the static finite element curve
+docs/fe_reference/crush_fe.csv (make fe-reference). The impact and wave errors, and the crush's
+second column err_self, are measured against the scene's finest CPDI2 run of the level
+(h = t/8, n_t = 16 for full and all, h = t/4, n_t = 8 for quick; its own error is estimated by
+Richardson extrapolation over the h sweep). The metrics are written to
 docs/study/study_<level>.csv (one row per run), with compact curves in docs/study/curves/ that
 plots/plot_study.py turns into the figures of docs/validation.md (the quick level writes to
 out/study-quick/ instead: it checks the machinery, its coarse reference is no result).
 `--tables-only` recomputes the table from existing run folders without running anything.
 
 Levels: ``quick`` (under 10 minutes on 2 cores: coarse sweeps, its own coarse reference),
-``full`` (about 2 hours on 2 cores; the committed table and figures), ``all`` (full plus
+``full`` (1.5 CPU hours, about an hour on 2 cores; the committed table and figures), ``all`` (full plus
 n_t = 32 at h = t/8 for every scene, the crush's bases at h = t/4 and its aspect 1/2; several
 hours more).
 """
@@ -55,13 +58,27 @@ def out_dir(level: str) -> Path:
     out/study-quick for the quick level (a check of the machinery, not a result)."""
     return ROOT / "out" / "study-quick" if level == "quick" else OUT
 
+#: The study's crush is quasi-static, so that it compares with the static finite element
+#: reference (docs/fe_reference/): the platens approach each other at CRUSH_APPROACH (the shipped
+#: crush.nml: 10 m/s, whose inertia makes the force oscillate by 5-10 % about the static curve)
+#: after a smooth ramp of CRUSH_RAMP (about the period of the ring's ovalling mode), without
+#: damping or mass scaling (docs/validation.md, "A quasi-static crush", says why).
+CRUSH_APPROACH = 2.5      # relative approach speed of the platens [m/s]
+CRUSH_RAMP = 5.0e-4       # ramp of the platen speed [s]
+#: the crush stops at this delta/D (D the mean diameter), past the error window's 0.5
+CRUSH_END = 0.53
+_CRUSH_D = 23.95e-3 + 25.43e-3            # mean diameter of namelists/crush.nml's ring [m]
+_CRUSH_T_END = float(f"{CRUSH_RAMP / 2 + CRUSH_END * _CRUSH_D / CRUSH_APPROACH:.3g}")
+
 #: The scenes: base namelist, wall thickness t [m], and the overrides that make the study
-#: version (crush stops at delta/D about 0.53, impact after the rebound, wave after the front
-#: has passed the top).
+#: version (crush: quasi-static, stops at delta/D about 0.53; impact after the rebound, wave
+#: after the front has passed the top).
 SCENES: dict[str, dict[str, Any]] = {
     "crush": {"base": ROOT / "namelists" / "crush.nml", "t": 1.48e-3,
-              "set": {"run.t_end": 2.85e-3, "run.history_every": 1.0e-5,
-                      "run.snapshot_every": 2.85e-4}},
+              "set": {"run.t_end": _CRUSH_T_END,
+                      "run.history_every": float(f"{1.0e-4 / CRUSH_APPROACH:.3g}"),
+                      "run.snapshot_every": float(f"{_CRUSH_T_END / 10:.3g}"),
+                      "wall.velocity": (0.0, -0.5 * CRUSH_APPROACH), "wall.ramp": CRUSH_RAMP}},
     "impact": {"base": ROOT / "namelists" / "impact.nml", "t": 2.0e-3,
                "set": {"run.t_end": 0.9e-3, "run.history_every": 1.0e-6,
                        "run.snapshot_every": 1.0e-4}},
@@ -69,6 +86,13 @@ SCENES: dict[str, dict[str, Any]] = {
              "set": {"run.t_end": 3.0e-5, "run.history_every": 1.0e-7,
                      "run.snapshot_every": 1.0e-5}},
 }
+#: The centre point's cfl per scene: the quasi-static crush runs at cfl 0.8, where the old
+#: study found the same crush error as at 0.2 and 0.4 (docs/validation.md)
+CENTRE_CFL = {"crush": 0.8, "impact": 0.2, "wave": 0.2}
+#: The crush's static finite element reference (make fe-reference): every crush error is
+#: measured against it; the error against the finest MPM run is the second column (err_self)
+FE_CURVE = ROOT / "docs" / "fe_reference" / "crush_fe.csv"
+FE_REFERENCE = "fe_reference/crush_fe.csv"
 
 #: Crush error window (delta / D, D the mean diameter) and energy point.
 CRUSH_WINDOW = (0.05, 0.5)
@@ -118,7 +142,7 @@ class Point:
     def steps(self) -> float:
         r = ring_of(self.scene)
         h = self.h_over_t * SCENES[self.scene]["t"]
-        v = self.speed if self.scene == "impact" else 10.0
+        v = self.speed if self.scene == "impact" else 0.5 * CRUSH_APPROACH
         dt = self.cfl * h / (r["c"] + v)
         return self.t_end() / dt
 
@@ -149,7 +173,9 @@ class Point:
         return {"scene": self.scene, "basis": self.basis, "scheme": self.scheme,
                 "h_over_t": self.h_over_t, "n_t": self.n_t, "n_c": self.n_circ(),
                 "aspect": self.aspect, "cfl": self.cfl,
-                "speed": self.speed if self.scene == "impact" else "",
+                # impact speed; the crush's relative platen approach
+                "speed": self.speed if self.scene == "impact" else
+                CRUSH_APPROACH if self.scene == "crush" else "",
                 "volumetric": self.volumetric}
 
 
@@ -180,49 +206,55 @@ FBAR_NT = (2, 4)
 def design(level: str) -> dict[str, list[Point]]:
     """The runs of a level, per scene, and which one is the reference (first)."""
     out: dict[str, list[Point]] = {}
+
+    def P(scene: str, **kw: Any) -> Point:          # a point, at the scene's centre cfl
+        kw.setdefault("cfl", CENTRE_CFL[scene])
+        return Point(scene, **kw)
     if level == "quick":
         for scene in ("crush", "impact", "wave"):
-            ref = Point(scene, h_over_t=0.25, n_t=8)
+            ref = P(scene, h_over_t=0.25, n_t=8)
             pts = [ref]
-            pts += [Point(scene, h_over_t=h, n_t=8) for h in (2.0, 1.0, 0.5)]
-            pts += [Point(scene, h_over_t=0.5, n_t=n) for n in (2, 4)]
-            pts += [Point(scene, h_over_t=0.5, n_t=4, aspect=a) for a in (4.0, 2.0, 0.5)]
-            pts += [Point(scene, basis=b, h_over_t=0.5, n_t=4) for b in BASES[:3]]
-            pts += [Point(scene, h_over_t=0.5, n_t=n, volumetric="fbar") for n in FBAR_NT]
+            pts += [P(scene, h_over_t=h, n_t=8) for h in (2.0, 1.0, 0.5)]
+            pts += [P(scene, h_over_t=0.5, n_t=n) for n in (2, 4)]
+            pts += [P(scene, h_over_t=0.5, n_t=4, aspect=a) for a in (4.0, 2.0, 0.5)]
+            pts += [P(scene, basis=b, h_over_t=0.5, n_t=4) for b in BASES[:3]]
+            pts += [P(scene, h_over_t=0.5, n_t=n, volumetric="fbar") for n in FBAR_NT]
             if scene == "impact":
-                pts += [Point(scene, h_over_t=0.5, n_t=4, speed=v) for v in (5.0, 16.5, 60.0,
+                pts += [P(scene, h_over_t=0.5, n_t=4, speed=v) for v in (5.0, 16.5, 60.0,
                                                                                 125.0)]
             out[scene] = pts
         return out
     for scene in ("crush", "impact", "wave"):
-        ref = Point(scene, h_over_t=0.125, n_t=16)
+        ref = P(scene, h_over_t=0.125, n_t=16)
         pts = [ref]
-        pts += [Point(scene, h_over_t=h, n_t=16) for h in (2.0, 1.0, 0.5, 0.25)]
+        pts += [P(scene, h_over_t=h, n_t=16) for h in (2.0, 1.0, 0.5, 0.25)]
         nts = (2, 4, 8, 32)
-        pts += [Point(scene, h_over_t=0.25, n_t=n) for n in nts]
+        pts += [P(scene, h_over_t=0.25, n_t=n) for n in nts]
         # (the crush, the most expensive scene, keeps to the cheaper ends of two sweeps:
         # aspect 1/2 and the bases at h = t/4 are in LEVEL=all only)
         aspects = (4.0, 2.0, 1.0) if (scene == "crush" and level != "all") else \
             (4.0, 2.0, 1.0, 0.5)
-        pts += [Point(scene, h_over_t=0.25, n_t=8, aspect=a) for a in aspects]
+        pts += [P(scene, h_over_t=0.25, n_t=8, aspect=a) for a in aspects]
         if scene != "crush" or level == "all":
-            pts += [Point(scene, basis=b, h_over_t=0.25, n_t=8) for b in BASES[:3]]
-        pts += [Point(scene, basis=b, h_over_t=0.5, n_t=8) for b in BASES]
-        pts += [Point(scene, h_over_t=0.25, n_t=8, cfl=c) for c in (0.4, 0.8)]
+            pts += [P(scene, basis=b, h_over_t=0.25, n_t=8) for b in BASES[:3]]
+        pts += [P(scene, basis=b, h_over_t=0.5, n_t=8) for b in BASES]
+        # (the crush's centre is cfl 0.8: its sweep goes down, to 0.4 and 0.2)
+        pts += [P(scene, h_over_t=0.25, n_t=8, cfl=c) for c in
+                ((0.2, 0.4) if CENTRE_CFL[scene] == 0.8 else (0.4, 0.8))]
         # anti-locking: F-bar at one and two particles per cell through the wall, at h = t/4
         # and t/2 (docs/theory.md, Volumetric locking)
         for h in (0.25, 0.5):
             for n in FBAR_NT:
-                pts += [Point(scene, h_over_t=h, n_t=round(n * 0.5 / h), volumetric=v)
+                pts += [P(scene, h_over_t=h, n_t=round(n * 0.5 / h), volumetric=v)
                         for v in ("standard", "fbar")]
         # (elongated particles suit the F-bar at one particle per cell: docs/validation.md)
-        pts += [Point(scene, h_over_t=0.25, n_t=4, aspect=2.0, volumetric=v)
+        pts += [P(scene, h_over_t=0.25, n_t=4, aspect=2.0, volumetric=v)
                 for v in ("standard", "fbar")]
         if scene == "impact":
-            pts += [Point(scene, h_over_t=0.25, n_t=8, speed=v)
+            pts += [P(scene, h_over_t=0.25, n_t=8, speed=v)
                     for v in (1.0, 2.0, 5.0, 16.5, 30.0, 60.0, 125.0)]
         if level == "all":
-            pts += [Point(scene, h_over_t=0.125, n_t=32)]
+            pts += [P(scene, h_over_t=0.125, n_t=32)]
         seen: set[str] = set()
         out[scene] = [p for p in pts if not (p.name in seen or seen.add(p.name))]
     return out
@@ -232,10 +264,12 @@ def design(level: str) -> dict[str, list[Point]]:
 # Metrics of one run
 # ----------------------------------------------------------------------------------------------
 
-def crush_metrics(folder: Path, inputs: dict) -> dict[str, Any]:
-    h = readers.read_history(folder / "history.csv")
-    disp, force, _ = scene.crush_displacement(h, inputs)
-    r = scene.ring_properties(inputs)
+def crush_curve_metrics(disp: np.ndarray, force: np.ndarray, r: dict[str, Any]
+                        ) -> dict[str, Any]:
+    """The crush metrics of a curve F(delta) (delta the platens' relative approach [m], D the
+    ring's mean diameter in r): F on the window's 91 points, the same smoothed, the window's
+    mean force and the absorbed energy at delta/D = 0.5 (nothing when the curve stops short of
+    the window's end)."""
     D = r["D"]
     x = np.linspace(*CRUSH_WINDOW, 91) * D
     m: dict[str, Any] = {"curve_x": disp / D, "curve_y": force}
@@ -259,6 +293,29 @@ def crush_metrics(folder: Path, inputs: dict) -> dict[str, Any]:
     m["energy_50_dh"] = float(theory.deruntz_hodge_energy(CRUSH_WINDOW[1] * D, D, r["t"],
                                                            r["sigma_y"], r["plane"], r["depth"]))
     return m
+
+
+def crush_metrics(folder: Path, inputs: dict) -> dict[str, Any]:
+    h = readers.read_history(folder / "history.csv")
+    disp, force, _ = scene.crush_displacement(h, inputs)
+    r = scene.ring_properties(inputs)
+    m = crush_curve_metrics(disp, force, r)
+    if "F_window" in m and "kinetic" in h and "plastic" in h:
+        # how quasi-static: the largest kinetic energy over the plastic work in the window
+        x = disp / r["D"]
+        inw = (x >= CRUSH_WINDOW[0]) & (x <= CRUSH_WINDOW[1]) & (h["plastic"] > 0.0)
+        if np.any(inw):
+            m["kinetic_over_plastic"] = float(np.max(h["kinetic"][inw] / h["plastic"][inw]))
+    return m
+
+
+def fe_metrics(path: Path = FE_CURVE) -> dict[str, Any] | None:
+    """The crush metrics of the finite element reference curve (None without the file)."""
+    if not path.is_file():
+        return None
+    a = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)   # delta_m, delta_over_D, force_N
+    r = scene.ring_properties(namelist.read_namelist(SCENES["crush"]["base"]))
+    return crush_curve_metrics(a[:, 0], a[:, 2], r)
 
 
 def impact_metrics(folder: Path, inputs: dict) -> dict[str, Any]:
@@ -315,27 +372,45 @@ def rel(a: float, b: float) -> float:
     return abs(a - b) / abs(b) if (np.isfinite(a) and np.isfinite(b) and b != 0) else math.nan
 
 
-def errors(scene: str, m: dict[str, Any], ref: dict[str, Any]) -> dict[str, float]:
-    """The scene's error metrics of run m against the reference run ref, and the headline
-    ``error`` (crush: L2 of F(delta); impact: the larger relative error of contact time and
-    COR; wave:
-    the largest arrival-time error at the probes beyond the struck point, relative to the
-    reference's arrival at the farthest probe)."""
+def crush_errors(m: dict[str, Any], ref: dict[str, Any]) -> dict[str, float]:
+    """The crush errors of run m against the curve ref: relative L2 norm of F(delta) over the
+    window, the same of the smoothed curves, the absorbed energy at delta/D = 0.5, the mean force
+    over ref's, and the run's own high-frequency content (RMS of F minus its smoothed curve,
+    over the mean force)."""
+    if "F_window" not in m or "F_window" not in ref:
+        return {}
+    fr, rs = ref["F_window"], ref["F_smooth"]
+    return {"err_F_L2": float(np.sqrt(np.mean((m["F_window"] - fr) ** 2) / np.mean(fr ** 2))),
+            "err_energy_50": rel(m["energy_50"], ref["energy_50"]),
+            "err_F_smooth": float(np.sqrt(np.mean((m["F_smooth"] - rs) ** 2)
+                                          / np.mean(rs ** 2))),
+            "force_over_ref": float(np.mean(m["F_window"]) / np.mean(fr)),
+            "noise": float(np.sqrt(np.mean((m["F_window"] - m["F_smooth"]) ** 2))
+                           / np.mean(m["F_smooth"]))}
+
+
+def errors(scene: str, m: dict[str, Any], ref: dict[str, Any] | None,
+           fe: dict[str, Any] | None = None) -> dict[str, float]:
+    """The scene's error metrics of run m against the reference run ref (None: not run), and
+    the headline ``error``. Crush: against the finite element curve fe, the L2 norm of F(delta)
+    (err_F_L2, err_F_smooth, err_energy_50, force_over_fe), with the L2 norm against the finest
+    MPM run ref as the second column err_self (and err_F_smooth_self); without fe, against ref.
+    Impact: the larger relative error of contact time and COR. Wave: the largest arrival-time
+    error at the probes beyond the struck point, relative to the reference's arrival at the
+    farthest probe. err_self is the headline error against the finest run for every scene."""
     e: dict[str, float] = {}
+    if ref is None and not (scene == "crush" and fe is not None):
+        return e
     if scene == "crush":
-        if "F_window" in m and "F_window" in ref:
-            fr = ref["F_window"]
-            e["err_F_L2"] = float(np.sqrt(np.mean((m["F_window"] - fr) ** 2) / np.mean(fr ** 2)))
-            e["err_energy_50"] = rel(m["energy_50"], ref["energy_50"])
-            rs = ref["F_smooth"]
-            e["err_F_smooth"] = float(np.sqrt(np.mean((m["F_smooth"] - rs) ** 2)
-                                              / np.mean(rs ** 2)))
-            # high-frequency content: RMS of F minus its smoothed curve, over the mean force
-            e["noise"] = float(np.sqrt(np.mean((m["F_window"] - m["F_smooth"]) ** 2))
-                               / np.mean(m["F_smooth"]))
-            e["error"] = e["err_F_L2"]
-        else:
-            e["error"] = math.nan
+        self_e = crush_errors(m, ref) if ref is not None else {}
+        main = crush_errors(m, fe) if fe is not None else self_e
+        e.update({k: v for k, v in main.items() if k != "force_over_ref"})
+        if fe is not None and "force_over_ref" in main:
+            e["force_over_fe"] = main["force_over_ref"]
+        e["error"] = main.get("err_F_L2", math.nan)
+        e["err_self"] = self_e.get("err_F_L2", math.nan)
+        e["err_F_smooth_self"] = self_e.get("err_F_smooth", math.nan)
+        return e
     elif scene == "impact":
         e["err_duration"] = rel(m["duration"], ref["duration"])
         e["err_cor"] = rel(m["cor"], ref["cor"])
@@ -356,6 +431,7 @@ def errors(scene: str, m: dict[str, Any], ref: dict[str, Any]) -> dict[str, floa
             if (m["arrivals"].size == ref["arrivals"].size and a.size) else math.nan
         e["err_speed"] = rel(m["wave_speed"], ref["wave_speed"])
         e["error"] = e["err_arrival"]
+    e["err_self"] = e["error"]
     return e
 
 
@@ -374,12 +450,12 @@ def richardson(f1: float, f2: float, f3: float, ratio: float = 2.0) -> dict[str,
 # Table
 # ----------------------------------------------------------------------------------------------
 
-COLUMNS = ["scene", "name", "reference", "basis", "scheme", "h_over_t", "n_t", "n_c", "aspect",
-           "cfl", "speed", "volumetric", "particles", "steps", "status", "exit_code", "wall_s", "cpu_s",
-           "runtime_ratio", "mps", "energy_error", "error",
-           "err_F_L2", "err_F_smooth", "noise", "err_energy_50", "force_mean", "force_over_dh",
-           "energy_50",
-           "energy_50_dh", "err_duration", "err_cor", "err_peak", "duration", "cor",
+COLUMNS = ["scene", "name", "reference", "self_reference", "basis", "scheme", "h_over_t", "n_t",
+           "n_c", "aspect", "cfl", "speed", "volumetric", "particles", "steps", "status",
+           "exit_code", "wall_s", "cpu_s", "runtime_ratio", "mps", "energy_error", "error",
+           "err_self", "err_F_L2", "err_F_smooth", "noise", "err_energy_50", "force_mean",
+           "force_over_fe", "force_over_dh", "err_F_smooth_self", "kinetic_over_plastic",
+           "energy_50", "energy_50_dh", "err_duration", "err_cor", "err_peak", "duration", "cor",
            "peak_10us", "v_impact", "impulse", "err_arrival", "err_speed", "wave_speed",
            "speed_bar", "speed_plate"]
 
@@ -391,6 +467,11 @@ def collect(level: str, points: dict[str, list[Point]]) -> tuple[list[dict[str, 
     extra: dict[str, Any] = {}
     curves = out_dir(level) / "curves"
     curves.mkdir(parents=True, exist_ok=True)
+    # curves of runs no longer in the level's design (or not finished) are not kept
+    wanted = {p.name for pts in points.values() for p in pts}
+    for old in curves.glob("*.csv"):
+        if old.stem not in wanted and old.stem.split("_")[0] in points:
+            old.unlink()
     for scene, pts in points.items():
         metrics: dict[str, dict[str, Any]] = {}
         base_rows: dict[str, dict[str, Any]] = {}
@@ -421,19 +502,23 @@ def collect(level: str, points: dict[str, list[Point]]) -> tuple[list[dict[str, 
                 np.savetxt(curves / f"{p.name}.csv", np.column_stack([m["curve_x"],
                                                                       m["curve_y"]]),
                            delimiter=",", header="x,y", comments="", fmt="%.7g")
+            else:
+                (curves / f"{p.name}.csv").unlink(missing_ok=True)   # an older run's curve
             base_rows[p.name] = row
             rows.append(row)
         ref = pts[0]
-        if ref.name in metrics:
+        fe = fe_metrics() if scene == "crush" else None
+        if ref.name in metrics or fe is not None:
             for name, row in base_rows.items():
                 if scene == "impact" and row["speed"] != ref.speed:
                     continue                   # no reference at other impact speeds
-                row["reference"] = ref.name
+                row["reference"] = FE_REFERENCE if fe is not None else ref.name
+                row["self_reference"] = ref.name
                 if name in metrics:
-                    row.update(errors(scene, metrics[name], metrics[ref.name]))
+                    row.update(errors(scene, metrics[name], metrics.get(ref.name), fe))
         # Richardson over h at the reference's n_t (h/t = 4 h_ref, 2 h_ref, h_ref)
         hs = [ref.h_over_t * 4, ref.h_over_t * 2, ref.h_over_t]
-        names = [Point(scene, h_over_t=h, n_t=ref.n_t).name for h in hs]
+        names = [Point(scene, h_over_t=h, n_t=ref.n_t, cfl=ref.cfl).name for h in hs]
         if all(n in metrics for n in names):
             keys = {"crush": ["force_mean", "energy_50"],
                     "impact": ["duration", "cor", "peak_10us"], "wave": ["wave_speed"]}[scene]
@@ -473,11 +558,19 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--tables-only", action="store_true",
                     help="recompute the table from the run folders, run nothing")
     ap.add_argument("--list", action="store_true", help="list the runs and their estimated cost")
+    ap.add_argument("--scenes", default="crush,impact,wave",
+                    help="comma-separated scenes whose runs to run or list (default: all; the "
+                         "table always covers every scene of the level)")
     batch.add_backend_args(ap, threads=False)
     args = ap.parse_args(argv)
     backend = batch.backend_of(args)
     points = design(args.level)
-    allpts = [p for pts in points.values() for p in pts]
+    chosen = [s.strip() for s in args.scenes.split(",") if s.strip()]
+    unknown = [s for s in chosen if s not in points]
+    if unknown:
+        ap.error(f"--scenes: unknown scene(s) {', '.join(unknown)}; allowed: "
+                 f"{', '.join(points)}")
+    allpts = [p for s, pts in points.items() if s in chosen for p in pts]
     if args.list:
         for p in sorted(allpts, key=Point.cost):
             res = batch.result_of(RUNS / p.name)
