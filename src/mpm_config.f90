@@ -11,20 +11,19 @@ module mpm_config
   use, intrinsic :: ieee_exceptions, only: ieee_overflow, ieee_get_halting_mode, &
                                            ieee_set_halting_mode, ieee_get_flag, ieee_set_flag
   use mpm_kinds, only: wp
-  use mpm_constants, only: EXIT_INPUT, EXIT_IO, sector_names, BASIS_CPDI2, SCHEME_MUSL, PLANE_STRAIN, MODEL_J2, RATE_NONE, &
-                           RATE_COWPER_SYMONDS, SHAPE_RING, SHAPE_RECT, SECTOR_FULL, SECTOR_HALF, &
-                           SECTOR_QUARTER, CONTACT_FRICTIONLESS, CONTACT_COULOMB, FLOW_LINEAR, &
-                           FLOW_JOHNSON_COOK
+  use mpm_constants, only: EXIT_INPUT, EXIT_IO, sector_names, BASIS_CPDI2, SCHEME_MUSL, &
+                           PLANE_STRAIN, MODEL_J2, RATE_NONE, RATE_COWPER_SYMONDS, SHAPE_RING, &
+                           SHAPE_RECT, SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER, &
+                           CONTACT_FRICTIONLESS, CONTACT_COULOMB, FLOW_LINEAR, FLOW_JOHNSON_COOK
   use mpm_config_types, only: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, &
                               body_cfg_t, wall_cfg_t, probe_cfg_t, contact_cfg_t, unset_real, &
                               iunset
   use mpm_config_text, only: itoa, fmt_real, fmt_short, fmt_vec, fmt_list
-  use mpm_config_table, only: n_groups, group_names, group_id
+  use mpm_config_table, only: n_groups, n_specs, group_names, group_id, field_t, bind_fields
   use mpm_config_lexer, only: reader_t, load_lines, has_content, scan_source, check_groups, &
                               join_msgs, open_occ
-  use mpm_config_values, only: values_t, read_group, vreal, vvec, vtab, vint, vtext, vlog, &
-                               set_int, chk_r, chk_i, chk_v, chk_e, chk_t, take_e, table_count, &
-                               err_var, err_missing, warn_var, warn_group
+  use mpm_config_values, only: values_t, read_group, store_rows, vreal, vvec, vtab, vint, &
+                               vtext, chk_r, chk_v, table_count, err_var, warn_var, warn_group
   use mpm_config_check, only: cross_checks, advice_checks
   use mpm_config_echo, only: write_config, write_config_unit, config_values
   implicit none
@@ -222,20 +221,23 @@ contains
     if (present(warnings)) warnings = join_msgs(rd%warn, rd%n_warn)
   end subroutine config_resolve
 
-  !> Validate the values of the k-th occurrence of group ig into cfg; the occurrence is ok
-  !! when it added no error.
+  !> Validate the values of the k-th occurrence of group ig into cfg: every row as the table
+  !! says, then the rules of the group; the occurrence is ok when it added no error.
   subroutine check_group(rd, io, ig, k, v, cfg)
     type(reader_t), intent(inout) :: rd
     integer, intent(in) :: io, ig, k
     type(values_t), intent(inout) :: v
-    type(config_t), intent(inout) :: cfg
+    type(config_t), intent(inout), target :: cfg
+    type(field_t) :: f(n_specs)
     integer :: n0
     n0 = rd%n_err
+    call bind_fields(cfg, ig, k, f)
+    call store_rows(rd, io, v, f)
     select case (ig)
     case (1)
-      call check_run(rd, io, v, cfg%run)
-    case (2)
-      call check_solver(rd, io, v, cfg%solver)
+      if (cfg%run%cfl > 1.0_wp) call warn_var(rd, io, 'cfl', 'above 1 the explicit step '// &
+        'exceeds the stable limit of the grid: the run will most likely stop with exit 4 '// &
+        '(use 0.1-0.3)')
     case (3)
       call check_grid(rd, io, v, cfg%grid)
     case (4)
@@ -244,57 +246,15 @@ contains
       call check_body(rd, io, v, cfg%bodies(k))
     case (6)
       call check_wall(rd, io, v, cfg%walls(k))
-    case (7)
-      call check_probe(rd, io, v, cfg%probes(k))
     case (8)
       call check_contact(rd, io, v, cfg%contacts(k))
     end select
     rd%occ(io)%ok = rd%n_err == n0
   end subroutine check_group
 
-  ! ------------------------------------------------------------------------ the groups
+  ! ------------------------------------------------------------ the rules of the groups
 
-  !> &run
-  subroutine check_run(rd, io, v, r)
-    type(reader_t), intent(inout) :: rd
-    integer, intent(in) :: io
-    type(values_t), intent(inout) :: v
-    type(run_cfg_t), intent(inout) :: r
-    if (chk_t(rd, io, v, 'title')) r%title = trim(adjustl(vtext(v, 'title')))
-    if (chk_t(rd, io, v, 'output_dir')) r%output_dir = trim(adjustl(vtext(v, 'output_dir')))
-    if (chk_r(rd, io, v, 't_end')) r%t_end = vreal(v, 't_end')
-    if (chk_r(rd, io, v, 'cfl')) then
-      r%cfl = vreal(v, 'cfl')
-      if (r%cfl > 1.0_wp) call warn_var(rd, io, 'cfl', 'above 1 the explicit step exceeds '// &
-        'the stable limit of the grid: the run will most likely stop with exit 4 (use 0.1-0.3)')
-    end if
-    if (chk_r(rd, io, v, 'dt')) r%dt = vreal(v, 'dt')
-    if (chk_r(rd, io, v, 'history_every')) r%history_every = vreal(v, 'history_every')
-    if (chk_r(rd, io, v, 'snapshot_every')) r%snapshot_every = vreal(v, 'snapshot_every')
-    if (chk_r(rd, io, v, 'checkpoint_every')) r%checkpoint_every = vreal(v, 'checkpoint_every')
-    if (chk_r(rd, io, v, 'depth')) r%depth = vreal(v, 'depth')
-    if (chk_v(rd, io, v, 'gravity') == 2) r%gravity = vvec(v, 'gravity')
-    if (chk_i(rd, io, v, 'threads')) r%threads = vint(v, 'threads')
-    r%mirror_images = vlog(v, 'mirror_images')
-  end subroutine check_run
-
-  !> &solver
-  subroutine check_solver(rd, io, v, s)
-    type(reader_t), intent(inout) :: rd
-    integer, intent(in) :: io
-    type(values_t), intent(inout) :: v
-    type(solver_cfg_t), intent(inout) :: s
-    call take_e(rd, io, v, 'basis', s%basis, s%basis_id)
-    call take_e(rd, io, v, 'scheme', s%scheme, s%scheme_id)
-    call take_e(rd, io, v, 'plane', s%plane, s%plane_id)
-    call take_e(rd, io, v, 'volumetric', s%volumetric, s%volumetric_id)
-    if (chk_r(rd, io, v, 'flip')) s%flip = vreal(v, 'flip')
-    if (chk_r(rd, io, v, 'mass_scale')) s%mass_scale = vreal(v, 'mass_scale')
-    if (chk_r(rd, io, v, 'damping')) s%damping = vreal(v, 'damping')
-    s%deterministic = vlog(v, 'deterministic')
-  end subroutine check_solver
-
-  !> &grid
+  !> &grid: lower and upper, both or neither.
   subroutine check_grid(rd, io, v, g)
     type(reader_t), intent(inout) :: rd
     integer, intent(in) :: io
@@ -302,7 +262,6 @@ contains
     type(grid_cfg_t), intent(inout) :: g
     integer :: nl, nu
     real(wp) :: lower(2), upper(2)
-    if (chk_r(rd, io, v, 'h')) g%h = vreal(v, 'h')
     nl = chk_v(rd, io, v, 'lower')
     nu = chk_v(rd, io, v, 'upper')
     lower = vvec(v, 'lower')
@@ -324,165 +283,89 @@ contains
     end if
   end subroutine check_grid
 
-  !> &material
+  !> &material: sigma_y (required for j2), the variables a model does not use, and the flow
+  !! stress law: with Johnson-Cook (A is sigma_y) the linear law's own variables (hardening,
+  !! rate_law) must be left at their defaults.
   subroutine check_material(rd, io, v, m)
     type(reader_t), intent(inout) :: rd
     integer, intent(in) :: io
     type(values_t), intent(inout) :: v
     type(material_cfg_t), intent(inout) :: m
-    integer :: id
-    if (len_trim(vtext(v, 'name')) == 0) then
-      call err_missing(rd, io, 'name')
-    else if (chk_t(rd, io, v, 'name')) then
-      m%name = trim(adjustl(vtext(v, 'name')))
-    end if
-    call take_e(rd, io, v, 'model', m%model, m%model_id)
-    id = m%model_id
-    if (chk_r(rd, io, v, 'E')) m%E = vreal(v, 'E')
-    if (chk_r(rd, io, v, 'nu')) m%nu = vreal(v, 'nu')
-    if (chk_r(rd, io, v, 'rho')) m%rho = vreal(v, 'rho')
-    if (chk_r(rd, io, v, 'sigma_y', required=id == MODEL_J2)) then
+    character(len=*), parameter :: jc = 'flow_stress = ''johnson_cook'''
+    character(len=:), allocatable :: not_j2
+    not_j2 = 'used only by model = ''j2'' (model is '''//trim(m%model)//''')'
+    if (chk_r(rd, io, v, 'sigma_y', required=m%model_id == MODEL_J2)) then
       m%sigma_y = vreal(v, 'sigma_y')
-      if (id /= MODEL_J2 .and. id > 0) call warn_var(rd, io, 'sigma_y', &
-        'used only by model = ''j2'' (model is '''//trim(m%model)//''')')
+      if (m%model_id /= MODEL_J2 .and. m%model_id > 0) call warn_var(rd, io, 'sigma_y', not_j2)
     end if
-    if (chk_r(rd, io, v, 'hardening')) m%hardening = vreal(v, 'hardening')
-    call take_e(rd, io, v, 'rate_law', m%rate_law, m%rate_law_id)
     if (m%rate_law_id == RATE_COWPER_SYMONDS .and. m%model_id /= MODEL_J2) call warn_var(rd, &
       io, 'rate_law', 'used only by model = ''j2'' (it scales the yield stress)')
-    if (chk_r(rd, io, v, 'cs_d')) m%cs_d = vreal(v, 'cs_d')
-    if (chk_r(rd, io, v, 'cs_q')) m%cs_q = vreal(v, 'cs_q')
-    call read_flow_stress(rd, io, v, m)
-  end subroutine check_material
-
-  !> The flow stress law of a material and its Johnson-Cook parameters (A is sigma_y); the
-  !! linear law's own variables (hardening, rate_law) must then be left at their defaults.
-  subroutine read_flow_stress(rd, io, v, m)
-    type(reader_t), intent(inout) :: rd
-    integer, intent(in) :: io
-    type(values_t), intent(inout) :: v
-    type(material_cfg_t), intent(inout) :: m
-    integer :: id
-    character(len=*), parameter :: jc = 'flow_stress = ''johnson_cook'''
-    call take_e(rd, io, v, 'flow_stress', m%flow_stress, m%flow_stress_id)
-    id = m%flow_stress_id
-    if (chk_r(rd, io, v, 'jc_b')) m%jc_b = vreal(v, 'jc_b')
-    if (chk_r(rd, io, v, 'jc_n')) m%jc_n = vreal(v, 'jc_n')
-    if (chk_r(rd, io, v, 'jc_c')) m%jc_c = vreal(v, 'jc_c')
-    if (chk_r(rd, io, v, 'jc_rate0')) m%jc_rate0 = vreal(v, 'jc_rate0')
-    if (id == FLOW_JOHNSON_COOK) then
+    if (m%flow_stress_id == FLOW_JOHNSON_COOK) then
       if (m%model_id /= MODEL_J2 .and. m%model_id > 0) call warn_var(rd, io, 'flow_stress', &
-        'used only by model = ''j2'' (model is '''//trim(m%model)//''')')
+        not_j2)
       if (m%hardening > 0.0_wp) call err_var(rd, io, 'hardening', fmt_real(m%hardening), &
         'has no effect with '//jc//' (jc_b and jc_n give its hardening)', &
         '0 with '//jc//' (or flow_stress = ''linear'')')
+      if (m%voce_q > 0.0_wp) call err_var(rd, io, 'voce_q', fmt_real(m%voce_q), &
+        'has no effect with '//jc, '0 with '//jc//' (or flow_stress = ''linear'')')
       if (m%rate_law_id == RATE_COWPER_SYMONDS) call err_var(rd, io, 'rate_law', &
         '''cowper_symonds''', 'cannot be combined with '//jc//' (jc_c and jc_rate0 give '// &
         'its rate effect)', '''none'' with '//jc//' (or flow_stress = ''linear'')')
-    else if (id == FLOW_LINEAR .and. (m%jc_b /= 0.0_wp .or. m%jc_n /= 1.0_wp .or. &
-             m%jc_c /= 0.0_wp .or. m%jc_rate0 /= 1.0_wp)) then
+    else if (m%flow_stress_id == FLOW_LINEAR .and. (m%jc_b /= 0.0_wp .or. m%jc_n /= 1.0_wp &
+             .or. m%jc_c /= 0.0_wp .or. m%jc_rate0 /= 1.0_wp)) then
       call warn_group(rd, io, 'jc_b, jc_n, jc_c, jc_rate0 are ignored with flow_stress = '// &
         '''linear'' (set flow_stress = ''johnson_cook'' to use them)')
     end if
-  end subroutine read_flow_stress
+  end subroutine check_material
 
-  !> &body
+  !> &body: the sector (full when not given), the radii and n_circ of a ring, and the
+  !! variables of the other shape.
   subroutine check_body(rd, io, v, b)
     type(reader_t), intent(inout) :: rd
     integer, intent(in) :: io
     type(values_t), intent(inout) :: v
     type(body_cfg_t), intent(inout) :: b
-    integer :: id
-    call take_e(rd, io, v, 'shape', b%shape, b%shape_id)
-    id = b%shape_id
-    if (chk_t(rd, io, v, 'material')) b%material = trim(adjustl(vtext(v, 'material')))
-    if (chk_v(rd, io, v, 'center') == 2) b%center = vvec(v, 'center')
-    if (chk_v(rd, io, v, 'velocity') == 2) b%velocity = vvec(v, 'velocity')
-    b%sector = sector_names(SECTOR_FULL)
-    b%sector_id = SECTOR_FULL
-    if (id == SHAPE_RING) then
-      call read_ring(rd, io, v, b)
-    else if (id == SHAPE_RECT) then
-      call read_rect(rd, io, v, b)
+    integer :: parts, n_circ
+    if (b%sector_id == 0) then
+      b%sector = sector_names(SECTOR_FULL)
+      b%sector_id = SECTOR_FULL
+    end if
+    if (b%shape_id == SHAPE_RING) then
+      if (b%r_inner > 0.0_wp .and. b%r_outer > 0.0_wp) then
+        if (.not. (b%r_inner < b%r_outer)) call err_var(rd, io, 'r_inner', &
+          fmt_real(b%r_inner), 'not below r_outer = '//fmt_real(b%r_outer))
+      end if
+      n_circ = vint(v, 'n_circ')
+      if (n_circ == iunset) n_circ = 0
+      parts = 1
+      if (b%sector_id == SECTOR_HALF) parts = 2
+      if (b%sector_id == SECTOR_QUARTER) parts = 4
+      if (n_circ /= 0 .and. n_circ < 3) then
+        call err_var(rd, io, 'n_circ', itoa(n_circ), 'out of range')
+      else if (mod(n_circ, parts) /= 0) then
+        call err_var(rd, io, 'n_circ', itoa(n_circ), 'not divisible by '//itoa(parts)// &
+          ' (sector = '''//trim(b%sector)//''')')
+      else
+        b%n_circ = n_circ
+      end if
+      if (count(vvec(v, 'size') /= unset_real) > 0 .or. vint(v, 'n_x') /= iunset .or. &
+          vint(v, 'n_y') /= iunset) call warn_group(rd, io, &
+        'size, n_x, n_y are ignored for shape = ''ring''')
+    else if (b%shape_id == SHAPE_RECT) then
+      if (vreal(v, 'r_inner') /= unset_real .or. vreal(v, 'r_outer') /= unset_real .or. &
+          vint(v, 'n_thick') /= iunset .or. vint(v, 'n_circ') /= iunset .or. &
+          len_trim(vtext(v, 'sector')) > 0) call warn_group(rd, io, &
+        'r_inner, r_outer, n_thick, n_circ, sector are ignored for shape = ''rect''')
     end if
   end subroutine check_body
 
-  !> The variables of a ring body.
-  subroutine read_ring(rd, io, v, b)
-    type(reader_t), intent(inout) :: rd
-    integer, intent(in) :: io
-    type(values_t), intent(inout) :: v
-    type(body_cfg_t), intent(inout) :: b
-    integer :: sid, parts, n_circ
-    logical :: okr
-    real(wp) :: r_inner, r_outer
-    r_inner = vreal(v, 'r_inner')
-    r_outer = vreal(v, 'r_outer')
-    okr = chk_r(rd, io, v, 'r_inner')
-    if (okr) b%r_inner = r_inner
-    if (chk_r(rd, io, v, 'r_outer')) then
-      b%r_outer = r_outer
-      if (okr .and. .not. (r_inner < r_outer)) call err_var(rd, io, 'r_inner', &
-        fmt_real(r_inner), 'not below r_outer = '//fmt_real(r_outer))
-    end if
-    if (vint(v, 'n_thick') == iunset) call set_int(v, 'n_thick', 16)
-    if (chk_i(rd, io, v, 'n_thick')) b%n_thick = vint(v, 'n_thick')
-    sid = SECTOR_FULL
-    if (len_trim(vtext(v, 'sector')) > 0) sid = chk_e(rd, io, v, 'sector')
-    if (sid > 0) then
-      b%sector = sector_names(sid)
-      b%sector_id = sid
-    end if
-    n_circ = vint(v, 'n_circ')
-    if (n_circ == iunset) n_circ = 0
-    parts = 1
-    if (sid == SECTOR_HALF) parts = 2
-    if (sid == SECTOR_QUARTER) parts = 4
-    if (n_circ /= 0 .and. n_circ < 3) then
-      call err_var(rd, io, 'n_circ', itoa(n_circ), 'out of range')
-    else if (mod(n_circ, parts) /= 0) then
-      call err_var(rd, io, 'n_circ', itoa(n_circ), 'not divisible by '//itoa(parts)// &
-        ' (sector = '''//trim(b%sector)//''')')
-    else
-      b%n_circ = n_circ
-    end if
-    if (count(vvec(v, 'size') /= unset_real) > 0 .or. vint(v, 'n_x') /= iunset .or. &
-        vint(v, 'n_y') /= iunset) call warn_group(rd, io, &
-      'size, n_x, n_y are ignored for shape = ''ring''')
-  end subroutine read_ring
-
-  !> The variables of a rectangular body.
-  subroutine read_rect(rd, io, v, b)
-    type(reader_t), intent(inout) :: rd
-    integer, intent(in) :: io
-    type(values_t), intent(in) :: v
-    type(body_cfg_t), intent(inout) :: b
-    real(wp) :: size(2)
-    size = vvec(v, 'size')
-    if (chk_v(rd, io, v, 'size') == 2) then
-      if (all(size > 0.0_wp)) then
-        b%size = size
-      else
-        call err_var(rd, io, 'size', fmt_vec(size), 'out of range')
-      end if
-    end if
-    if (chk_i(rd, io, v, 'n_x')) b%n_x = vint(v, 'n_x')
-    if (chk_i(rd, io, v, 'n_y')) b%n_y = vint(v, 'n_y')
-    if (vreal(v, 'r_inner') /= unset_real .or. vreal(v, 'r_outer') /= unset_real .or. &
-        vint(v, 'n_thick') /= iunset .or. vint(v, 'n_circ') /= iunset .or. &
-        len_trim(vtext(v, 'sector')) > 0) call warn_group(rd, io, &
-      'r_inner, r_outer, n_thick, n_circ, sector are ignored for shape = ''rect''')
-  end subroutine read_rect
-
-  !> &wall
+  !> &wall: a unit normal, friction only with Coulomb contact, the motion table.
   subroutine check_wall(rd, io, v, w)
     type(reader_t), intent(inout) :: rd
     integer, intent(in) :: io
     type(values_t), intent(inout) :: v
     type(wall_cfg_t), intent(inout) :: w
-    integer :: id
-    real(wp) :: normal(2), friction, length
-    if (chk_v(rd, io, v, 'point') == 2) w%point = vvec(v, 'point')
+    real(wp) :: normal(2), length
     normal = vvec(v, 'normal')
     if (chk_v(rd, io, v, 'normal') == 2) then
       length = sqrt(normal(1)**2 + normal(2)**2)
@@ -495,21 +378,22 @@ contains
         w%normal = normal
       end if
     end if
-    call take_e(rd, io, v, 'contact', w%contact, w%contact_id)
-    id = w%contact_id
-    friction = vreal(v, 'friction')
-    if (chk_r(rd, io, v, 'friction')) then
-      if (friction > 0.0_wp .and. id > 0 .and. id /= CONTACT_COULOMB) then
-        call err_var(rd, io, 'friction', fmt_real(friction), 'has no effect with contact = '''// &
-          trim(w%contact)//'''; set contact = ''coulomb'' or friction = 0')
-      else
-        w%friction = friction
-      end if
-    end if
-    if (chk_v(rd, io, v, 'velocity') == 2) w%velocity = vvec(v, 'velocity')
-    if (chk_r(rd, io, v, 'ramp')) w%ramp = vreal(v, 'ramp')
+    call check_friction(rd, io, 'contact', w%contact, w%contact_id, w%friction)
     call read_motion(rd, io, v, w)
   end subroutine check_wall
+
+  !> Friction > 0 only with the Coulomb law (else reported, and left at 0).
+  subroutine check_friction(rd, io, var, law, id, friction)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io, id
+    character(len=*), intent(in) :: var, law     !! the law's variable and its value
+    real(wp), intent(inout) :: friction
+    if (friction > 0.0_wp .and. id > 0 .and. id /= CONTACT_COULOMB) then
+      call err_var(rd, io, 'friction', fmt_real(friction), 'has no effect with '//var// &
+        ' = '''//trim(law)//'''; set '//var//' = ''coulomb'' or friction = 0')
+      friction = 0.0_wp
+    end if
+  end subroutine check_friction
 
   !> The motion table of a wall: the entries given are the leading non-sentinel ones.
   subroutine read_motion(rd, io, v, w)
@@ -557,23 +441,14 @@ contains
     end if
   end subroutine read_motion
 
-  !> &probe
-  subroutine check_probe(rd, io, v, p)
-    type(reader_t), intent(inout) :: rd
-    integer, intent(in) :: io
-    type(values_t), intent(inout) :: v
-    type(probe_cfg_t), intent(inout) :: p
-    if (chk_v(rd, io, v, 'point') == 2) p%point = vvec(v, 'point')
-  end subroutine check_probe
-
-  !> &contact: the law and its friction; the bodies are checked against the &body groups in
-  !! mpm_config_check (they may come later in the file).
+  !> &contact: two different bodies, or 0, 0 (checked against the &body groups in
+  !! mpm_config_check: they may come later in the file), friction only with Coulomb.
   subroutine check_contact(rd, io, v, c)
     type(reader_t), intent(inout) :: rd
     integer, intent(in) :: io
     type(values_t), intent(inout) :: v
     type(contact_cfg_t), intent(inout) :: c
-    real(wp) :: b(2), friction
+    real(wp) :: b(2)
     b = vvec(v, 'bodies')
     if (chk_v(rd, io, v, 'bodies') == 2) then
       if (any(b < 0.0_wp) .or. any(b /= aint(b)) .or. any(b > 1.0e6_wp)) then
@@ -587,16 +462,7 @@ contains
         c%bodies = nint(b)
       end if
     end if
-    call take_e(rd, io, v, 'law', c%law, c%law_id)
-    friction = vreal(v, 'friction')
-    if (chk_r(rd, io, v, 'friction')) then
-      if (friction > 0.0_wp .and. c%law_id > 0 .and. c%law_id /= CONTACT_COULOMB) then
-        call err_var(rd, io, 'friction', fmt_real(friction), 'has no effect with law = '''// &
-          trim(c%law)//'''; set law = ''coulomb'' or friction = 0')
-      else
-        c%friction = friction
-      end if
-    end if
+    call check_friction(rd, io, 'law', c%law, c%law_id, c%friction)
   end subroutine check_contact
 
   !> A case with one group of each kind and every default; the required numbers are left

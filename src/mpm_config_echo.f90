@@ -3,21 +3,18 @@
 !! that it reads back as input.
 ! SPDX-License-Identifier: MIT
 !
-! Each group is first copied into the table's value store (pack_*); the writing itself is
-! generic: a required value that is not set becomes a comment, and variables that do not apply
-! (ring or rectangle variables, grid bounds of a fitted grid, an empty motion table) become one
-! comment line that names them.
+! Each record is read into the table's value store through its fields (mpm_config_table,
+! bind_fields); the writing itself is generic: a required value that is not set becomes a
+! comment, and variables that do not apply (ring or rectangle variables, grid bounds of a fitted
+! grid, an empty motion table) become one comment line that names them.
 module mpm_config_echo
   use mpm_kinds, only: wp
-  use mpm_constants, only: EXIT_IO, max_table, SHAPE_RECT, basis_names, scheme_names, &
-                           plane_names, model_names, rate_law_names, shape_names, sector_names, &
-                           contact_names, flow_stress_names, FLOW_JOHNSON_COOK, &
-                           volumetric_names, VOLUMETRIC_FBAR
-  use mpm_config_types, only: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, &
-                              body_cfg_t, wall_cfg_t, probe_cfg_t, contact_cfg_t, unset_real
+  use mpm_constants, only: EXIT_IO, max_table, SHAPE_RECT, FLOW_JOHNSON_COOK, VOLUMETRIC_FBAR
+  use mpm_config_types, only: config_t, unset_real
   use mpm_config_text, only: itoa, quote, fmt_real, fill, fmt_vec, fmt_logical, finite
-  use mpm_config_table, only: specs, n_specs, group_specs, echo_comment, spec_index
-  use mpm_config_values, only: values_t
+  use mpm_config_table, only: specs, n_specs, n_groups, group_names, group_specs, echo_comment, &
+                              field_t, bind_fields
+  use mpm_config_values, only: values_t, fields_values
   implicit none
   private
   public :: write_config, write_config_unit, config_values
@@ -73,49 +70,27 @@ contains
     character(len=:), allocatable, intent(out) :: errmsg   !! the problem ('' when ok)
     type(writer_t) :: w
     type(echo_t), allocatable :: e
-    integer :: k
+    integer :: ig, k, n(n_groups)
     w%unit = unit
     allocate(e)
     call w_line(w, '! tubempm input as resolved: every variable with its value (defaults '// &
       'filled in). SI units.')
     call w_line(w, '! Lines starting with ! are comments; see docs/input.md for every variable.')
-    call pack_run(cfg%run, e)
-    call write_group(w, e, 0)
-    call pack_solver(cfg%solver, e)
-    call write_group(w, e, 0)
-    call pack_grid(cfg%grid, e)
-    call write_group(w, e, 0)
-    if (allocated(cfg%materials)) then
-      do k = 1, size(cfg%materials)
-        call pack_material(cfg%materials(k), e)
-        call write_group(w, e, k)
+    n = [1, 1, 1, 0, 0, 0, 0, 0]
+    if (allocated(cfg%materials)) n(4) = size(cfg%materials)
+    if (allocated(cfg%bodies)) n(5) = size(cfg%bodies)
+    if (allocated(cfg%walls)) n(6) = size(cfg%walls)
+    if (allocated(cfg%probes)) n(7) = size(cfg%probes)
+    if (allocated(cfg%contacts)) n(8) = size(cfg%contacts)
+    do ig = 1, n_groups
+      do k = 1, n(ig)
+        if (ig == 6) then
+          if (cfg%walls(k)%mirror) cycle
+        end if
+        call group_echo(cfg, ig, k, e)
+        call write_group(w, e, merge(0, k, ig <= 3))
       end do
-    end if
-    if (allocated(cfg%bodies)) then
-      do k = 1, size(cfg%bodies)
-        call pack_body(cfg%bodies(k), e)
-        call write_group(w, e, k)
-      end do
-    end if
-    if (allocated(cfg%walls)) then
-      do k = 1, size(cfg%walls)
-        if (cfg%walls(k)%mirror) cycle
-        call pack_wall(cfg%walls, k, e)
-        call write_group(w, e, k)
-      end do
-    end if
-    if (allocated(cfg%probes)) then
-      do k = 1, size(cfg%probes)
-        call pack_probe(cfg%probes(k), e)
-        call write_group(w, e, k)
-      end do
-    end if
-    if (allocated(cfg%contacts)) then
-      do k = 1, size(cfg%contacts)
-        call pack_contact(cfg%contacts(k), e)
-        call write_group(w, e, k)
-      end do
-    end if
+    end do
     stat = 0
     errmsg = ''
     if (w%ios /= 0) then
@@ -123,8 +98,6 @@ contains
       errmsg = 'cannot write the input echo ('//trim(w%iomsg)//')'
     end if
   end subroutine write_config_unit
-
-  ! ------------------------------------------------------------ config_t into the value store
 
   !> The k-th occurrence of group ig of cfg (walls: the k-th that is not a mirror plane) as
   !! the reader would have read it: values that are not set or do not apply hold the table's
@@ -137,24 +110,12 @@ contains
     integer, allocatable :: idx(:)
     integer :: j, r
     allocate(e)
-    select case (ig)
-    case (1)
-      call pack_run(cfg%run, e)
-    case (2)
-      call pack_solver(cfg%solver, e)
-    case (3)
-      call pack_grid(cfg%grid, e)
-    case (4)
-      call pack_material(cfg%materials(k), e)
-    case (5)
-      call pack_body(cfg%bodies(k), e)
-    case (6)
-      call pack_wall(pack(cfg%walls, .not. cfg%walls%mirror), k, e)
-    case (7)
-      call pack_probe(cfg%probes(k), e)
-    case (8)
-      call pack_contact(cfg%contacts(k), e)
-    end select
+    if (ig == 6) then
+      idx = pack([(j, j = 1, size(cfg%walls))], .not. cfg%walls%mirror)
+      call group_echo(cfg, ig, idx(k), e)
+    else
+      call group_echo(cfg, ig, k, e)
+    end if
     idx = group_specs(e%v%group)
     do j = 1, size(idx)
       r = idx(j)
@@ -173,199 +134,52 @@ contains
     v = e%v
   end subroutine config_values
 
-  !> The name of code id in names, or text when id is not a code.
-  pure function enum_name(id, names, text) result(s)
-    integer, intent(in) :: id
-    character(len=*), intent(in) :: names(:), text
-    character(len=:), allocatable :: s
-    s = text
-    if (id >= 1 .and. id <= size(names)) s = trim(names(id))
-  end function enum_name
-
-  subroutine start(e, group)
+  !> Record k of group ig into the value store, and the rows the echo leaves out: one comment
+  !! line names them and says why (no line when why is '').
+  subroutine group_echo(cfg, ig, k, e)
+    type(config_t), intent(in), target :: cfg
+    integer, intent(in) :: ig, k
     type(echo_t), intent(inout) :: e
-    character(len=*), intent(in) :: group
-    e%v%group = group
+    type(field_t) :: f(n_specs)
+    integer, allocatable :: idx(:)
+    integer :: j
+    e%v%group = group_names(ig)
     e%hide = .false.
     e%why = ''
     e%n_motion = 0
-  end subroutine start
-
-  !> Column of variable name in the store of group e%v%group.
-  integer function col(e, name)
-    type(echo_t), intent(in) :: e
-    character(len=*), intent(in) :: name
-    col = spec_index(e%v%group, name)
-  end function col
-
-  subroutine put_r(e, name, x)
-    type(echo_t), intent(inout) :: e
-    character(len=*), intent(in) :: name
-    real(wp), intent(in) :: x(:)
-    e%v%r(1:size(x), col(e, name)) = x
-  end subroutine put_r
-
-  subroutine put_c(e, name, s)
-    type(echo_t), intent(inout) :: e
-    character(len=*), intent(in) :: name, s
-    e%v%c(col(e, name)) = s
-  end subroutine put_c
-
-  subroutine put_i(e, name, n)
-    type(echo_t), intent(inout) :: e
-    character(len=*), intent(in) :: name
-    integer, intent(in) :: n
-    e%v%i(col(e, name)) = n
-  end subroutine put_i
-
-  !> Leave out variables (one comment line names them and says why; no line when why is '').
-  subroutine hide(e, names, why)
-    type(echo_t), intent(inout) :: e
-    character(len=*), intent(in) :: names(:), why
-    integer :: k
-    do k = 1, size(names)
-      e%hide(col(e, trim(names(k)))) = .true.
+    idx = group_specs(e%v%group)
+    call bind_fields(cfg, ig, k, f)
+    call fields_values(f, idx, e%v)
+    select case (ig)
+    case (1)
+      e%hide(idx) = cfg%run%mirror_images .and. specs(idx)%name == 'mirror_images'
+    case (2)
+      e%hide(idx) = cfg%solver%volumetric_id /= VOLUMETRIC_FBAR .and. &
+                    specs(idx)%name == 'volumetric'
+    case (3)
+      e%hide(idx) = cfg%grid%fitted .and. specs(idx)%n == 2
+      e%why = 'not given, the domain is fitted around the bodies and walls'
+    case (4)
+      e%hide(idx) = cfg%materials(k)%flow_stress_id /= FLOW_JOHNSON_COOK .and. &
+        (specs(idx)%name == 'flow_stress' .or. specs(idx)%name(1:3) == 'jc_')
+    case (5)
+      if (cfg%bodies(k)%shape_id == SHAPE_RECT) then
+        e%hide(idx) = specs(idx)%only == 'ring'
+        e%why = 'for rings only'
+      else
+        e%hide(idx) = specs(idx)%only == 'rect'
+        e%why = 'for rectangles only'
+      end if
+    case (6)
+      e%n_motion = cfg%walls(k)%n_motion
+      e%hide(idx) = e%n_motion == 0 .and. specs(idx)%n == max_table
+      e%why = 'no motion table'
+    end select
+    do j = 1, size(idx)          ! quiet rows: left out while at their default
+      if (specs(idx(j))%quiet) e%hide(idx(j)) = e%hide(idx(j)) .or. &
+        e%v%r(1, idx(j)) == specs(idx(j))%r0
     end do
-    e%why = why
-  end subroutine hide
-
-  subroutine pack_run(r, e)
-    type(run_cfg_t), intent(in) :: r
-    type(echo_t), intent(inout) :: e
-    call start(e, 'run')
-    call put_c(e, 'title', r%title)
-    call put_c(e, 'output_dir', r%output_dir)
-    call put_r(e, 't_end', [r%t_end])
-    call put_r(e, 'cfl', [r%cfl])
-    call put_r(e, 'dt', [r%dt])
-    call put_r(e, 'history_every', [r%history_every])
-    call put_r(e, 'snapshot_every', [r%snapshot_every])
-    call put_r(e, 'checkpoint_every', [r%checkpoint_every])
-    call put_r(e, 'depth', [r%depth])
-    call put_r(e, 'gravity', r%gravity)
-    call put_i(e, 'threads', r%threads)
-    e%v%l(col(e, 'mirror_images')) = r%mirror_images
-    if (r%mirror_images) call hide(e, [character(len=13) :: 'mirror_images'], '')  ! the default
-  end subroutine pack_run
-
-  subroutine pack_solver(s, e)
-    type(solver_cfg_t), intent(in) :: s
-    type(echo_t), intent(inout) :: e
-    call start(e, 'solver')
-    call put_c(e, 'basis', enum_name(s%basis_id, basis_names, s%basis))
-    call put_c(e, 'scheme', enum_name(s%scheme_id, scheme_names, s%scheme))
-    call put_r(e, 'flip', [s%flip])
-    call put_c(e, 'plane', enum_name(s%plane_id, plane_names, s%plane))
-    call put_c(e, 'volumetric', enum_name(s%volumetric_id, volumetric_names, s%volumetric))
-    call put_r(e, 'mass_scale', [s%mass_scale])
-    call put_r(e, 'damping', [s%damping])
-    e%v%l(col(e, 'deterministic')) = s%deterministic
-    if (s%volumetric_id /= VOLUMETRIC_FBAR) call hide(e, ['volumetric'], '')  ! not written
-  end subroutine pack_solver
-
-  subroutine pack_grid(g, e)
-    type(grid_cfg_t), intent(in) :: g
-    type(echo_t), intent(inout) :: e
-    call start(e, 'grid')
-    call put_r(e, 'h', [g%h])
-    call put_r(e, 'lower', g%lower)
-    call put_r(e, 'upper', g%upper)
-    if (g%fitted) call hide(e, [character(len=5) :: 'lower', 'upper'], &
-      'not given, the domain is fitted around the bodies and walls')
-  end subroutine pack_grid
-
-  subroutine pack_material(m, e)
-    type(material_cfg_t), intent(in) :: m
-    type(echo_t), intent(inout) :: e
-    call start(e, 'material')
-    call put_c(e, 'name', m%name)
-    call put_c(e, 'model', enum_name(m%model_id, model_names, m%model))
-    call put_r(e, 'E', [m%E])
-    call put_r(e, 'nu', [m%nu])
-    call put_r(e, 'rho', [m%rho])
-    call put_r(e, 'sigma_y', [m%sigma_y])
-    call put_r(e, 'hardening', [m%hardening])
-    call put_c(e, 'rate_law', enum_name(m%rate_law_id, rate_law_names, m%rate_law))
-    call put_r(e, 'cs_d', [m%cs_d])
-    call put_r(e, 'cs_q', [m%cs_q])
-    call put_c(e, 'flow_stress', enum_name(m%flow_stress_id, flow_stress_names, m%flow_stress))
-    call put_r(e, 'jc_b', [m%jc_b])
-    call put_r(e, 'jc_n', [m%jc_n])
-    call put_r(e, 'jc_c', [m%jc_c])
-    call put_r(e, 'jc_rate0', [m%jc_rate0])
-    if (m%flow_stress_id /= FLOW_JOHNSON_COOK) call hide(e, [character(len=11) :: &
-      'flow_stress', 'jc_b', 'jc_n', 'jc_c', 'jc_rate0'], '')   ! the linear law: not written
-  end subroutine pack_material
-
-  subroutine pack_body(b, e)
-    type(body_cfg_t), intent(in) :: b
-    type(echo_t), intent(inout) :: e
-    call start(e, 'body')
-    call put_c(e, 'shape', enum_name(b%shape_id, shape_names, b%shape))
-    call put_c(e, 'material', b%material)
-    call put_r(e, 'center', b%center)
-    call put_r(e, 'r_inner', [b%r_inner])
-    call put_r(e, 'r_outer', [b%r_outer])
-    call put_i(e, 'n_thick', b%n_thick)
-    call put_i(e, 'n_circ', b%n_circ)
-    call put_c(e, 'sector', enum_name(b%sector_id, sector_names, b%sector))
-    call put_r(e, 'size', b%size)
-    call put_i(e, 'n_x', b%n_x)
-    call put_i(e, 'n_y', b%n_y)
-    call put_r(e, 'velocity', b%velocity)
-    if (b%shape_id == SHAPE_RECT) then
-      call hide(e, only_names('ring'), 'for rings only')
-    else
-      call hide(e, only_names('rect'), 'for rectangles only')
-    end if
-  end subroutine pack_body
-
-  subroutine pack_wall(walls, k, e)
-    type(wall_cfg_t), intent(in) :: walls(:)
-    integer, intent(in) :: k
-    type(echo_t), intent(inout) :: e
-    call start(e, 'wall')
-    associate (wl => walls(k))
-      call put_r(e, 'point', wl%point)
-      call put_r(e, 'normal', wl%normal)
-      call put_c(e, 'contact', enum_name(wl%contact_id, contact_names, wl%contact))
-      call put_r(e, 'friction', [wl%friction])
-      call put_r(e, 'velocity', wl%velocity)
-      call put_r(e, 'ramp', [wl%ramp])
-      call put_r(e, 'motion_t', wl%motion_t)
-      call put_r(e, 'motion_f', wl%motion_f)
-      e%n_motion = wl%n_motion
-    end associate
-    if (e%n_motion == 0) call hide(e, [character(len=8) :: 'motion_t', 'motion_f'], &
-      'no motion table')
-  end subroutine pack_wall
-
-  subroutine pack_probe(p, e)
-    type(probe_cfg_t), intent(in) :: p
-    type(echo_t), intent(inout) :: e
-    call start(e, 'probe')
-    call put_r(e, 'point', p%point)
-  end subroutine pack_probe
-
-  subroutine pack_contact(c, e)
-    type(contact_cfg_t), intent(in) :: c
-    type(echo_t), intent(inout) :: e
-    call start(e, 'contact')
-    call put_r(e, 'bodies', real(c%bodies, wp))
-    call put_c(e, 'law', enum_name(c%law_id, contact_names(1:3), c%law))
-    call put_r(e, 'friction', [c%friction])
-  end subroutine pack_contact
-
-  !> The body variables that belong to one shape.
-  pure function only_names(shape) result(names)
-    character(len=*), intent(in) :: shape
-    character(len=16), allocatable :: names(:)
-    integer :: k
-    allocate(names(0))
-    do k = 1, n_specs
-      if (specs(k)%group == 'body' .and. specs(k)%only == shape) names = [names, specs(k)%name]
-    end do
-  end function only_names
+  end subroutine group_echo
 
   ! ------------------------------------------------------------------------ writing
 

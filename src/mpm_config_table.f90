@@ -15,13 +15,13 @@ module mpm_config_table
   use mpm_constants, only: name_len, path_len, max_table, basis_names, scheme_names, &
                            plane_names, model_names, rate_law_names, shape_names, sector_names, &
                            contact_names, flow_stress_names, volumetric_names
-  use mpm_config_types, only: unset_real, iunset
+  use mpm_config_types, only: config_t, unset_real, iunset
   use mpm_config_text, only: enum_text, join_list
   implicit none
   private
   public :: var_spec_t, specs, n_specs, n_groups, group_names, group_repeatable
   public :: group_id, spec_index, group_specs, var_list, var_names, allowed_text, enum_names, &
-            echo_comment
+            echo_comment, field_t, bind_fields
 
   integer, parameter :: n_groups = 8
   character(len=*), parameter :: group_names(n_groups) = [character(len=8) :: &
@@ -53,9 +53,20 @@ module mpm_config_table
     character(len=56) :: unset_note = ''    !! echo comment when not set
     character(len=160) :: allowed = ''      !! "allowed:" text of messages ('' for kind e)
     character(len=48) :: comment = ''       !! echo comment: meaning [unit]; % = the names
+    logical :: own = .false.                !! checked and stored by the group's own rules
+    logical :: quiet = .false.              !! left out of the echo while at its default r0
   end type var_spec_t
 
-  integer, parameter :: n_specs = 62
+  !> Where the value of a row lives in a config_t record (bind_fields): the pointer of the
+  !! row's kind (a text and a code for kind e; iv for whole numbers).
+  type :: field_t
+    real(wp), pointer :: x => null(), v(:) => null()
+    integer, pointer :: i => null(), iv(:) => null()
+    logical, pointer :: l => null()
+    character(len=:), pointer :: c => null()
+  end type field_t
+
+  integer, parameter :: n_specs = 64
   character(len=*), parameter :: s0 = 'a real number >= 0 [s] (default 0)'
   character(len=*), parameter :: v0 = '2 finite real numbers [m/s] (default 0, 0)'
   character(len=*), parameter :: lu = '2 real numbers [m] each for lower and upper, lower '// &
@@ -113,10 +124,13 @@ module mpm_config_table
     var_spec_t('grid', 'h', r0=big, required=.true., lo=0.0_wp, lo_open=.true., unset='neg', &
       unset_note=rq//'cell size [m]', allowed='a real number > 0 [m] (required)', &
       comment='cell size [m]'), &
-    var_spec_t('grid', 'lower', n=2, r0=big, allowed=lu, comment='lower domain corner [m]'), &
-    var_spec_t('grid', 'upper', n=2, r0=big, allowed=lu, comment='upper domain corner [m]'), &
+    var_spec_t('grid', 'lower', n=2, r0=big, allowed=lu, comment='lower domain corner [m]', &
+      own=.true.), &
+    var_spec_t('grid', 'upper', n=2, r0=big, allowed=lu, comment='upper domain corner [m]', &
+      own=.true.), &
     ! ---------------------------------------------------------------------------- &material
-    var_spec_t('material', 'name', 'c', unset='emp', unset_note=rq//'label used by &body', &
+    var_spec_t('material', 'name', 'c', required=.true., unset='emp', &
+      unset_note=rq//'label used by &body', &
       allowed='text of 1 to 64 characters, unique among the &material groups (required)', &
       comment='label used by &body'), &
     var_spec_t('material', 'model', 'e', c0='j2', comment='%'), &
@@ -129,12 +143,16 @@ module mpm_config_table
     var_spec_t('material', 'rho', r0=big, required=.true., lo=0.0_wp, lo_open=.true., &
       unset='neg', unset_note=rq//'density [kg/m^3]', &
       allowed='a real number > 0 [kg/m^3] (required)', comment='density [kg/m^3]'), &
-    var_spec_t('material', 'sigma_y', r0=big, lo=0.0_wp, lo_open=.true., unset='neg', &
+    var_spec_t('material', 'sigma_y', own=.true., r0=big, lo=0.0_wp, lo_open=.true., unset='neg', &
       unset_note='required for model = ''j2'': initial yield stress [Pa]', &
       allowed='a real number > 0 [Pa] (required for model = ''j2'')', &
       comment='initial yield stress [Pa]'), &
     var_spec_t('material', 'hardening', lo=0.0_wp, allowed='a real number >= 0 [Pa] '// &
       '(default 0)', comment='linear isotropic hardening modulus [Pa]'), &
+    var_spec_t('material', 'voce_q', lo=0.0_wp, quiet=.true., allowed='a real number >= 0 '// &
+      '[Pa] (default 0: no saturation term)', comment='Voce saturation stress Q [Pa]'), &
+    var_spec_t('material', 'voce_b', r0=10.0_wp, lo=0.0_wp, lo_open=.true., quiet=.true., &
+      allowed='a real number > 0 (default 10)', comment='Voce saturation rate b [-]'), &
     var_spec_t('material', 'rate_law', 'e', c0='none', comment='%'), &
     var_spec_t('material', 'cs_d', r0=40.4_wp, lo=0.0_wp, lo_open=.true., &
       allowed='a real number > 0 [1/s] (default 40.4)', comment='Cowper-Symonds D [1/s]'), &
@@ -167,12 +185,13 @@ module mpm_config_table
       comment='outer radius [m]'), &
     var_spec_t('body', 'n_thick', 'i', i0=iunset, lo=1.0_wp, only='ring', &
       allowed='an integer >= 1 (default 16)', comment='particles through the wall'), &
-    var_spec_t('body', 'n_circ', 'i', i0=iunset, only='ring', &
+    var_spec_t('body', 'n_circ', 'i', i0=iunset, only='ring', own=.true., &
       allowed='0 (particles about square) or an integer >= 3, divisible by 2 for sector = '// &
       '''half'' and by 4 for ''quarter'' (default 0)', &
       comment='particles around the whole ring (0 = auto)'), &
     var_spec_t('body', 'sector', 'e', c0='full', c_blank=.true., only='ring', comment='%'), &
-    var_spec_t('body', 'size', n=2, r0=big, required=.true., only='rect', unset='neg', &
+    var_spec_t('body', 'size', n=2, r0=big, required=.true., lo=0.0_wp, lo_open=.true., &
+      only='rect', unset='neg', &
       unset_note=rq//'rectangle sides [m]', &
       allowed='2 real numbers > 0 [m] (required for shape = ''rect'')', &
       comment='rectangle sides [m]'), &
@@ -188,7 +207,7 @@ module mpm_config_table
       unset_note=rq//'a point on the plane at t = 0 [m]', &
       allowed='2 finite real numbers [m] (required)', &
       comment='a point on the plane at t = 0 [m]'), &
-    var_spec_t('wall', 'normal', n=2, r0=big, required=.true., unset='huge', &
+    var_spec_t('wall', 'normal', own=.true., n=2, r0=big, required=.true., unset='huge', &
       unset_note=rq//'unit normal into the material side [-]', &
       allowed='2 real numbers forming a unit vector, |normal| = 1 within 1e-6 (required)', &
       comment='unit normal into the material side [-]'), &
@@ -198,9 +217,11 @@ module mpm_config_table
     var_spec_t('wall', 'velocity', n=2, allowed=v0, comment='prescribed velocity [m/s]'), &
     var_spec_t('wall', 'ramp', lo=0.0_wp, allowed='a real number >= 0 [s] (default 0)', &
       comment='smooth rise time of the velocity [s]'), &
-    var_spec_t('wall', 'motion_t', n=max_table, r0=big, allowed='up to 64 times [s], >= 0 '// &
+    var_spec_t('wall', 'motion_t', n=max_table, r0=big, own=.true., &
+      allowed='up to 64 times [s], >= 0 '// &
       'and strictly increasing, as many as motion_f (default none)', comment='times [s]'), &
-    var_spec_t('wall', 'motion_f', n=max_table, r0=big, allowed='up to 64 finite factors, '// &
+    var_spec_t('wall', 'motion_f', n=max_table, r0=big, own=.true., &
+      allowed='up to 64 finite factors, '// &
       'as many as motion_t (default none)', comment='factors on velocity [-]'), &
     ! ---------------------------------------------------------------------------- &probe
     var_spec_t('probe', 'point', n=2, r0=big, required=.true., unset='huge', &
@@ -208,7 +229,7 @@ module mpm_config_table
       allowed='2 finite real numbers [m] (required)', &
       comment='the particle nearest to it is recorded [m]'), &
     ! ---------------------------------------------------------------------------- &contact
-    var_spec_t('contact', 'bodies', n=2, r0=0.0_wp, lo=0.0_wp, whole=.true., &
+    var_spec_t('contact', 'bodies', own=.true., n=2, r0=0.0_wp, lo=0.0_wp, whole=.true., &
       allowed='2 integers: two different bodies by their order in the file (1, 2, ...), '// &
       'or 0, 0 for every pair not named in another &contact (default 0, 0)', &
       comment='the two bodies (0, 0 = every other pair) [-]'), &
@@ -334,4 +355,117 @@ contains
     p = index(s, '%')
     if (p > 0) s = s(1:p-1)//join_list(enum_names(trim(specs(k)%name)), '')//s(p+1:)
   end function echo_comment
+  !> The fields of record k of group ig of cfg (for walls: cfg%walls(k)): one line per row,
+  !! the only place that ties a row to its component of config_t.
+  subroutine bind_fields(cfg, ig, k, f)
+    type(config_t), intent(in), target :: cfg  !! the case (its records must stay in place)
+    integer, intent(in) :: ig, k               !! group, record
+    type(field_t), intent(out) :: f(n_specs)   !! by row of the table
+    select case (ig)
+    case (1)
+      associate (g => cfg%run)
+        call bind(f, 'run', 'title', c=g%title)
+        call bind(f, 'run', 'output_dir', c=g%output_dir)
+        call bind(f, 'run', 't_end', x=g%t_end)
+        call bind(f, 'run', 'cfl', x=g%cfl)
+        call bind(f, 'run', 'dt', x=g%dt)
+        call bind(f, 'run', 'history_every', x=g%history_every)
+        call bind(f, 'run', 'snapshot_every', x=g%snapshot_every)
+        call bind(f, 'run', 'checkpoint_every', x=g%checkpoint_every)
+        call bind(f, 'run', 'depth', x=g%depth)
+        call bind(f, 'run', 'gravity', v=g%gravity)
+        call bind(f, 'run', 'threads', i=g%threads)
+        call bind(f, 'run', 'mirror_images', l=g%mirror_images)
+      end associate
+    case (2)
+      associate (g => cfg%solver)
+        call bind(f, 'solver', 'basis', c=g%basis, i=g%basis_id)
+        call bind(f, 'solver', 'scheme', c=g%scheme, i=g%scheme_id)
+        call bind(f, 'solver', 'flip', x=g%flip)
+        call bind(f, 'solver', 'plane', c=g%plane, i=g%plane_id)
+        call bind(f, 'solver', 'volumetric', c=g%volumetric, i=g%volumetric_id)
+        call bind(f, 'solver', 'mass_scale', x=g%mass_scale)
+        call bind(f, 'solver', 'damping', x=g%damping)
+        call bind(f, 'solver', 'deterministic', l=g%deterministic)
+      end associate
+    case (3)
+      associate (g => cfg%grid)
+        call bind(f, 'grid', 'h', x=g%h)
+        call bind(f, 'grid', 'lower', v=g%lower)
+        call bind(f, 'grid', 'upper', v=g%upper)
+      end associate
+    case (4)
+      associate (g => cfg%materials(k))
+        call bind(f, 'material', 'name', c=g%name)
+        call bind(f, 'material', 'model', c=g%model, i=g%model_id)
+        call bind(f, 'material', 'E', x=g%E)
+        call bind(f, 'material', 'nu', x=g%nu)
+        call bind(f, 'material', 'rho', x=g%rho)
+        call bind(f, 'material', 'sigma_y', x=g%sigma_y)
+        call bind(f, 'material', 'hardening', x=g%hardening)
+        call bind(f, 'material', 'voce_q', x=g%voce_q)
+        call bind(f, 'material', 'voce_b', x=g%voce_b)
+        call bind(f, 'material', 'rate_law', c=g%rate_law, i=g%rate_law_id)
+        call bind(f, 'material', 'cs_d', x=g%cs_d)
+        call bind(f, 'material', 'cs_q', x=g%cs_q)
+        call bind(f, 'material', 'flow_stress', c=g%flow_stress, i=g%flow_stress_id)
+        call bind(f, 'material', 'jc_b', x=g%jc_b)
+        call bind(f, 'material', 'jc_n', x=g%jc_n)
+        call bind(f, 'material', 'jc_c', x=g%jc_c)
+        call bind(f, 'material', 'jc_rate0', x=g%jc_rate0)
+      end associate
+    case (5)
+      associate (g => cfg%bodies(k))
+        call bind(f, 'body', 'shape', c=g%shape, i=g%shape_id)
+        call bind(f, 'body', 'material', c=g%material)
+        call bind(f, 'body', 'center', v=g%center)
+        call bind(f, 'body', 'r_inner', x=g%r_inner)
+        call bind(f, 'body', 'r_outer', x=g%r_outer)
+        call bind(f, 'body', 'n_thick', i=g%n_thick)
+        call bind(f, 'body', 'n_circ', i=g%n_circ)
+        call bind(f, 'body', 'sector', c=g%sector, i=g%sector_id)
+        call bind(f, 'body', 'size', v=g%size)
+        call bind(f, 'body', 'n_x', i=g%n_x)
+        call bind(f, 'body', 'n_y', i=g%n_y)
+        call bind(f, 'body', 'velocity', v=g%velocity)
+      end associate
+    case (6)
+      associate (g => cfg%walls(k))
+        call bind(f, 'wall', 'point', v=g%point)
+        call bind(f, 'wall', 'normal', v=g%normal)
+        call bind(f, 'wall', 'contact', c=g%contact, i=g%contact_id)
+        call bind(f, 'wall', 'friction', x=g%friction)
+        call bind(f, 'wall', 'velocity', v=g%velocity)
+        call bind(f, 'wall', 'ramp', x=g%ramp)
+        call bind(f, 'wall', 'motion_t', v=g%motion_t, i=g%n_motion)
+        call bind(f, 'wall', 'motion_f', v=g%motion_f, i=g%n_motion)
+      end associate
+    case (7)
+      call bind(f, 'probe', 'point', v=cfg%probes(k)%point)
+    case (8)
+      associate (g => cfg%contacts(k))
+        call bind(f, 'contact', 'bodies', iv=g%bodies)
+        call bind(f, 'contact', 'law', c=g%law, i=g%law_id)
+        call bind(f, 'contact', 'friction', x=g%friction)
+      end associate
+    end select
+  end subroutine bind_fields
+
+  !> Point the field of row (group, name) at the given component(s).
+  subroutine bind(f, group, name, x, v, i, iv, l, c)
+    type(field_t), intent(inout) :: f(n_specs)
+    character(len=*), intent(in) :: group, name
+    real(wp), intent(in), target, optional :: x, v(:)
+    integer, intent(in), target, optional :: i, iv(:)
+    logical, intent(in), target, optional :: l
+    character(len=*), intent(in), target, optional :: c
+    integer :: r
+    r = spec_index(group, name)
+    if (present(x)) f(r)%x => x
+    if (present(v)) f(r)%v => v
+    if (present(i)) f(r)%i => i
+    if (present(iv)) f(r)%iv => iv
+    if (present(l)) f(r)%l => l
+    if (present(c)) f(r)%c => c
+  end subroutine bind
 end module mpm_config_table

@@ -6,6 +6,7 @@
 module mpm_config_types
   use mpm_kinds, only: wp
   use mpm_constants, only: name_len, path_len, max_table
+  use mpm_material, only: material_cfg_t   ! &material: the model owns its parameters
   implicit none
   private
   public :: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, body_cfg_t, &
@@ -47,27 +48,6 @@ module mpm_config_types
     real(wp) :: upper(2) = 0.0_wp                  !! upper domain corner [m]
     logical :: fitted = .true.                     !! lower/upper not given: fit to the scene
   end type grid_cfg_t
-
-  !> &material (repeatable)
-  type :: material_cfg_t
-    character(len=name_len) :: name = ''           !! label used by &body
-    character(len=name_len) :: model = 'j2'        !! elastic | neohookean | j2
-    character(len=name_len) :: rate_law = 'none'   !! none | cowper_symonds
-    integer :: model_id = 0, rate_law_id = 0       !! codes of mpm_constants
-    real(wp) :: E = -1.0_wp                        !! Young's modulus [Pa]
-    real(wp) :: nu = -1.0_wp                       !! Poisson's ratio [-]
-    real(wp) :: rho = -1.0_wp                      !! density [kg/m^3]
-    real(wp) :: sigma_y = -1.0_wp                  !! initial yield stress [Pa]
-    real(wp) :: hardening = 0.0_wp                 !! linear isotropic hardening modulus [Pa]
-    real(wp) :: cs_d = 40.4_wp                     !! Cowper-Symonds D [1/s]
-    real(wp) :: cs_q = 5.0_wp                      !! Cowper-Symonds q [-]
-    character(len=name_len) :: flow_stress = 'linear'  !! linear | johnson_cook
-    integer :: flow_stress_id = 0                  !! code of mpm_constants
-    real(wp) :: jc_b = 0.0_wp                      !! Johnson-Cook B [Pa]
-    real(wp) :: jc_n = 1.0_wp                      !! Johnson-Cook n [-]
-    real(wp) :: jc_c = 0.0_wp                      !! Johnson-Cook C [-]
-    real(wp) :: jc_rate0 = 1.0_wp                  !! Johnson-Cook reference strain rate [1/s]
-  end type material_cfg_t
 
   !> &body (repeatable)
   type :: body_cfg_t

@@ -12,13 +12,13 @@ module mpm_config_values
   use mpm_config_text, only: lower, itoa, quote, unquote, suggestion, fmt_real, fmt_vec, &
                              fmt_list, finite
   use mpm_config_table, only: specs, n_specs, spec_index, var_list, var_names, allowed_text, &
-                              enum_names, group_specs
+                              enum_names, group_specs, field_t
   use mpm_config_lexer, only: reader_t, tk_string, add_err, add_warn, label, var_where
   implicit none
   private
-  public :: values_t, read_group, long_len
-  public :: vreal, vvec, vtab, vint, vtext, vlog, set_int
-  public :: chk_r, chk_i, chk_v, chk_e, chk_t, take_e, table_count
+  public :: values_t, read_group, long_len, store_rows, fields_values
+  public :: vreal, vvec, vtab, vint, vtext
+  public :: chk_r, chk_v, table_count
   public :: err_var, err_missing, warn_var, warn_group
 
   integer, parameter :: long_len = 1024         !! text buffers (longer than allowed)
@@ -404,6 +404,99 @@ contains
     call add_warn(rd, rd%occ(io)%line, label(rd, io)//': '//what)
   end subroutine warn_group
 
+  ! ------------------------------------------------ the table's checks, row by row
+
+  !> Check every row of occurrence io against the table and store each usable value given
+  !! through its field: reals (chk_r, chk_v), integers given when required and >= lo, texts
+  !! given when required and not too long, names of a list (case-insensitive; stored as the
+  !! list spells them, with their code). Left to the group's own rules: rows marked `own`, and
+  !! rows `only` for another body shape than the one given (the row `shape` comes first).
+  subroutine store_rows(rd, io, v, f)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io
+    type(values_t), intent(in) :: v
+    type(field_t), intent(in) :: f(n_specs)   !! bind_fields of the record to fill
+    integer, allocatable :: idx(:)
+    integer :: j, r, id, n
+    character(len=4) :: shape
+    character(len=:), allocatable :: name, t
+    character(len=name_len), allocatable :: names(:)
+    idx = group_specs(v%group)
+    shape = ''
+    do j = 1, size(idx)
+      r = idx(j)
+      associate (sp => specs(r))
+        name = trim(sp%name)
+        if (sp%own .or. (len_trim(sp%only) > 0 .and. sp%only /= shape)) cycle
+        t = trim(adjustl(v%c(r)))
+        select case (sp%kind)
+        case ('r')
+          if (sp%n == 1) then
+            if (chk_r(rd, io, v, name)) f(r)%x = v%r(1, r)
+          else if (chk_v(rd, io, v, name) == 2) then
+            f(r)%v = v%r(1:2, r)
+          end if
+        case ('i')
+          n = v%i(r)
+          if (n == iunset) then
+            if (sp%required) call err_missing(rd, io, name)
+          else if (n < nint(max(sp%lo, -1.0e9_wp))) then
+            call err_var(rd, io, name, itoa(n), 'out of range')
+          else
+            f(r)%i = n
+          end if
+        case ('l')
+          f(r)%l = v%l(r)
+        case ('c')
+          if (sp%required .and. len(t) == 0) then
+            call err_missing(rd, io, name)
+          else if (len(t) > sp%max_len) then
+            call err_var(rd, io, name, quote(t), 'too long ('//itoa(len(t))//' characters)')
+          else
+            f(r)%c = t
+          end if
+        case ('e')
+          if (sp%c_blank .and. len(t) == 0) cycle
+          names = enum_names(name)
+          id = 0
+          do n = 1, size(names)
+            if (lower(t) == trim(names(n))) id = n
+          end do
+          if (id == 0) then
+            call err_var(rd, io, name, quote(t), 'not an allowed value'// &
+              suggestion(lower(t), names))
+          else
+            f(r)%c = names(id)
+            f(r)%i = id
+            if (name == 'shape') shape = names(id)
+          end if
+        end select
+      end associate
+    end do
+  end subroutine store_rows
+
+  !> The values of a record through its fields, as the reader would store them (names of
+  !! list variables from their codes; whole numbers as reals); idx: the group's rows.
+  subroutine fields_values(f, idx, v)
+    type(field_t), intent(in) :: f(n_specs)
+    integer, intent(in) :: idx(:)
+    type(values_t), intent(inout) :: v
+    integer :: j, r
+    character(len=name_len), allocatable :: names(:)
+    do j = 1, size(idx)
+      r = idx(j)
+      if (associated(f(r)%x)) v%r(1, r) = f(r)%x
+      if (associated(f(r)%v)) v%r(1:size(f(r)%v), r) = f(r)%v
+      if (associated(f(r)%iv)) v%r(1:size(f(r)%iv), r) = real(f(r)%iv, wp)
+      if (associated(f(r)%i)) v%i(r) = f(r)%i
+      if (associated(f(r)%l)) v%l(r) = f(r)%l
+      if (associated(f(r)%c)) v%c(r) = f(r)%c
+      if (specs(r)%kind /= 'e') cycle
+      names = enum_names(trim(specs(r)%name))
+      if (f(r)%i >= 1 .and. f(r)%i <= size(names)) v%c(r) = names(f(r)%i)
+    end do
+  end subroutine fields_values
+
   ! ------------------------------------------------ the table's checks, by variable name
 
   !> Check real `name` of v against its row: finite, given when required (the row's, or
@@ -437,26 +530,6 @@ contains
     end if
   end function chk_r
 
-  !> Check integer `name` of v against its row: given when required, >= lo. True when usable
-  !! and given.
-  logical function chk_i(rd, io, v, name) result(good)
-    type(reader_t), intent(inout) :: rd
-    integer, intent(in) :: io
-    type(values_t), intent(in) :: v
-    character(len=*), intent(in) :: name
-    integer :: k, n
-    k = spec_index(v%group, name)
-    n = v%i(k)
-    good = .false.
-    if (n == iunset) then
-      if (specs(k)%required) call err_missing(rd, io, trim(specs(k)%name))
-    else if (n < nint(max(specs(k)%lo, -1.0e9_wp))) then
-      call err_var(rd, io, trim(specs(k)%name), itoa(n), 'out of range')
-    else
-      good = .true.
-    end if
-  end function chk_i
-
   !> Check 2-vector `name` of v: finite, both components or none. Returns 2 (given), 0 (not
   !! given; reported when required: the row's, or `required` when present) or -1 (error
   !! reported).
@@ -481,61 +554,12 @@ contains
       n_given = -1
     else if (n_given == 0 .and. merge_opt(required, specs(k)%required)) then
       call err_missing(rd, io, trim(specs(k)%name))
+    else if (n_given == 2 .and. (any(x < specs(k)%lo) .or. any(x > specs(k)%hi) .or. &
+             (specs(k)%lo_open .and. any(x <= specs(k)%lo)))) then
+      call err_var(rd, io, trim(specs(k)%name), fmt_vec(x), 'out of range')
+      n_given = -1
     end if
   end function chk_v
-
-  !> Check the name given for `name` against its list (case-insensitive); its code, or 0
-  !! (error reported).
-  integer function chk_e(rd, io, v, name) result(id)
-    type(reader_t), intent(inout) :: rd
-    integer, intent(in) :: io
-    type(values_t), intent(in) :: v
-    character(len=*), intent(in) :: name
-    integer :: k, j
-    character(len=:), allocatable :: t
-    character(len=name_len), allocatable :: names(:)
-    k = spec_index(v%group, name)
-    names = enum_names(trim(specs(k)%name))
-    t = lower(trim(adjustl(v%c(k))))
-    id = 0
-    do j = 1, size(names)
-      if (t == trim(names(j))) id = j
-    end do
-    if (id == 0) call err_var(rd, io, trim(specs(k)%name), quote(trim(adjustl(v%c(k)))), &
-      'not an allowed value'//suggestion(t, names))
-  end function chk_e
-
-  !> chk_e, and for an allowed name its spelling in the list and its code into text and code
-  !! (both left alone otherwise).
-  subroutine take_e(rd, io, v, name, text, code)
-    type(reader_t), intent(inout) :: rd
-    integer, intent(in) :: io
-    type(values_t), intent(in) :: v
-    character(len=*), intent(in) :: name
-    character(len=*), intent(inout) :: text
-    integer, intent(inout) :: code
-    integer :: id
-    character(len=name_len), allocatable :: names(:)
-    id = chk_e(rd, io, v, name)
-    if (id == 0) return
-    names = enum_names(name)
-    text = names(id)
-    code = id
-  end subroutine take_e
-
-  !> Check the length of text `name`.
-  logical function chk_t(rd, io, v, name) result(good)
-    type(reader_t), intent(inout) :: rd
-    integer, intent(in) :: io
-    type(values_t), intent(in) :: v
-    character(len=*), intent(in) :: name
-    integer :: k, n
-    k = spec_index(v%group, name)
-    n = len_trim(adjustl(v%c(k)))
-    good = n <= specs(k)%max_len
-    if (.not. good) call err_var(rd, io, trim(specs(k)%name), quote(trim(adjustl(v%c(k)))), &
-      'too long ('//itoa(n)//' characters)')
-  end function chk_t
 
   !> The optional flag when present, else the default.
   pure logical function merge_opt(flag, default)
@@ -580,16 +604,4 @@ contains
     s = v%c(spec_index(v%group, name))
   end function vtext
 
-  logical function vlog(v, name)
-    type(values_t), intent(in) :: v
-    character(len=*), intent(in) :: name
-    vlog = v%l(spec_index(v%group, name))
-  end function vlog
-
-  subroutine set_int(v, name, n)
-    type(values_t), intent(inout) :: v
-    character(len=*), intent(in) :: name
-    integer, intent(in) :: n
-    v%i(spec_index(v%group, name)) = n
-  end subroutine set_int
 end module mpm_config_values

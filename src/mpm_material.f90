@@ -9,12 +9,13 @@
 module mpm_material
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
   use mpm_kinds, only: wp
-  use mpm_constants, only: MODEL_ELASTIC, MODEL_NEOHOOKEAN, MODEL_J2, RATE_NONE, &
+  use mpm_constants, only: name_len, MODEL_ELASTIC, MODEL_NEOHOOKEAN, MODEL_J2, RATE_NONE, &
                            RATE_COWPER_SYMONDS, PLANE_STRAIN, PLANE_STRESS, FLOW_LINEAR, &
                            FLOW_JOHNSON_COOK
   implicit none
   private
-  public :: material_new, material_wave_speed, material_stress_update, material_energy_density
+  public :: material_new, material_from, material_wave_speed, material_stress_update, &
+            material_energy_density
   public :: MATERIAL_OK, MATERIAL_NOT_CONVERGED, MATERIAL_BAD_INPUT
 
   integer, parameter :: MATERIAL_OK = 0             !! stat: update done
@@ -27,22 +28,33 @@ module mpm_material
   real(wp), parameter :: stretch_tol = 1.0e-14_wp   ! absolute tolerance on ln(F_zz)
   integer, parameter :: stretch_max_iter = 100
 
-  !> Material parameters and the derived elastic constants.
-  type, public :: material_t
-    integer :: model = MODEL_J2        !! MODEL_ELASTIC, MODEL_NEOHOOKEAN or MODEL_J2
-    integer :: rate_law = RATE_NONE    !! RATE_NONE or RATE_COWPER_SYMONDS
-    integer :: flow = FLOW_LINEAR      !! FLOW_LINEAR or FLOW_JOHNSON_COOK (j2 only)
-    real(wp) :: E          !! Young's modulus [Pa]
-    real(wp) :: nu         !! Poisson's ratio [-]
-    real(wp) :: rho        !! reference density [kg/m^3]
-    real(wp) :: sigma_y    !! initial yield stress [Pa]
-    real(wp) :: hardening  !! linear isotropic plastic modulus H [Pa]
-    real(wp) :: cs_d       !! Cowper-Symonds D [1/s]
-    real(wp) :: cs_q       !! Cowper-Symonds q [-]
-    real(wp) :: jc_b = 0.0_wp      !! Johnson-Cook B [Pa] (A is sigma_y)
-    real(wp) :: jc_n = 1.0_wp      !! Johnson-Cook n [-]
-    real(wp) :: jc_c = 0.0_wp      !! Johnson-Cook C [-]
-    real(wp) :: jc_rate0 = 1.0_wp  !! Johnson-Cook reference plastic strain rate [1/s]
+  !> The parameters of a material as the input gives them: one component per row of the
+  !! &material group of the input table (mpm_config_table, which binds each row to its
+  !! component); the model reads them from material_t, which extends this type.
+  type, public :: material_cfg_t
+    character(len=name_len) :: name = ''           !! label used by &body
+    character(len=name_len) :: model = 'j2'        !! elastic | neohookean | j2
+    character(len=name_len) :: rate_law = 'none'   !! none | cowper_symonds
+    integer :: model_id = 0, rate_law_id = 0       !! codes of mpm_constants
+    real(wp) :: E = -1.0_wp                        !! Young's modulus [Pa]
+    real(wp) :: nu = -1.0_wp                       !! Poisson's ratio [-]
+    real(wp) :: rho = -1.0_wp                      !! density [kg/m^3]
+    real(wp) :: sigma_y = -1.0_wp                  !! initial yield stress [Pa]
+    real(wp) :: hardening = 0.0_wp                 !! linear isotropic hardening modulus [Pa]
+    real(wp) :: voce_q = 0.0_wp                    !! Voce saturation stress [Pa]
+    real(wp) :: voce_b = 10.0_wp                   !! Voce saturation rate [-]
+    real(wp) :: cs_d = 40.4_wp                     !! Cowper-Symonds D [1/s]
+    real(wp) :: cs_q = 5.0_wp                      !! Cowper-Symonds q [-]
+    character(len=name_len) :: flow_stress = 'linear'  !! linear | johnson_cook
+    integer :: flow_stress_id = FLOW_LINEAR        !! code of mpm_constants
+    real(wp) :: jc_b = 0.0_wp                      !! Johnson-Cook B [Pa] (A is sigma_y)
+    real(wp) :: jc_n = 1.0_wp                      !! Johnson-Cook n [-]
+    real(wp) :: jc_c = 0.0_wp                      !! Johnson-Cook C [-]
+    real(wp) :: jc_rate0 = 1.0_wp                  !! Johnson-Cook reference strain rate [1/s]
+  end type material_cfg_t
+
+  !> A material: its parameters and the derived elastic constants.
+  type, public, extends(material_cfg_t) :: material_t
     real(wp) :: lambda     !! first Lame constant [Pa]
     real(wp) :: mu         !! shear modulus [Pa]
     real(wp) :: bulk       !! bulk modulus [Pa]
@@ -50,10 +62,22 @@ module mpm_material
 
 contains
 
-  !> A material with its derived Lame constants and bulk modulus.
+  !> A material from its parameters, with the density scaled by mass_scale (quasi-static runs).
   !! Preconditions (checked by the input validation, not here): E > 0, -1 < nu < 0.5.
-  !! The Johnson-Cook arguments (flow stress (sigma_y + jc_b eqps^jc_n)(1 + jc_c ln(rate /
-  !! jc_rate0)) for model j2) are optional; without them the flow stress is linear.
+  pure function material_from(prm, mass_scale) result(mat)
+    type(material_cfg_t), intent(in) :: prm   !! the parameters [-]
+    real(wp), intent(in) :: mass_scale         !! density multiplier [-]
+    type(material_t) :: mat
+    mat%material_cfg_t = prm
+    mat%rho = prm%rho*mass_scale
+    mat%lambda = prm%E*prm%nu/((1.0_wp + prm%nu)*(1.0_wp - 2.0_wp*prm%nu))  ! Lame lambda
+    mat%mu = prm%E/(2.0_wp*(1.0_wp + prm%nu))                       ! shear modulus
+    mat%bulk = prm%E/(3.0_wp*(1.0_wp - 2.0_wp*prm%nu))              ! K = lambda + 2 mu / 3
+  end function material_from
+
+  !> material_from with the parameters as arguments (tests). The Johnson-Cook arguments
+  !! (flow stress (sigma_y + jc_b eqps^jc_n)(1 + jc_c ln(rate / jc_rate0)) for model j2) are
+  !! optional; without them the flow stress is linear.
   pure function material_new(model, rate_law, E, nu, rho, sigma_y, hardening, cs_d, cs_q, &
       flow, jc_b, jc_n, jc_c, jc_rate0) result(mat)
     integer, intent(in) :: model         !! MODEL_ELASTIC, MODEL_NEOHOOKEAN or MODEL_J2 [-]
@@ -71,23 +95,15 @@ contains
     real(wp), intent(in), optional :: jc_c      !! Johnson-Cook C [-]
     real(wp), intent(in), optional :: jc_rate0  !! Johnson-Cook reference rate [1/s]
     type(material_t) :: mat
-    mat%model = model
-    mat%rate_law = rate_law
-    mat%E = E
-    mat%nu = nu
-    mat%rho = rho
-    mat%sigma_y = sigma_y
-    mat%hardening = hardening
-    mat%cs_d = cs_d
-    mat%cs_q = cs_q
-    if (present(flow)) mat%flow = flow
-    if (present(jc_b)) mat%jc_b = jc_b
-    if (present(jc_n)) mat%jc_n = jc_n
-    if (present(jc_c)) mat%jc_c = jc_c
-    if (present(jc_rate0)) mat%jc_rate0 = jc_rate0
-    mat%lambda = E*nu/((1.0_wp + nu)*(1.0_wp - 2.0_wp*nu))  ! Lame lambda, isotropic elasticity
-    mat%mu = E/(2.0_wp*(1.0_wp + nu))                       ! shear modulus
-    mat%bulk = E/(3.0_wp*(1.0_wp - 2.0_wp*nu))              ! bulk modulus K = lambda + 2 mu / 3
+    type(material_cfg_t) :: p
+    p = material_cfg_t(model_id=model, rate_law_id=rate_law, E=E, nu=nu, rho=rho, &
+                       sigma_y=sigma_y, hardening=hardening, cs_d=cs_d, cs_q=cs_q)
+    if (present(flow)) p%flow_stress_id = flow
+    if (present(jc_b)) p%jc_b = jc_b
+    if (present(jc_n)) p%jc_n = jc_n
+    if (present(jc_c)) p%jc_c = jc_c
+    if (present(jc_rate0)) p%jc_rate0 = jc_rate0
+    mat = material_from(p, 1.0_wp)
   end function material_new
 
   !> Dilatational wave speed sqrt((lambda + 2 mu) / rho) [m/s].
@@ -121,7 +137,7 @@ contains
     dissipation = 0.0_wp
     stat = MATERIAL_BAD_INPUT
     if (plane /= PLANE_STRAIN .and. plane /= PLANE_STRESS) return
-    select case (mat%model)
+    select case (mat%model_id)
     case (MODEL_NEOHOOKEAN)
       if (.not. all(ieee_is_finite(F))) return
       call neohookean_stress(mat, plane, F, s, energy, stat)
@@ -134,9 +150,9 @@ contains
       s = sig
       call rotate_jaumann(L, dt, s)
       call add_elastic_increment(mat, plane, L, dt, s)
-      if (mat%model == MODEL_J2) then
-        if (mat%flow == FLOW_JOHNSON_COOK) then
-          call jc_return(mat, plane, dt, eqps, s, deqps, dissipation, stat)
+      if (mat%model_id == MODEL_J2) then
+        if (mat%flow_stress_id == FLOW_JOHNSON_COOK .or. mat%voce_q > 0.0_wp) then
+          call flow_return(mat, plane, dt, eqps, s, deqps, dissipation, stat)
         else
           call j2_return(mat, plane, dt, eqps, s, deqps, dissipation, stat)
         end if
@@ -171,7 +187,7 @@ contains
     integer :: stat
     w = ieee_value(w, ieee_quiet_nan)
     if (plane /= PLANE_STRAIN .and. plane /= PLANE_STRESS) return
-    select case (mat%model)
+    select case (mat%model_id)
     case (MODEL_ELASTIC, MODEL_J2)
       w = linear_energy(mat, plane, sig)
     case (MODEL_NEOHOOKEAN)
@@ -263,7 +279,7 @@ contains
     deqps = 0.0_wp
     dwp = 0.0_wp
     stat = MATERIAL_BAD_INPUT
-    rate = mat%rate_law == RATE_COWPER_SYMONDS
+    rate = mat%rate_law_id == RATE_COWPER_SYMONDS
     if (.not. (mat%sigma_y > 0.0_wp .and. mat%hardening >= 0.0_wp)) return
     if (rate .and. .not. (mat%cs_d > 0.0_wp .and. mat%cs_q > 0.0_wp)) return
     stat = MATERIAL_OK
@@ -444,14 +460,14 @@ contains
   end function scaled_deviator
 
   ! ---------------------------------------------------------------------------------------
-  ! J2 plasticity with the Johnson-Cook flow stress
+  ! J2 plasticity with a nonlinear flow stress (Johnson-Cook; Voce)
 
-  !> Return the trial stress s to the von Mises surface of radius
-  !! k = (A + B e^n)(1 + C ln(max(rate / rate0, 1))), e = eqps + deqps, rate = deqps / dt,
-  !! A = sigma_y (Johnson & Cook 1983, without the thermal term). One unknown for both planes,
+  !> Return the trial stress s to the von Mises surface of a nonlinear flow stress k(e, rate)
+  !! (flow_stress: Johnson-Cook, or the linear law with a Voce term), e = eqps + deqps, rate =
+  !! deqps / dt. One unknown for both planes,
   !! x = deqps / q_end (as the Cowper-Symonds return): plane strain is the plane-stress form
   !! with no first-invariant part (t1 = 0, t2 = q_trial^2).
-  pure subroutine jc_return(mat, plane, dt, eqps, s, deqps, dwp, stat)
+  pure subroutine flow_return(mat, plane, dt, eqps, s, deqps, dwp, stat)
     type(material_t), intent(in) :: mat  !! material [-]
     integer, intent(in) :: plane         !! PLANE_STRAIN or PLANE_STRESS [-]
     real(wp), intent(in) :: dt           !! time step [s]
@@ -461,13 +477,22 @@ contains
     real(wp), intent(out) :: dwp         !! plastic dissipation per current volume [J/m^3]
     integer, intent(out) :: stat         !! 0 ok, 1 not converged, 2 bad parameters [-]
     real(wp) :: k0, dk, p, dev(4), q, a, t1, t2, x, x_hi, fa, fb, fac, k_end
+    logical :: rated
     deqps = 0.0_wp
     dwp = 0.0_wp
     stat = MATERIAL_BAD_INPUT
-    if (.not. (mat%sigma_y > 0.0_wp .and. mat%jc_b >= 0.0_wp .and. mat%jc_n > 0.0_wp .and. &
-               mat%jc_n <= 1.0_wp .and. mat%jc_c >= 0.0_wp .and. mat%jc_rate0 > 0.0_wp)) return
+    if (mat%flow_stress_id == FLOW_JOHNSON_COOK) then
+      rated = mat%jc_c > 0.0_wp
+      if (.not. (mat%sigma_y > 0.0_wp .and. mat%jc_b >= 0.0_wp .and. mat%jc_n > 0.0_wp .and. &
+                 mat%jc_n <= 1.0_wp .and. mat%jc_c >= 0.0_wp .and. mat%jc_rate0 > 0.0_wp)) return
+    else
+      rated = mat%rate_law_id == RATE_COWPER_SYMONDS
+      if (.not. (mat%sigma_y > 0.0_wp .and. mat%hardening >= 0.0_wp .and. mat%voce_q >= 0.0_wp &
+                 .and. mat%voce_b > 0.0_wp)) return
+      if (rated .and. .not. (mat%cs_d > 0.0_wp .and. mat%cs_q > 0.0_wp)) return
+    end if
     stat = MATERIAL_OK
-    call jc_flow(mat, eqps, 0.0_wp, dt, k0, dk)   ! static yield at step start
+    call flow_stress(mat, eqps, 0.0_wp, dt, k0, dk)   ! static yield at step start
     if (plane == PLANE_STRAIN) then
       call split_deviator(s, p, dev, q)
       a = 0.0_wp
@@ -484,9 +509,9 @@ contains
       x_hi = (q/k0 - 1.0_wp)/min(a, 3.0_wp*mat%mu)
     end if
     if (q <= k0) return
-    if (dt == 0.0_wp .and. mat%jc_c > 0.0_wp) return   ! infinite rate: no flow in zero time
+    if (dt == 0.0_wp .and. rated) return   ! infinite rate: no flow in zero time
     ! at x_hi the returned q is at most k0 and k >= k0: the root is in (0, x_hi]
-    call jc_solve(mat, dt, eqps, a, t1, t2, x_hi, x, stat)
+    call flow_solve(mat, dt, eqps, a, t1, t2, x_hi, x, stat)
     if (stat /= MATERIAL_OK) return
     fac = 1.0_wp/(1.0_wp + 3.0_wp*mat%mu*x)      ! deviatoric (B, C) part / (1 + 3 mu x)
     if (plane == PLANE_STRAIN) then
@@ -501,9 +526,39 @@ contains
       s(4) = 0.0_wp
       deqps = x*sqrt(fa**2 + 3.0_wp*(fb**2 + s(3)**2))
     end if
-    call jc_flow(mat, eqps, deqps, dt, k_end, dk)
+    call flow_stress(mat, eqps, deqps, dt, k_end, dk)
     dwp = k_end*deqps    ! sigma_end : d eps_p = q_end deqps = yield_end deqps
-  end subroutine jc_return
+  end subroutine flow_return
+
+  !> Flow stress k and dk/dd at e = eqps + d, d the increment over the step: Johnson-Cook
+  !! (jc_flow), or the linear law with its Voce saturation term,
+  !! k = (sigma_y + H e + Q (1 - exp(-b e))) r, r = 1 + (d / (D dt))^(1/q) with Cowper-Symonds
+  !! (Voce 1948; Cowper & Symonds 1957), else r = 1.
+  pure subroutine flow_stress(mat, eqps, d, dt, k, dk)
+    type(material_t), intent(in) :: mat  !! material [-]
+    real(wp), intent(in) :: eqps         !! equivalent plastic strain at step start [-]
+    real(wp), intent(in) :: d            !! its increment over the step, >= 0 [-]
+    real(wp), intent(in) :: dt           !! time step [s]
+    real(wp), intent(out) :: k           !! flow stress [Pa]
+    real(wp), intent(out) :: dk          !! dk/dd [Pa]
+    real(wp) :: e, h, dh, r, dr, z
+    if (mat%flow_stress_id == FLOW_JOHNSON_COOK) then
+      call jc_flow(mat, eqps, d, dt, k, dk)
+      return
+    end if
+    e = eqps + d
+    h = mat%sigma_y + mat%hardening*e + mat%voce_q*(1.0_wp - exp(-mat%voce_b*e))
+    dh = mat%hardening + mat%voce_q*mat%voce_b*exp(-mat%voce_b*e)
+    r = 1.0_wp
+    dr = 0.0_wp
+    if (mat%rate_law_id == RATE_COWPER_SYMONDS .and. d > 0.0_wp) then
+      z = (d/(mat%cs_d*dt))**(1.0_wp/mat%cs_q)
+      r = 1.0_wp + z
+      dr = z/(mat%cs_q*d)
+    end if
+    k = h*r
+    dk = dh*r + h*dr
+  end subroutine flow_stress
 
   !> Johnson-Cook flow stress k = (A + B e^n) r, r = 1 + C ln(max(d / (rate0 dt), 1)),
   !! e = eqps + d, and dk/dd (where e > 0 or n = 1; 0 at e = 0 with n < 1, where it is
@@ -540,7 +595,7 @@ contains
   !! g(x) = qbar(x) - k(x qbar(x)), qbar(x) = sqrt(t1/(1+a x)^2 + t2/(1+3 mu x)^2); g decreases
   !! (qbar decreases, x qbar increases, k does not decrease), g(0) > 0 >= g(x_hi). Starts at
   !! x_hi (never at 0, where dk/dd may be infinite); stops as solve_multiplier does.
-  pure subroutine jc_solve(mat, dt, eqps, a, t1, t2, x_hi, x, stat)
+  pure subroutine flow_solve(mat, dt, eqps, a, t1, t2, x_hi, x, stat)
     type(material_t), intent(in) :: mat  !! material [-]
     real(wp), intent(in) :: dt           !! time step [s]
     real(wp), intent(in) :: eqps         !! equivalent plastic strain at step start [-]
@@ -561,7 +616,7 @@ contains
       eb = 1.0_wp/(1.0_wp + 3.0_wp*mat%mu*x)
       qb = sqrt(t1*ea**2 + t2*eb**2)
       dqb = -(a*t1*ea**3 + 3.0_wp*mat%mu*t2*eb**3)/qb
-      call jc_flow(mat, eqps, x*qb, dt, k, dk)
+      call flow_stress(mat, eqps, x*qb, dt, k, dk)
       g = qb - k
       dg = dqb - dk*(t1*ea**3 + t2*eb**3)/qb     ! d(x qbar)/dx = (t1 ea^3 + t2 eb^3)/qbar
       if (g > 0.0_wp) then
@@ -581,7 +636,7 @@ contains
       if (hi - lo <= return_tol*hi) return
     end do
     stat = MATERIAL_NOT_CONVERGED
-  end subroutine jc_solve
+  end subroutine flow_solve
 
   ! ---------------------------------------------------------------------------------------
   ! Neo-Hookean

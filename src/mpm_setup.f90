@@ -12,7 +12,7 @@ module mpm_setup
   use mpm_grid, only: grid_init
   use mpm_tiles, only: tiles_init
   use mpm_walls, only: wall_t
-  use mpm_material, only: material_new, material_wave_speed
+  use mpm_material, only: material_from, material_wave_speed
   use mpm_solver, only: sim_t, solver_stable_dt, solver_init_energy
   use mpm_errors, only: append_msg
   use mpm_strings, only: itoa, rtoa, plural, hms
@@ -64,10 +64,7 @@ contains
     allocate(s%prm%mats(size(cfg%materials)))
     do im = 1, size(cfg%materials)
       associate (m => cfg%materials(im))
-        s%prm%mats(im) = material_new(m%model_id, m%rate_law_id, m%E, m%nu, &
-                                  m%rho*cfg%solver%mass_scale, m%sigma_y, m%hardening, &
-                                  m%cs_d, m%cs_q, flow=m%flow_stress_id, jc_b=m%jc_b, &
-                                  jc_n=m%jc_n, jc_c=m%jc_c, jc_rate0=m%jc_rate0)
+        s%prm%mats(im) = material_from(m, cfg%solver%mass_scale)
         s%prm%c_max = max(s%prm%c_max, material_wave_speed(s%prm%mats(im)))
       end associate
     end do

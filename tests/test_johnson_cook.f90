@@ -140,7 +140,7 @@ contains
       call begin_test('Johnson-Cook with n = 1, C = 0 is linear hardening, '//plane_label(ip))
       mjc = jc_material(H, 1.0_wp, 0.0_wp, rate0)
       mlin = material_new(MODEL_J2, RATE_NONE, E, nu, rho, A, H, 40.4_wp, 5.0_wp)
-      call check(mlin%flow == FLOW_LINEAR, 'material_new without flow: the linear law')
+      call check(mlin%flow_stress_id == FLOW_LINEAR, 'material_new without flow: the linear law')
       s_jc = 0.0_wp
       s_lin = 0.0_wp
       e_jc = 0.0_wp
