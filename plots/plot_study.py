@@ -384,11 +384,10 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--level", default="quick", choices=("quick", "full", "all"),
                     help="whose table (default quick, as tools/study.py): quick reads and "
-                         "writes out/study-quick/; full reads docs/study/, writes its figures "
-                         "there and --check's advice table src/mpm_advice_table.inc")
+                         "writes out/study-quick/; full reads docs/study/ and writes its "
+                         "figures there (--check's advice table is tools/advice_tables.py's)")
     ap.add_argument("--out", default=None, help="output folder (default docs/study; "
-                                                 "out/study-quick for --level quick); with "
-                                                 "--out the advice table is not written")
+                                                 "out/study-quick for --level quick)")
     ap.add_argument("--experiment", action="append", metavar="SCENE=CSV",
                     help="overlay a measured curve on the crush, impact or wave figure "
                          "(repeatable; columns as for plot_case.py, plots/README.md)")
