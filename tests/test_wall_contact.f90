@@ -2,7 +2,7 @@
 !! and conservation (docs/verification.md, "Wall contact at the solver level"):
 !!   - a perfectly plastic J2 block squeezed between frictionless platens, plane strain and
 !!     plane stress, every basis: platen force against the limit load, particle rows at the
-!!     platens against the interior;
+!!     platens against the interior (each basis held to what it can do: test_block);
 !!   - the same block between 'stick' platens (force above the frictionless one, below the slab
 !!     estimate) and 'coulomb' with mu = 0 (equal to 'frictionless' to round-off);
 !!   - a plastic bar in uniaxial strain striking a rigid wall: elastic precursor and plastic
@@ -13,8 +13,9 @@
 ! SPDX-License-Identifier: MIT
 program test_wall_contact
   use mpm_kinds, only: wp
-  use mpm_constants, only: BASIS_UGIMP, BASIS_CPDI2, basis_names, SCHEME_USL, SCHEME_MUSL, &
-                           scheme_names, PLANE_STRAIN, PLANE_STRESS, plane_names, MODEL_J2, &
+  use mpm_constants, only: BASIS_LINEAR, BASIS_UGIMP, BASIS_CPDI1, BASIS_CPDI2, basis_names, &
+                           SCHEME_USL, SCHEME_MUSL, scheme_names, PLANE_STRAIN, PLANE_STRESS, &
+                           plane_names, MODEL_J2, &
                            MODEL_ELASTIC, CONTACT_FRICTIONLESS, CONTACT_COULOMB, CONTACT_STICK, &
                            CONTACT_SLIP, contact_names, SECTOR_HALF, SECTOR_FULL
   use mpm_config, only: config_t, config_resolve
@@ -40,6 +41,8 @@ program test_wall_contact
     real(wp) :: ratio(2, nsample) = 0.0_wp  !! platen force / closed form (top, bottom)
     real(wp) :: row_dev(2) = 0.0_wp         !! largest |row mean sigma_yy / interior - 1| at
                                             !! 5 % and 10 % strain
+    real(wp) :: pair_dev(2) = 0.0_wp        !! the same for the mean of each pair of rows that
+                                            !! start in one cell (rows 1-2, 3-4, ...)
     real(wp) :: interior(2) = 0.0_wp        !! interior sigma_yy / closed-form stress, same
     real(wp) :: kin_plastic(nsample) = 0.0_wp  !! largest kinetic / plastic energy in each window
     real(wp) :: energy_error = 0.0_wp       !! summary energy error
@@ -51,8 +54,7 @@ program test_wall_contact
   integer :: ib, ip
 
   do ip = PLANE_STRAIN, PLANE_STRESS
-    do ib = BASIS_UGIMP, BASIS_CPDI2
-      if (ib == BASIS_UGIMP .and. ip == PLANE_STRESS) cycle    ! see test_block
+    do ib = BASIS_LINEAR, BASIS_CPDI2
       call test_block(ib, ip, frictionless(ip))
     end do
   end do
@@ -198,6 +200,8 @@ contains
           ! interior: the middle 12 rows, away from both platens
           r%interior(k) = sum(rowsum(5:16))/12.0_wp
           r%row_dev(k) = maxval(abs(rowsum/r%interior(k) - 1.0_wp))
+          r%pair_dev(k) = maxval(abs(0.5_wp*(rowsum(1:nrow:2) + rowsum(2:nrow:2)) &
+                                     /r%interior(k) - 1.0_wp))
           r%interior(k) = -r%interior(k)/merge(2.0_wp/sqrt(3.0_wp)*sy, sy, plane == PLANE_STRAIN)
         end if
       end do
@@ -211,46 +215,80 @@ contains
     r%hist = hist(:, 1:ns)
   end function block_run
 
-  !> The frictionless block, basis b, plane: platen force within 1 % of the limit load over
-  !! 1-10 % strain (both platens), every row's mean sigma_yy within 5 % of the interior rows',
-  !! the interior at the limit stress (1 %). Quasi-static: platen at 2 m/s after a 50 us ramp
-  !! (the block's transit time is 1.7 us; inertial stress rho v^2 = 1e-4 sigma_y; kinetic /
-  !! plastic energy past 1 % strain 2-4e-3, the kinetic energy of the plastic flow itself);
-  !! about 3000 steps. CPDI1 and CPDI2 meet every criterion. uGIMP in plane strain meets the
-  !! force and energy criteria; its rows are not checked: the two rows of particles in the
-  !! cell at the fixed platen split the load (0.3 and 1.7 times the interior's at 5 %), a
-  !! zero-energy mode of two particles in one cell with the same gradients that no cell
-  !! crossing mixes there. Linear (rows alternating +-50 % in the interior too, 0.986 at 3 %)
-  !! and uGIMP and linear in plane stress (force 0.945 and 0.76 while the energy balance holds)
-  !! fail by the bases' own cell-crossing error: with exact mirror ('slip') platens the same
-  !! bases read 0.47-0.99. docs/verification.md has the numbers; neither is run here.
+  !> The frictionless block, basis b, plane: the platen force against the limit load over
+  !! 1-10 % strain (both platens), every row's mean sigma_yy against the interior rows', the
+  !! interior at the limit stress (1 %). Quasi-static: platen at 2 m/s after a 50 us ramp (the
+  !! block's transit time is 1.7 us; inertial stress rho v^2 = 1e-4 sigma_y; kinetic / plastic
+  !! energy past 1 % strain 2-4e-3, the kinetic energy of the plastic flow itself); about 3000
+  !! steps (linear 5000). What each basis is held to (docs/verification.md, "What the bases
+  !! can be held to", has the runs that show why):
+  !! - CPDI1, CPDI2, both planes: force within 1 %, every row within 5 %, energy under 0.1 %.
+  !! - uGIMP, plane strain: force within 1 %, energy under 0.1 %, and the mean of each pair of
+  !!   rows that start in one cell within 5 %, not each row: the two rows in the cell at the
+  !!   fixed platen split its load (0.40 and 1.58 times the interior's at 5 %) by the basis's
+  !!   zero-energy mode of two particles in a cell that does not move across the grid; it
+  !!   shows with an exact mirror platen too (0.88 / 1.12 at 5 %, 0.56 / 1.45 at 10 %) and
+  !!   goes when both platens move (every row within 1.9 / 4.5 %).
+  !! - uGIMP, plane stress: energy under 0.5 %, force within 1 % to 5 % strain and within 7 %
+  !!   to 10 % (0.944 at 9 %: the undeformed uGIMP domains against the grid; the same block
+  !!   on grids shifted by 0.1-0.75 cell reads 0.919-0.968, with both platens moving 0.997);
+  !!   kinetic / plastic energy up to 2.2e-2 (under 5e-2): the error sets the block ringing.
+  !! - linear, plane strain: force within 1.5 %, energy under 0.1 %; no row criterion (rows
+  !!   +-60 % everywhere: each cell holds one velocity gradient per direction for its four
+  !!   particles).
+  !! - linear, plane stress: energy under 0.5 %, force within 1.5 % at 1 % strain, before the
+  !!   first particle row crosses a node line (2.55 %), and above 0.74 after: crossings bring
+  !!   it to 0.76-0.78 from 3 to 7 %; on grids shifted by 0.1 and 0.2 cell the drop moves with
+  !!   the first crossing to 1.55 and 0.54 % strain (Bardenhagen & Kober 2004, Steffen et al.
+  !!   2008: the cell-crossing error of linear shape functions).
   subroutine test_block(b, plane, keep)
     integer, intent(in) :: b, plane
     type(block_result_t), intent(inout) :: keep
     type(block_result_t) :: r
     character(len=:), allocatable :: label
+    real(wp) :: ftol(nsample), etol, ktol
+    logical :: cpdi
     label = trim(basis_names(b))//', plane '//trim(plane_names(plane))
+    cpdi = b == BASIS_CPDI1 .or. b == BASIS_CPDI2
     call begin_test('plastic block between frictionless platens, '//label)
     r = block_run(b, plane, CONTACT_FRICTIONLESS, 0.0_wp)
     call check(r%stat == 0, 'run ok')
-    call check_close(r%ratio(1, :), [(1.0_wp, ip = 1, nsample)], &
-                     'top platen force = limit load at 1, 2, ... 10 % strain (1 %)', rtol=0.01_wp)
-    call check_close(r%ratio(2, :), [(1.0_wp, ip = 1, nsample)], &
-                     'bottom platen force = limit load at 1, 2, ... 10 % strain (1 %)', rtol=0.01_wp)
-    call check(maxval(r%kin_plastic) < 1.0e-2_wp, 'quasi-static: kinetic / plastic energy '// &
-               '< 1e-2 over 1-10 %')
-    call check(r%energy_error < 1.0e-3_wp, 'energy error under 0.1 % (the contact force works '// &
-               'on the velocity that closes the gap)')
-    if (b /= BASIS_UGIMP) then
+    ftol = 0.01_wp
+    etol = 1.0e-3_wp
+    ktol = 1.0e-2_wp
+    if (b == BASIS_UGIMP .and. plane == PLANE_STRESS) then
+      ftol(6:) = 0.07_wp
+      etol = 5.0e-3_wp
+      ktol = 5.0e-2_wp
+    else if (b == BASIS_LINEAR .and. plane == PLANE_STRAIN) then
+      ftol = 0.015_wp
+    else if (b == BASIS_LINEAR) then
+      ftol(1) = 0.015_wp
+      ftol(2:) = 0.26_wp
+      etol = 5.0e-3_wp
+    end if
+    call check(all(abs(r%ratio(1, :) - 1.0_wp) <= ftol), 'top platen force = limit load at '// &
+               '1, 2, ... 10 % strain (1 %; the basis''s tolerance above)')
+    call check(all(abs(r%ratio(2, :) - 1.0_wp) <= ftol), 'bottom platen force = limit load '// &
+               'at 1, 2, ... 10 % strain (1 %; the basis''s tolerance above)')
+    call check(maxval(r%kin_plastic) < ktol, 'quasi-static: kinetic / plastic energy '// &
+               '< 1e-2 over 1-10 % (uGIMP in plane stress 5e-2)')
+    call check(r%energy_error < etol, 'energy error under 0.1 % (0.5 % for uGIMP and linear '// &
+               'in plane stress): the contact force works on the velocity that closes the gap')
+    if (cpdi) then
       call check(all(r%row_dev < 0.05_wp), 'every row''s mean sigma_yy within 5 % of the '// &
                  'interior rows'' at 5 % and 10 % strain')
+    else if (b == BASIS_UGIMP .and. plane == PLANE_STRAIN) then
+      call check(all(r%pair_dev < 0.05_wp), 'the mean sigma_yy of each pair of rows that '// &
+                 'start in one cell within 5 % of the interior rows'' at 5 % and 10 % strain')
+    end if
+    if (cpdi .or. (b == BASIS_UGIMP .and. plane == PLANE_STRAIN)) &
       call check_close(r%interior, [1.0_wp, 1.0_wp], 'interior sigma_yy = limit stress (1 %)', &
                        rtol=0.01_wp)
-    end if
-    print '(2a,2(a,f7.4),a,2f7.4,a,2f7.4,a,es9.2,a,es9.2)', '  block ', label, &
+    print '(2a,2(a,f7.4),a,2f7.4,a,2f7.4,a,2f7.4,a,es9.2,a,es9.2)', '  block ', label, &
       ': force / limit load, 1-10 % min ', minval(r%ratio), ' max ', maxval(r%ratio), &
-      '; row deviation at 5, 10 %', r%row_dev, '; interior', r%interior, &
-      '; kinetic/plastic ', maxval(r%kin_plastic), '; energy error ', r%energy_error
+      '; row deviation at 5, 10 %', r%row_dev, ' (pairs', r%pair_dev, '); interior', &
+      r%interior, '; kinetic/plastic ', maxval(r%kin_plastic), '; energy error ', r%energy_error
     if (b == BASIS_CPDI2) keep = r
   end subroutine test_block
 
