@@ -7,14 +7,17 @@
 ! (params_t%nf > 1); a case with one body never comes here and is computed as before.
 !   detect (after P2G of the masses): the contact nodes, where two fields or more have mass;
 !     at each the local centre of mass of every field, x_f = sum_p phi_ip m_p x_p / m_f over
-!     the particles of f; for each pair of fields (a, b) the normal n = (x_b - x_a) / |...|
-!     (from a into b; on a mirror plane its component across the plane is dropped); and the
-!     gap along n between the two surfaces: the smallest x . n over the domain corners of b's
-!     particles that touch the node minus the largest over a's, counting the corners within a
-!     cell of the node along the surface (CPDI2: the shared corners; CPDI1: x -+ F r10 -+ F
-!     r20; uGIMP and linear: x -+ F (half_x, 0) -+ F (0, half_y), the particle's square
-!     deformed with it). The surfaces are exact where the domains are (CPDI), so contact
-!     engages when they meet, not when the fields first share a node (a cell or more early).
+!     the particles of f; for each pair of fields (a, b) the direction between them (from a
+!     into b; on a mirror plane its component across the plane is dropped); the domain corners
+!     of a's and b's particles that touch the node, within a cell of it along the surface
+!     (CPDI2: the shared corners; CPDI1: x -+ F r10 -+ F r20; uGIMP and linear: x -+ F
+!     (half_x, 0) -+ F (0, half_y), the particle's square deformed with it); the normal n, the
+!     direction within 60 degrees of that one that separates b's corners from a's the most,
+!     and the gap, that separation (the smallest x . n over b's corners minus the largest over
+!     a's). The surfaces are exact where the domains are (CPDI), so contact engages when they
+!     meet, not when the fields first share a node (a cell or more early); two surfaces that
+!     touch get the normal of their common tangent (the centre-of-mass direction tilts near
+!     the contact point of a curved surface, and a body sliding on it ploughed).
 !     Why not the mass gradients (Bardenhagen et al. 2001) for n: where a wall is two cells
 !     thick both of its faces fall in a node's support and their contributions nearly cancel;
 !     on two rings t = 2h the gradient normal pointed the wrong way at half the contact nodes
@@ -154,7 +157,7 @@ contains
     type(field_contact_t), intent(inout) :: fc  !! pair entries
     integer :: c, a, b, cnt, npn, ba, bb, n0, iw
     real(wp) :: nv(2), len, xn(2), m(2)
-    logical :: has(prm%nf)
+    logical :: has(prm%nf), fixed
     npn = 0
     do c = 1, fc%ncn
       cnt = 0
@@ -183,11 +186,13 @@ contains
           ! the direction from a's local centre of mass at the node to b's
           nv = fc%grad(:, b, c)/g%mass(n0 + g%nn*(b - 1)) - &
                fc%grad(:, a, c)/g%mass(n0 + g%nn*(a - 1))
+          fixed = .false.
           do iw = 1, st%nwall
             if (st%walls(iw)%contact /= CONTACT_SLIP) cycle
             m = st%walls(iw)%normal
             if (dot_product(xn - st%walls(iw)%point, m) > 1.0e-6_wp*g%h) cycle
             nv = nv - dot_product(nv, m)*m
+            fixed = .true.
           end do
           len = sqrt(nv(1)**2 + nv(2)**2)
           if (.not. len > 1.0e-9_wp*g%h) cycle
@@ -200,28 +205,37 @@ contains
           fc%pn_pair(fc%npn) = 0
           if (ba /= bb) fc%pn_pair(fc%npn) = pair_index(ba, bb, prm%nbody)
           fc%pn_n(:, fc%npn) = nv/len
+          fc%pn_fixed(fc%npn) = fixed
         end do
       end do
     end do
     fc%first(fc%ncn + 1) = fc%npn + 1
   end subroutine find_pairs
 
-  !> The gap of every pair entry: the smallest x . n over the domain corners of b's particles
-  !! that touch the node minus the largest over a's, counting the corners within a cell of
-  !! the node along the surface only.
+  !> The normal and gap of every pair entry from the two surfaces near its node: the domain
+  !! corners of a's and b's particles that touch the node, within a cell of it along the
+  !! surface (across the centre-of-mass normal); the normal is the direction that separates
+  !! the two sets the most (separating_normal), the gap their distance along it.
   subroutine surface_gaps(prm, p, g, wk)
     type(params_t), intent(in) :: prm      !! parameters (fields, basis)
     type(particles_t), intent(in) :: p     !! particles
     type(grid_t), intent(in) :: g          !! grid
-    type(work_t), intent(inout) :: wk      !! basis cache; gaps
-    integer :: e
+    type(work_t), intent(inout) :: wk      !! basis cache; normals and gaps
+    integer :: e, k0, k1
     associate (fc => wk%fc)
-      call extremes(prm, p, g, wk)
+      call gather_corners(prm, p, g, wk, .false.)
+      call gather_corners(prm, p, g, wk, .true.)
       fc%gap_min = no_gap
       do e = 1, fc%npn
-        if (fc%pn_ext(1, e) > -huge(1.0_wp) .and. fc%pn_ext(2, e) < huge(1.0_wp)) then
+        k0 = fc%cq_first(e)
+        k1 = fc%cq_first(e + 1) - 1
+        if (any(fc%cq_b(k0:k1)) .and. .not. all(fc%cq_b(k0:k1))) then
+          if (.not. fc%pn_fixed(e)) call separating_normal(fc%cq(:, k0:k1), fc%cq_b(k0:k1), &
+                                                          fc%pn_n(:, e))
+          call extremes(fc%cq(:, k0:k1), fc%cq_b(k0:k1), fc%pn_n(:, e), fc%pn_ext(:, e))
           fc%pn_gap(e) = fc%pn_ext(2, e) - fc%pn_ext(1, e)
         else
+          fc%pn_ext(:, e) = [-huge(1.0_wp), huge(1.0_wp)]
           fc%pn_gap(e) = no_gap
         end if
         fc%gap_min = min(fc%gap_min, fc%pn_gap(e))
@@ -229,17 +243,32 @@ contains
     end associate
   end subroutine surface_gaps
 
-  !> The extremes of a's and b's corners along the normal of every pair entry (pn_ext).
-  subroutine extremes(prm, p, g, wk)
+  !> The surface corners of every pair entry (cq, cq_b, cq_first): the domain corners of a's
+  !! and b's particles that touch the entry's node, within a cell of the node along the
+  !! surface (across the entry's normal). First pass (fill false) counts, second fills.
+  subroutine gather_corners(prm, p, g, wk, fill)
     type(params_t), intent(in) :: prm      !! parameters (fields, basis)
     type(particles_t), intent(in) :: p     !! particles
     type(grid_t), intent(in) :: g          !! grid
-    type(work_t), intent(inout) :: wk      !! basis cache; extremes
-    integer :: k, ip, f, a, b, kk, c, e, nb
-    real(wp) :: xq(2, 4), d(4), xn(2)
+    type(work_t), intent(inout) :: wk      !! basis cache; surface corners
+    logical, intent(in) :: fill            !! second pass: store the corners
+    integer :: k, ip, f, a, b, kk, c, e, nb, q, slot
+    real(wp) :: xq(2, 4), xn(2)
     associate (fc => wk%fc)
-      fc%pn_ext(1, 1:fc%npn) = -huge(1.0_wp)
-      fc%pn_ext(2, 1:fc%npn) = huge(1.0_wp)
+      if (.not. fill) then
+        fc%cq_first(1:fc%npn + 1) = 0          ! entry e counts in cq_first(e + 1)
+      else
+        fc%cq_first(1) = 1                     ! counts -> first corner of each entry, then
+        do e = 1, fc%npn                       ! cq_first(e + 1) is e's next free slot
+          fc%cq_first(e + 1) = fc%cq_first(e) + fc%cq_first(e + 1)
+        end do
+        if (allocated(fc%cq)) then
+          if (size(fc%cq_b) < fc%cq_first(fc%npn + 1)) deallocate(fc%cq, fc%cq_b)
+        end if
+        if (.not. allocated(fc%cq)) allocate(fc%cq(2, 2*fc%cq_first(fc%npn + 1)), &
+                                             fc%cq_b(2*fc%cq_first(fc%npn + 1)))
+        fc%cq_first(2:fc%npn + 1) = fc%cq_first(1:fc%npn)
+      end if
       nb = wk%nb
       do k = 1, fc%nplist
         ip = fc%plist(k)
@@ -255,23 +284,95 @@ contains
             xn(2) = g%origin(2) + g%h*real(wk%blk(2, ip) + b, wp)
             do e = fc%first(c), fc%first(c + 1) - 1
               if (fc%pn_a(e) /= f .and. fc%pn_b(e) /= f) cycle
-              d = fc%pn_n(1, e)*xq(1, :) + fc%pn_n(2, e)*xq(2, :)
-              ! only the corners within a cell of the node along the surface
-              where (abs(fc%pn_n(2, e)*(xq(1, :) - xn(1)) - fc%pn_n(1, e)*(xq(2, :) - xn(2))) &
-                     > tang_window*g%h)
-                d = merge(-huge(1.0_wp), huge(1.0_wp), fc%pn_a(e) == f)
-              end where
-              if (fc%pn_a(e) == f) then
-                fc%pn_ext(1, e) = max(fc%pn_ext(1, e), maxval(d))
-              else
-                fc%pn_ext(2, e) = min(fc%pn_ext(2, e), minval(d))
-              end if
+              do q = 1, 4
+                ! only the corners within a cell of the node along the surface
+                if (abs(fc%pn_n(2, e)*(xq(1, q) - xn(1)) - fc%pn_n(1, e)*(xq(2, q) - xn(2))) &
+                    > tang_window*g%h) cycle
+                if (.not. fill) then
+                  fc%cq_first(e + 1) = fc%cq_first(e + 1) + 1
+                else
+                  slot = fc%cq_first(e + 1)
+                  fc%cq(:, slot) = xq(:, q)
+                  fc%cq_b(slot) = fc%pn_b(e) == f
+                  fc%cq_first(e + 1) = slot + 1
+                end if
+              end do
             end do
           end do
         end do
       end do
     end associate
+  end subroutine gather_corners
+
+  !> a's surface along n (the largest x . n over its corners) and b's (the smallest).
+  pure subroutine extremes(q, isb, n, ext)
+    real(wp), intent(in) :: q(:,:)         !! corners (2, k) [m]
+    logical, intent(in) :: isb(:)          !! b's corner (k)
+    real(wp), intent(in) :: n(2)           !! unit normal from a into b [-]
+    real(wp), intent(out) :: ext(2)        !! a's and b's surface along n [m]
+    real(wp) :: d
+    integer :: k
+    ext = [-huge(1.0_wp), huge(1.0_wp)]
+    do k = 1, size(isb)
+      d = n(1)*q(1, k) + n(2)*q(2, k)
+      if (isb(k)) then
+        ext(2) = min(ext(2), d)
+      else
+        ext(1) = max(ext(1), d)
+      end if
+    end do
   end subroutine extremes
+
+  !> The direction that separates b's corners from a's the most: the unit n within
+  !! max_turn of the given one (the centre-of-mass normal) that maximises min_b x . n -
+  !! max_a x . n (golden-section search on the angle). Two surfaces that touch give their
+  !! common tangent's normal (a ring on a flat block: the block's normal), where the
+  !! centre-of-mass normal tilts with the part of the curved surface near the node.
+  pure subroutine separating_normal(q, isb, n)
+    real(wp), intent(in) :: q(:,:)         !! corners (2, k) [m]
+    logical, intent(in) :: isb(:)          !! b's corner (k)
+    real(wp), intent(inout) :: n(2)        !! unit normal from a into b: in, the initial
+                                           !! one; out, the separating one [-]
+    real(wp), parameter :: max_turn = 1.0471975511965976_wp  !! pi/3 [rad]
+    real(wp), parameter :: tol = 1.0e-7_wp !! angle tolerance [rad]
+    real(wp), parameter :: gr = 0.6180339887498949_wp  !! golden ratio - 1
+    real(wp) :: n0(2), t0(2), lo, hi, x1, x2, f1, f2
+    n0 = n
+    t0 = [-n0(2), n0(1)]
+    lo = -max_turn
+    hi = max_turn
+    x1 = hi - gr*(hi - lo)
+    x2 = lo + gr*(hi - lo)
+    f1 = sep(x1)
+    f2 = sep(x2)
+    do while (hi - lo > tol)
+      if (f1 < f2) then
+        lo = x1
+        x1 = x2
+        f1 = f2
+        x2 = lo + gr*(hi - lo)
+        f2 = sep(x2)
+      else
+        hi = x2
+        x2 = x1
+        f2 = f1
+        x1 = hi - gr*(hi - lo)
+        f1 = sep(x1)
+      end if
+    end do
+    x1 = 0.5_wp*(lo + hi)
+    if (sep(x1) > sep(0.0_wp)) then
+      n = cos(x1)*n0 + sin(x1)*t0
+      n = n/sqrt(n(1)**2 + n(2)**2)
+    end if
+  contains
+    pure real(wp) function sep(phi)
+      real(wp), intent(in) :: phi          !! turn from n0 [rad]
+      real(wp) :: e(2)
+      call extremes(q, isb, cos(phi)*n0 + sin(phi)*t0, e)
+      sep = e(2) - e(1)
+    end function sep
+  end subroutine separating_normal
 
   !> The corners of the domain of particle ip as it is deformed now (for the gaps).
   pure function domain_corners(p, basis, ip) result(xq)

@@ -42,6 +42,11 @@ module mpm_contact_law
     real(wp), allocatable :: pn_ext(:,:)   !! a's surface along n (largest x . n) and b's
                                            !! (smallest x . n) (2, npn) [m]
     real(wp), allocatable :: pn_gap(:)     !! gap between the surfaces along n (npn) [m]
+    logical, allocatable :: pn_fixed(:)    !! normal held by a mirror plane (npn)
+    integer, allocatable :: cq_first(:)    !! first surface corner of each entry (npn + 1)
+    real(wp), allocatable :: cq(:,:)       !! the entries' surface corners near their nodes
+                                           !! (2, ncq) [m]
+    logical, allocatable :: cq_b(:)        !! the corner is b's (else a's) (ncq)
     integer :: nplist = 0                  !! particles whose block holds a contact node
     integer, allocatable :: plist(:)       !! those particles (np)
     real(wp), allocatable :: pair_imp(:,:) !! per pair of bodies this step: normal impulse and
@@ -92,7 +97,8 @@ contains
     if (.not. allocated(fc%node)) then
       allocate(fc%node(64), fc%grad(2, nf, 64), fc%first(65))
       allocate(fc%pn_a(64), fc%pn_b(64), fc%pn_cn(64), fc%pn_law(64), fc%pn_pair(64), &
-               fc%pn_mu(64), fc%pn_n(2, 64), fc%pn_ext(2, 64), fc%pn_gap(64))
+               fc%pn_mu(64), fc%pn_n(2, 64), fc%pn_ext(2, 64), fc%pn_gap(64), &
+               fc%pn_fixed(64), fc%cq_first(65))
     end if
     if (ncn > size(fc%node)) then
       m = max(ncn, 2*size(fc%node))
@@ -108,9 +114,10 @@ contains
     if (npn > size(fc%pn_a)) then
       m = max(npn, 2*size(fc%pn_a))
       deallocate(fc%pn_a, fc%pn_b, fc%pn_cn, fc%pn_law, fc%pn_pair, fc%pn_mu, fc%pn_n, &
-                 fc%pn_ext, fc%pn_gap)
+                 fc%pn_ext, fc%pn_gap, fc%pn_fixed, fc%cq_first)
       allocate(fc%pn_a(m), fc%pn_b(m), fc%pn_cn(m), fc%pn_law(m), fc%pn_pair(m), &
-               fc%pn_mu(m), fc%pn_n(2, m), fc%pn_ext(2, m), fc%pn_gap(m))
+               fc%pn_mu(m), fc%pn_n(2, m), fc%pn_ext(2, m), fc%pn_gap(m), fc%pn_fixed(m), &
+               fc%cq_first(m + 1))
     end if
   end subroutine field_contact_reserve
 end module mpm_contact_law
