@@ -184,8 +184,8 @@ contains
     end do
     call quad_jacobians(xc, cj, area)
     if (present(jmin)) then
-      if (area > 0.0_wp) then
-        jmin = minval(cj)/area
+      if (area > 0.0_wp) then                  ! (min, not minval: no NaN care needed here)
+        jmin = min(cj(1), cj(2), cj(3), cj(4))/area
       else
         call cpdi2_geometry(xc, area, cen, jmin)
       end if
@@ -324,8 +324,13 @@ contains
     real(wp) :: fx, fy, n1, n2, n3, n4
     integer :: c, ic, jc, k
 
-    w = 0.0_wp
-    gw = 0.0_wp
+    if (nb == 3) then                       ! the usual width: zeroed in line, not by memset
+      w(1:9) = 0.0_wp
+      gw(:, 1:9) = 0.0_wp
+    else
+      w = 0.0_wp
+      gw = 0.0_wp
+    end if
     do c = 1, 4
       ic = min(floor(sc(1, c)), ihi - 1)
       jc = min(floor(sc(2, c)), jhi - 1)

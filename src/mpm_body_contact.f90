@@ -117,7 +117,7 @@ contains
     type(particles_t), intent(in) :: p     !! particles
     type(grid_t), intent(in) :: g          !! grid
     type(work_t), intent(inout) :: wk      !! basis cache; gradients, particle list
-    integer :: ip, a, b, kk, c, nb
+    integer :: ip, a, b, kk, c, nb, k, lo(2), hi(2)
     logical :: touched
     associate (fc => wk%fc)
       fc%grad(:, :, 1:fc%ncn) = 0.0_wp
@@ -125,14 +125,24 @@ contains
       if (fc%ncn == 0) return
       if (.not. allocated(fc%plist)) allocate(fc%plist(p%np))
       nb = wk%nb
+      ! the node range of the contact nodes: a particle whose block lies outside it touches
+      ! none (most particles; the contact map is read only for the others)
+      lo = huge(1)
+      hi = -huge(1)
+      do k = 1, fc%ncn
+        lo = min(lo, [mod(fc%node(k) - 1, g%nx), (fc%node(k) - 1)/g%nx])
+        hi = max(hi, [mod(fc%node(k) - 1, g%nx), (fc%node(k) - 1)/g%nx])
+      end do
       do ip = 1, p%np
+        if (wk%blk(1, ip) > hi(1) .or. wk%blk(1, ip) + nb - 1 < lo(1) .or. &
+            wk%blk(2, ip) > hi(2) .or. wk%blk(2, ip) + nb - 1 < lo(2)) cycle
         touched = .false.
         do b = 0, nb - 1
           do a = 0, nb - 1
             kk = 1 + a + nb*b
-            if (wk%w(kk, ip) == 0.0_wp .and. all(wk%gw(:, kk, ip) == 0.0_wp)) cycle
             c = fc%cmap(1 + wk%blk(1, ip) + a + g%nx*(wk%blk(2, ip) + b))
             if (c == 0) cycle
+            if (wk%w(kk, ip) == 0.0_wp .and. all(wk%gw(:, kk, ip) == 0.0_wp)) cycle
             fc%grad(:, prm%field(ip), c) = fc%grad(:, prm%field(ip), c) + &
                                            (wk%w(kk, ip)*p%mass(ip))*p%x(:, ip)
             touched = .true.

@@ -66,20 +66,23 @@ contains
     real(wp), intent(in) :: dt             !! time step [s]
     integer :: k, i0, i1, j0, j1, i, j, n, f
     real(wp) :: tol
+    logical :: near
     call wall_setup(st, g, wk, dt, tol)
     !$omp parallel do default(none) schedule(static) shared(st, g, tl, wk, dt, tol) &
-    !$omp   private(k, i0, i1, j0, j1, i, j, n, f) if(wk%par)
+    !$omp   private(k, i0, i1, j0, j1, i, j, n, f, near) if(wk%par)
     do k = 1, tl%nspan
       call tiles_span(tl, k, i0, i1, j0, j1)
+      near = span_near_slip(st, wk, g, i0, i1, j0, j1)
       do f = 0, g%nf - 1
         do j = j0, j1
           do i = i0, i1
             n = 1 + i + g%nx*j + f*g%nn
             if (g%mass(n) > g%mass_cut) then
               g%vel(:, n) = g%mom(:, n)/g%mass(n)
-              if (st%nwall > 0) call node_walls(st, wk, g, tl, i, j, n, tol, 0, 0.0_wp)
+              if (near) call node_walls(st, wk, g, tl, i, j, n, tol, 0, 0.0_wp)
             else
-              g%vel(:, n) = 0.0_wp
+              g%vel(1, n) = 0.0_wp             ! (element by element: no memset call)
+              g%vel(2, n) = 0.0_wp
             end if
           end do
         end do
@@ -101,6 +104,7 @@ contains
     real(wp), intent(in) :: dt             !! time step [s]
     integer :: k, i0, i1, j0, j1, i, j, n, nact, iw, f
     real(wp) :: v0(2), v1(2), fac, edamp, damping, tol, flip
+    logical :: near
     call wall_setup(st, g, wk, dt, tol)
     call surface_forces(prm, st, g, wk, dt)
     flip = prm%flip
@@ -109,9 +113,11 @@ contains
     nact = 0
     !$omp parallel do default(none) schedule(static) &
     !$omp   shared(st, g, tl, wk, dt, fac, damping, tol, flip) &
-    !$omp   private(k, i0, i1, j0, j1, i, j, n, v0, v1, edamp, f) reduction(+: nact) if(wk%par)
+    !$omp   private(k, i0, i1, j0, j1, i, j, n, v0, v1, edamp, f, near) reduction(+: nact) &
+    !$omp   if(wk%par)
     do k = 1, tl%nspan
       call tiles_span(tl, k, i0, i1, j0, j1)
+      near = span_near_slip(st, wk, g, i0, i1, j0, j1)
       edamp = 0.0_wp
       tl%span_sum(:, k) = 0.0_wp
       do f = 0, g%nf - 1
@@ -119,8 +125,10 @@ contains
           do i = i0, i1
             n = 1 + i + g%nx*j + f*g%nn
             if (.not. g%mass(n) > g%mass_cut) then
-              g%vel(:, n) = 0.0_wp
-              g%dvel(:, n) = 0.0_wp
+              g%vel(1, n) = 0.0_wp             ! (element by element: no memset call)
+              g%vel(2, n) = 0.0_wp
+              g%dvel(1, n) = 0.0_wp
+              g%dvel(2, n) = 0.0_wp
               cycle
             end if
             nact = nact + 1
@@ -132,7 +140,7 @@ contains
             end if
             g%vel(:, n) = v1
             g%dvel(:, n) = v1 - v0
-            if (st%nwall > 0) call node_walls(st, wk, g, tl, i, j, n, tol, k, flip)
+            if (near) call node_walls(st, wk, g, tl, i, j, n, tol, k, flip)
           end do
         end do
       end do
@@ -303,6 +311,36 @@ contains
     end do
     tol = 1.0e-6_wp*g%h
   end subroutine wall_setup
+
+  !> Whether a 'slip' plane can act on a node of the span (nodes i0..i1 by j0..j1): some plane
+  !! is within a cell of one of its corner nodes or behind it. The distance to a plane is
+  !! linear over the span, so a span whose four corners all lie more than a cell in front of
+  !! every plane has no node that node_walls would change (its test is distance <= tol, a
+  !! millionth of a cell; the cell of margin covers every rounding).
+  pure logical function span_near_slip(st, wk, g, i0, i1, j0, j1) result(near)
+    type(state_t), intent(in) :: st        !! state (walls)
+    type(work_t), intent(in) :: wk         !! per wall: point, normal (wall_work)
+    type(grid_t), intent(in) :: g          !! grid (origin, cell size)
+    integer, intent(in) :: i0, i1, j0, j1  !! node columns and rows of the span
+    integer :: iw
+    real(wp) :: xlo(2), xhi(2), d(4)
+    near = .false.
+    xlo = g%origin + g%h*real([i0, j0], wp)
+    xhi = g%origin + g%h*real([i1, j1], wp)
+    do iw = 1, st%nwall
+      if (st%walls(iw)%contact /= CONTACT_SLIP) cycle
+      associate (pw => wk%wall_work(3:4, iw), nw => wk%wall_work(5:6, iw))
+        d(1) = (xlo(1) - pw(1))*nw(1) + (xlo(2) - pw(2))*nw(2)
+        d(2) = (xhi(1) - pw(1))*nw(1) + (xlo(2) - pw(2))*nw(2)
+        d(3) = (xlo(1) - pw(1))*nw(1) + (xhi(2) - pw(2))*nw(2)
+        d(4) = (xhi(1) - pw(1))*nw(1) + (xhi(2) - pw(2))*nw(2)
+      end associate
+      if (.not. all(d > g%h)) then          ! (NaN: near, as node_walls would test)
+        near = .true.
+        return
+      end if
+    end do
+  end function span_near_slip
 
   !> The 'slip' mirror planes, in order, on active node n = (i, j): a node on or behind the
   !! plane moves with it along the normal. With k > 0 (step 3) the FLIP increment dvel is the

@@ -195,16 +195,17 @@ contains
     real(wp), intent(in) :: xq(2, 4)          !! corners [m]
     real(wp), intent(out) :: area             !! signed area [m^2]
     real(wp), intent(out) :: c(2)             !! centroid [m]
-    integer :: a, b
-    real(wp) :: cr, s(2)
-    area = 0.0_wp
-    s = 0.0_wp
-    do a = 1, 4
-      b = mod(a, 4) + 1
-      cr = xq(1, a)*xq(2, b) - xq(1, b)*xq(2, a)
-      area = area + cr
-      s = s + (xq(:, a) + xq(:, b))*cr
-    end do
+    real(wp) :: cr(4), s(2)
+    ! edge a from corner a to corner a + 1 (4 to 1), summed in that order
+    cr(1) = xq(1, 1)*xq(2, 2) - xq(1, 2)*xq(2, 1)
+    cr(2) = xq(1, 2)*xq(2, 3) - xq(1, 3)*xq(2, 2)
+    cr(3) = xq(1, 3)*xq(2, 4) - xq(1, 4)*xq(2, 3)
+    cr(4) = xq(1, 4)*xq(2, 1) - xq(1, 1)*xq(2, 4)
+    area = 0.0_wp + cr(1) + cr(2) + cr(3) + cr(4)
+    s = 0.0_wp + (xq(:, 1) + xq(:, 2))*cr(1)
+    s = s + (xq(:, 2) + xq(:, 3))*cr(2)
+    s = s + (xq(:, 3) + xq(:, 4))*cr(3)
+    s = s + (xq(:, 4) + xq(:, 1))*cr(4)
     area = 0.5_wp*area
     c = s/(6.0_wp*area)
   end subroutine quad_area_centroid
