@@ -11,6 +11,12 @@ kinetic energy.
 
     python3 plots/plot_bodies.py --case namelists/contact/nested.nml
     python3 plots/plot_bodies.py --dir out/stack --out stack_bodies.png
+    python3 plots/plot_bodies.py --case namelists/contact/row3.nml \
+        --reference out/row3_single --scale 3
+
+--reference OUTDIR draws the force of another run (its first moving platen against that
+platen's travel) times --scale on the force plot: for the row of three tubes, three times one
+tube crushed alone.
 """
 from __future__ import annotations
 
@@ -59,10 +65,16 @@ def main(argv: list[str] | None = None) -> int:
     src.add_argument("--case", metavar="FILE.nml", help="the case file")
     src.add_argument("--dir", metavar="OUTDIR", help="the output folder of a run")
     p.add_argument("--out", metavar="PNG", help="output image (default <outdir>/bodies.png)")
+    p.add_argument("--reference", metavar="OUTDIR", help="output folder of a reference run "
+                   "whose platen force (times --scale) is drawn over the system's")
+    p.add_argument("--scale", type=float, default=1.0, metavar="K",
+                   help="factor on the reference force (default 1)")
     args = p.parse_args(argv)
     try:
         outdir, inputs = scene.resolve_case(args.case, args.dir)
         h = readers.read_history(os.path.join(outdir, "history.csv"))
+        ref = (readers.read_history(os.path.join(args.reference, "history.csv"))
+               if args.reference else None)
     except (OSError, ValueError, KeyError) as exc:
         print(f"ERROR [plot_bodies]: {exc}", file=sys.stderr)
         return 2
@@ -81,6 +93,15 @@ def main(argv: list[str] | None = None) -> int:
     fig, (a1, a2) = plt.subplots(1, 2, layout="constrained", figsize=(11.0, 4.2))
     if k:
         a1.plot(x, h[f"wall{k}_force"] * 1e-3, color="k", lw=1.6, label=f"system (wall {k})")
+    if ref is not None:
+        kr = moving_wall(ref)
+        if not kr:
+            print(f"ERROR [plot_bodies]: {args.reference}/history.csv: no wall moves",
+                  file=sys.stderr)
+            return 2
+        name = os.path.basename(os.path.normpath(args.reference))
+        a1.plot(-ref[f"wall{kr}_disp"] * 1e3, args.scale * ref[f"wall{kr}_force"] * 1e-3,
+                color="0.5", ls="--", lw=1.2, label=f"{args.scale:g} x {name} (wall {kr})")
     for i, j in pairs(h):
         a1.plot(x, h[f"contact{i}_{j}_force"] * 1e-3, lw=1.0, label=f"contact {i}-{j}")
     a1.set_xlabel(xlabel)

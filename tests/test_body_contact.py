@@ -3,7 +3,8 @@
 """Contact between bodies (multi-field MPM, docs/theory.md "Contact between bodies"), run with the
 binary under test; every oracle is outside the contact code:
 
-0. the scenes of namelists/contact/ pass --check;
+0. the scenes of namelists/contact/ (two_rings, nested, nested_eccentric, stack, row3 and its
+   reference row3_single, plates) are there and pass --check;
 1. two identical aluminium rings colliding head-on at +-30 m/s (frictionless) against one ring
    hitting a frictionless rigid wall at 30 m/s, the same resolution (h = t/4): by symmetry the
    same motion. Contact time (force above 1 % of its peak), rebound speed and plastic work of
@@ -265,7 +266,10 @@ def stack(scratch: Path) -> None:
 def shipped() -> None:
     """The scenes of namelists/contact/ are valid input (--check exits 0)."""
     files = sorted((ROOT / "namelists" / "contact").glob("*.nml"))
-    check(len(files) >= 4, f"namelists/contact/ holds the contact scenes ({len(files)} files)")
+    names = {f.stem for f in files}
+    for want in ("two_rings", "nested", "nested_eccentric", "stack", "row3", "row3_single",
+                 "plates"):
+        check(want in names, f"namelists/contact/{want}.nml exists")
     for f in files:
         res = subprocess.run([os.environ.get("TUBEMPM", str(ROOT / "bin" / "tubempm")),
                               "--check", str(f)], capture_output=True, text=True)

@@ -3,15 +3,16 @@
 # Run the paper's three scenes (namelists/crush.nml, impact.nml, wave.nml) with the release build
 # and write their figures to docs/figures/ (PNG) and their key numbers to docs/figures/scenes.txt.
 # The scenes of several bodies in contact (namelists/contact/: two_rings, nested,
-# nested_eccentric, stack) run when named; their figures are <scene>_bodies.png (forces and
-# energies per body), <scene>_shapes.png (coloured by body) and <scene>_eqps.png, their numbers
-# go to build/scenes.txt.
+# nested_eccentric, stack, row3, plates) run when named (row3 also runs its one-tube reference
+# row3_single.nml, drawn three times over the row's force); their figures are
+# <scene>_bodies.png (forces and energies per body), <scene>_shapes.png (coloured by body) and
+# <scene>_eqps.png, their numbers go to build/scenes.txt.
 # Two runs at once with one thread each (the machine has two cores).
 # A subset of the scenes writes its figures but not scenes.txt (the numbers of all three scenes):
 # its numbers go to build/scenes.txt instead.
 #   usage: tools/run_scenes.sh [scene ...]      (default: crush impact wave)
 set -eu
-usage() { echo "usage: tools/run_scenes.sh [crush] [impact] [wave] [two_rings] [nested] [nested_eccentric] [stack]"
+usage() { echo "usage: tools/run_scenes.sh [crush] [impact] [wave] [two_rings] [nested] [nested_eccentric] [stack] [row3] [plates]"
           echo "  (default: crush impact wave) runs namelists/<scene>.nml (namelists/contact/ for the"
           echo "  scenes of several bodies; release build bin/tubempm), writes docs/figures/<scene>.png"
           echo "  and <scene>_shapes.png (several bodies: <scene>_bodies.png, _shapes.png, _eqps.png),"
@@ -19,7 +20,7 @@ usage() { echo "usage: tools/run_scenes.sh [crush] [impact] [wave] [two_rings] [
 for a in "$@"; do
   case $a in
     -h|--help) usage; exit 0 ;;
-    crush|impact|wave|two_rings|nested|nested_eccentric|stack) ;;
+    crush|impact|wave|two_rings|nested|nested_eccentric|stack|row3|plates) ;;
     *) echo "ERROR [run_scenes]: unknown scene '$a'" >&2; usage >&2; exit 2 ;;
   esac
 done
@@ -37,8 +38,10 @@ run() {
     || { echo "scene $c failed:"; tail -5 "build/scene_$c.log"; return 1; }
 }
 mkdir -p build
+runs=
+for c in $scenes; do runs="$runs $c"; [ "$c" = row3 ] && runs="$runs row3_single"; done
 pids=()
-for c in $scenes; do
+for c in $runs; do
   run "$c" & pids+=($!)
   while [ "$(jobs -rp | wc -l)" -ge 2 ]; do sleep 2; done
 done
@@ -52,7 +55,8 @@ for c in $scenes; do
       $py plots/plot_case.py --case "namelists/$c.nml" --out "docs/figures/$c.png"
       $py plots/plot_shapes.py --case "namelists/$c.nml" --out "docs/figures/${c}_shapes.png"
     else
-      $py plots/plot_bodies.py --case "$(nml "$c")" --out "docs/figures/${c}_bodies.png"
+      ref=(); [ "$c" = row3 ] && ref=(--reference out/row3_single --scale 3)
+      $py plots/plot_bodies.py --case "$(nml "$c")" "${ref[@]}" --out "docs/figures/${c}_bodies.png"
       $py plots/plot_shapes.py --case "$(nml "$c")" --colour body --out "docs/figures/${c}_shapes.png"
       $py plots/plot_shapes.py --case "$(nml "$c")" --out "docs/figures/${c}_eqps.png"
     fi
