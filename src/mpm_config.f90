@@ -235,9 +235,8 @@ contains
     call store_rows(rd, io, v, f)
     select case (ig)
     case (1)
-      if (cfg%run%cfl > 1.0_wp) call warn_var(rd, io, 'cfl', 'above 1 the explicit step '// &
-        'exceeds the stable limit of the grid: the run will most likely stop with exit 4 '// &
-        '(use 0.1-0.3)')
+      ! a cfl above the stability study's limit is warned of in advice_checks (it depends
+      ! on the basis, the scheme and the particles per cell)
     case (3)
       call check_grid(rd, io, v, cfg%grid)
     case (4)

@@ -19,6 +19,8 @@ module mpm_contact
   use mpm_walls, only: wall_velocity, wall_mirror_node, wall_travel
   use mpm_surface_contact, only: surface_points, surface_push, surface_friction, surface_energy, &
                                  contact_alpha
+  use mpm_surface_curve, only: surface_curve_points
+  use mpm_constants, only: BASIS_CPDI2
   use mpm_state, only: params_t, state_t, work_t
   use mpm_strings, only: itoa, rtoa
   implicit none
@@ -171,14 +173,20 @@ contains
     type(grid_t), intent(inout) :: g       !! grid: forces
     type(work_t), intent(inout) :: wk      !! per-wall data, surface points
     real(wp), intent(in) :: dt             !! time step [s]
-    integer :: iw
-    real(wp) :: imp(2)
+    integer :: iw, nm
+    real(wp) :: imp(2), mirror(4, st%nwall)
     call surface_allocate(st, wk)
     st%e_contact = 0.0_wp
     do iw = 1, st%nwall
       if (st%walls(iw)%contact == CONTACT_SLIP) cycle
-      call surface_points(st%p, prm%basis, wk%wall_work(3:4, iw), wk%wall_work(5:6, iw), &
-                          stiffness(prm, g), wk%surf(iw))
+      if (prm%basis == BASIS_CPDI2 .and. prm%surface_curve) then
+        call mirror_planes(st, mirror, nm)
+        call surface_curve_points(st%p, wk%wall_work(3:4, iw), wk%wall_work(5:6, iw), &
+                                  stiffness(prm, g), mirror(:, 1:nm), 1.0e-6_wp*g%h, wk%surf(iw))
+      else
+        call surface_points(st%p, prm%basis, wk%wall_work(3:4, iw), wk%wall_work(5:6, iw), &
+                            stiffness(prm, g), wk%surf(iw))
+      end if
       st%e_contact = st%e_contact + surface_energy(wk%surf(iw))
       call surface_push(wk%surf(iw), g%origin, g%h, g%nx, g%ny, g%mass, g%mass_cut, wk%nb, &
                         wk%blk, wk%w, wk%gw, wk%wall_work(5:6, iw), dt, g%force, imp, g%nf, &
@@ -232,18 +240,39 @@ contains
     type(state_t), intent(inout) :: st     !! state: e_contact
     type(grid_t), intent(in) :: g          !! grid (cell size)
     type(work_t), intent(inout) :: wk      !! surface points (overwritten)
-    integer :: iw
-    real(wp) :: xw(2)
+    integer :: iw, nm
+    real(wp) :: xw(2), mirror(4, st%nwall)
     st%e_contact = 0.0_wp
     call surface_allocate(st, wk)
     do iw = 1, st%nwall
       if (st%walls(iw)%contact == CONTACT_SLIP) cycle
       xw = st%walls(iw)%point0 - wall_travel(st%walls(iw), st%t)*st%walls(iw)%normal
-      call surface_points(st%p, prm%basis, xw, st%walls(iw)%normal, stiffness(prm, g), &
-                          wk%surf(iw))
+      if (prm%basis == BASIS_CPDI2 .and. prm%surface_curve) then
+        call mirror_planes(st, mirror, nm)
+        call surface_curve_points(st%p, xw, st%walls(iw)%normal, stiffness(prm, g), &
+                                  mirror(:, 1:nm), 1.0e-6_wp*g%h, wk%surf(iw))
+      else
+        call surface_points(st%p, prm%basis, xw, st%walls(iw)%normal, stiffness(prm, g), &
+                            wk%surf(iw))
+      end if
       st%e_contact = st%e_contact + surface_energy(wk%surf(iw))
     end do
   end subroutine contact_energy
+
+  !> The 'slip' mirror planes now: a point and the unit normal of each (4, nm) [m, -].
+  subroutine mirror_planes(st, mirror, nm)
+    type(state_t), intent(in) :: st        !! state (walls, time)
+    real(wp), intent(out) :: mirror(:,:)   !! point and normal of each (4, >= nm)
+    integer, intent(out) :: nm             !! mirror planes
+    integer :: jw
+    nm = 0
+    do jw = 1, st%nwall
+      if (st%walls(jw)%contact /= CONTACT_SLIP) cycle
+      nm = nm + 1
+      mirror(1:2, nm) = st%walls(jw)%point0 - wall_travel(st%walls(jw), st%t)*st%walls(jw)%normal
+      mirror(3:4, nm) = st%walls(jw)%normal
+    end do
+  end subroutine mirror_planes
 
   !> Penalty stiffness per unit mass of a surface point, alpha (c / h)^2 [1/s^2]
   !! (mpm_surface_contact).

@@ -58,6 +58,8 @@ module mpm_state
                                            !! speed: the energy scale of the start of a
                                            !! crush, when the work done is still tiny [J/m]
     logical :: deterministic = .false.     !! results independent of the thread count
+    logical :: surface_curve = .true.      !! CPDI2 wall contact on the surface curve
+                                           !! (mpm_surface_curve), else on the corners
     real(wp) :: max_nodes = 2147483647.0_wp  !! most grid nodes a fitted grid may grow to:
                                            !! what the memory available holds (mpm_budget) [-]
     integer :: parallel_min = 4096         !! particles from which loops run in parallel: below,

@@ -49,7 +49,7 @@ module mpm_surface_contact
   implicit none
   private
   public :: surface_work_t, surface_points, surface_energy, surface_push, surface_friction, &
-            contact_alpha
+            contact_alpha, surface_reserve, corner_masses
 
   real(wp), parameter :: contact_alpha = 1.0_wp  !! penalty stiffness over the material's [-]
   integer, parameter :: max_sweeps = 200     !! Gauss-Seidel sweeps at most [-]
@@ -74,6 +74,16 @@ module mpm_surface_contact
     real(wp), allocatable :: lam(:,:)      !! normal and tangential impulses (2, n) [kg/s]
     real(wp), allocatable :: corner_mass(:)  !! CPDI2: mass share of each corner (nc) [kg/m]
     integer :: sweeps = 0                  !! sweeps taken by the last friction solve
+    ! CPDI2 surface curve (mpm_surface_curve): a point is a quadrature point of the curve,
+    ! a combination of three domain corners
+    logical :: curve = .false.             !! the points are curve points (cid, phi, xq set)
+    integer, allocatable :: cid(:,:)       !! the corners of each point, or 0 (3, n)
+    real(wp), allocatable :: phi(:,:)      !! their coefficients: x = sum phi x_corner (3, n) [-]
+    real(wp), allocatable :: xq(:,:,:)     !! their positions (2, 3, n) [m]
+    integer, allocatable :: nxt(:), prv(:) !! the next and previous corner along the body's
+                                           !! boundary (counter-clockwise), 0 inside, -1 at a
+                                           !! pinch (nc)
+    real(wp), allocatable :: dc(:)         !! gap of every corner to the wall (nc) [m]
   end type surface_work_t
 
 contains
@@ -92,6 +102,7 @@ contains
     real(wp) :: d, xq(2, 4), r1(2), r2(2)
     wk%npt = 0
     wk%gmin = 0.0_wp
+    wk%curve = .false.
     if (basis == BASIS_CPDI2) then
       call corner_masses(p, wk)
       do ic = 1, p%nc
@@ -130,8 +141,7 @@ contains
     subroutine push(owner, xp, force, energy)
       integer, intent(in) :: owner
       real(wp), intent(in) :: xp(2), force, energy
-      if (wk%npt == 0) call grow(wk, 64)
-      if (wk%npt == size(wk%fn)) call grow(wk, 2*wk%npt)
+      call surface_reserve(wk, wk%npt + 1)
       wk%npt = wk%npt + 1
       wk%owner(wk%npt) = owner
       wk%xs(:, wk%npt) = xp
@@ -180,6 +190,7 @@ contains
     if (wk%npt == 0) return
     wk%nnode = 4
     if (wk%owner(1) > 0) wk%nnode = nb*nb
+    if (wk%curve) wk%nnode = 12
     call grow_nodes(wk, size(wk%fn))
     off = 0
     do k = 1, wk%npt
@@ -196,7 +207,9 @@ contains
           off = nx*ny*(cfield(-ip) - 1)
         end if
       end if
-      if (ip > 0) then
+      if (wk%curve) then
+        call curve_weights(k)
+      else if (ip > 0) then
         do b = 0, nb - 1
           do a = 0, nb - 1
             n = 1 + a + nb*b
@@ -213,6 +226,10 @@ contains
       end if
       do a = 1, wk%nnode
         n = wk%node(a, k)
+        if (n == 0) then                     ! an empty slot (curve points)
+          wk%nw(a, k) = 0.0_wp
+          cycle
+        end if
         if (wk%nw(a, k) == 0.0_wp .or. .not. mass(n) > mass_cut) then
           wk%nw(a, k) = 0.0_wp
           cycle
@@ -229,6 +246,34 @@ contains
       end do
       impulse = impulse + (wk%fn(k)*dt*sum(wk%nw(1:wk%nnode, k)))*normal
     end do
+  contains
+    !> Curve point k: the weights sum_m phi_m N_i(x_m) of the nodes of its corners (each
+    !! node once, so that s = sum N_i^2 / m_i is the point's inverse mass).
+    subroutine curve_weights(k)
+      integer, intent(in) :: k
+      integer :: m, q, r, c, i0c, j0c
+      real(wp) :: wc(4)
+      do m = 1, 3
+        c = wk%cid(m, k)
+        if (c == 0 .or. wk%phi(m, k) == 0.0_wp) cycle
+        call bilinear_at(wk%xq(:, m, k), origin, h, i0c, j0c, wc)
+        if (i0c < 0 .or. j0c < 0 .or. i0c + 1 > nx - 1 .or. j0c + 1 > ny - 1) cycle
+        if (nfl > 1) off = nx*ny*(cfield(c) - 1)
+        wk%node(4*m - 3:4*m, k) = [1 + i0c + nx*j0c, 2 + i0c + nx*j0c, &
+                                   1 + i0c + nx*(j0c + 1), 2 + i0c + nx*(j0c + 1)] + off
+        wk%nw(4*m - 3:4*m, k) = wk%phi(m, k)*wc
+      end do
+      do q = 2, 12                         ! merge repeated nodes into their first slot
+        if (wk%node(q, k) == 0) cycle
+        do r = 1, q - 1
+          if (wk%node(r, k) /= wk%node(q, k)) cycle
+          wk%nw(r, k) = wk%nw(r, k) + wk%nw(q, k)
+          wk%nw(q, k) = 0.0_wp
+          wk%node(q, k) = 0
+          exit
+        end do
+      end do
+    end subroutine curve_weights
   end subroutine surface_push
 
   !> Friction of the points surface_push pushed: the tangential impulse that stops each
@@ -307,29 +352,48 @@ contains
     end do
   end subroutine corner_masses
 
-  !> Make room for n points, keeping the points gathered so far.
-  subroutine grow(wk, n)
+  !> Make room for n points (at least; doubling), keeping the points gathered so far (and,
+  !! for curve points, their corners).
+  subroutine surface_reserve(wk, n)
     type(surface_work_t), intent(inout) :: wk  !! work arrays
     integer, intent(in) :: n               !! points
-    real(wp), allocatable :: tx(:,:), tf(:), te(:)
-    integer, allocatable :: to(:)
+    real(wp), allocatable :: tx(:,:), tf(:), te(:), tp(:,:), tq(:,:,:)
+    integer, allocatable :: to(:), tc(:,:)
     integer :: m
-    if (allocated(wk%fn)) then
-      if (size(wk%fn) >= n) return
-    end if
+    logical :: main, curve
+    main = .not. allocated(wk%fn)
+    if (.not. main) main = size(wk%fn) < n
+    curve = .false.
+    if (wk%curve) curve = .not. allocated(wk%cid)
+    if (wk%curve .and. .not. curve) curve = main .or. size(wk%cid, 2) < size(wk%fn)
+    if (.not. (main .or. curve)) return
     m = max(n, 64)
-    allocate(tx(2, m), tf(m), te(m), to(m))
-    if (wk%npt > 0) then
-      tx(:, 1:wk%npt) = wk%xs(:, 1:wk%npt)
-      tf(1:wk%npt) = wk%fn(1:wk%npt)
-      te(1:wk%npt) = wk%en(1:wk%npt)
-      to(1:wk%npt) = wk%owner(1:wk%npt)
+    if (allocated(wk%fn)) m = max(m, size(wk%fn))
+    if (main .and. allocated(wk%fn)) m = max(m, 2*size(wk%fn))
+    if (main) then
+      allocate(tx(2, m), tf(m), te(m), to(m))
+      if (wk%npt > 0) then
+        tx(:, 1:wk%npt) = wk%xs(:, 1:wk%npt)
+        tf(1:wk%npt) = wk%fn(1:wk%npt)
+        te(1:wk%npt) = wk%en(1:wk%npt)
+        to(1:wk%npt) = wk%owner(1:wk%npt)
+      end if
+      call move_alloc(tx, wk%xs)
+      call move_alloc(tf, wk%fn)
+      call move_alloc(te, wk%en)
+      call move_alloc(to, wk%owner)
     end if
-    call move_alloc(tx, wk%xs)
-    call move_alloc(tf, wk%fn)
-    call move_alloc(te, wk%en)
-    call move_alloc(to, wk%owner)
-  end subroutine grow
+    if (.not. wk%curve) return
+    allocate(tc(3, m), tp(3, m), tq(2, 3, m))
+    if (wk%npt > 0) then
+      tc(:, 1:wk%npt) = wk%cid(:, 1:wk%npt)
+      tp(:, 1:wk%npt) = wk%phi(:, 1:wk%npt)
+      tq(:, :, 1:wk%npt) = wk%xq(:, :, 1:wk%npt)
+    end if
+    call move_alloc(tc, wk%cid)
+    call move_alloc(tp, wk%phi)
+    call move_alloc(tq, wk%xq)
+  end subroutine surface_reserve
 
   !> Node lists for n points of wk%nnode nodes each.
   subroutine grow_nodes(wk, n)

@@ -1,0 +1,133 @@
+!> The CPDI2 wall contact on the surface curve (mpm_surface_curve) on a ring of domain corners
+!! (r 24 / 26 mm, 4 through the wall, 96 around): the force is the gradient of the contact
+!! energy (central difference in the wall position); the contact point moves continuously
+!! along the surface as the wall turns (the corners' contact hops by a corner spacing), and
+!! lies where the wall touches the circle; a half ring with its mirror plane has half the full
+!! ring's energy and force, to round-off.
+! SPDX-License-Identifier: MIT
+program test_surface_curve
+  use mpm_kinds, only: wp
+  use mpm_constants, only: pi, BASIS_CPDI2, SECTOR_FULL, SECTOR_HALF
+  use mpm_particles, only: particles_t, particles_allocate, ring_counts, ring_fill
+  use mpm_surface_contact, only: surface_work_t, surface_points, surface_energy
+  use mpm_surface_curve, only: surface_curve_points
+  use testing, only: begin_test, check, check_close, finish_tests
+  implicit none
+  real(wp), parameter :: kf = 1.0e6_wp         ! stiffness per unit point mass [1/s^2]
+  real(wp), parameter :: ri = 0.024_wp, ro = 0.026_wp, cen(2) = [0.0_wp, 0.026_wp]
+  integer, parameter :: nkf = 96               ! particles around the full ring
+  real(wp) :: none(4, 0), mirror(4, 1), nrm(2), xw(2), d, eps, ep, em, f, fh, eh, ef
+  real(wp) :: sag, theta, dth, phi_c, phi_prev, jump, jump_c, off, xc(2)
+  integer :: i, k
+  type(particles_t) :: full, half
+  type(surface_work_t) :: wk
+
+  call ring(full, SECTOR_FULL)
+  call ring(half, SECTOR_HALF)
+  nrm = [0.0_wp, 1.0_wp]
+
+  ! the curve lies inside the corners' circle by about r dth^2 / 8 (14 um): the B-spline of
+  ! a regular polygon is nearly the circle of radius r (1 - dth^2 / 8)
+  dth = 2.0_wp*pi/real(nkf, wp)              ! the corner spacing in angle
+  sag = ro*dth**2/8.0_wp
+
+  call begin_test('the force is the gradient of the energy')
+  eps = 1.0e-9_wp
+  do k = 1, 3
+    d = sag + 1.0e-5_wp*4.0_wp**(k - 1)      ! 10, 40, 160 um behind the wall
+    call surface_curve_points(full, [0.0_wp, d], nrm, kf, none, 1.0e-9_wp, wk)
+    f = sum(wk%fn(1:wk%npt))
+    call surface_curve_points(full, [0.0_wp, d + eps], nrm, kf, none, 1.0e-9_wp, wk)
+    ep = surface_energy(wk)
+    call surface_curve_points(full, [0.0_wp, d - eps], nrm, kf, none, 1.0e-9_wp, wk)
+    em = surface_energy(wk)
+    call check(f > 0.0_wp, 'a force')
+    call check_close(f, (ep - em)/(2.0_wp*eps), 'sum of the point forces = dE/d(wall '// &
+                     'position) (central difference, 1e-6)', rtol=1.0e-6_wp)
+  end do
+
+  call begin_test('the contact point moves continuously as the wall turns')
+  d = sag + 1.0e-7_wp                        ! depth behind the wall
+  jump = 0.0_wp
+  jump_c = 0.0_wp
+  off = 0.0_wp
+  do i = 0, 300
+    theta = 3.0_wp*dth*real(i, wp)/300.0_wp + 0.01_wp*dth
+    nrm = [sin(theta), cos(theta)]           ! the wall touches the circle at angle -theta
+    xw = cen - (ro - d)*nrm
+    call surface_curve_points(full, xw, nrm, kf, none, 1.0e-9_wp, wk)
+    phi_c = contact_angle()
+    off = max(off, abs(phi_c + theta))
+    if (i > 0) jump = max(jump, abs(phi_c - phi_prev))
+    phi_prev = phi_c
+  end do
+  call check(jump < 0.05_wp*dth, 'curve: the contact point moves by under 5 % of a '// &
+             'corner spacing per 1 % of a spacing of turn')
+  call check(off < 0.05_wp*dth, 'curve: the contact point is where the wall touches the '// &
+             'circle, within 5 % of a corner spacing')
+  do i = 0, 300                              ! the same with the corners: hops
+    theta = 3.0_wp*dth*real(i, wp)/300.0_wp + 0.01_wp*dth
+    nrm = [sin(theta), cos(theta)]
+    xw = cen - (ro - 1.05_wp*sag)*nrm      ! a corner or two behind the wall
+    call surface_points(full, BASIS_CPDI2, xw, nrm, kf, wk)
+    phi_c = contact_angle()
+    if (i > 0) jump_c = max(jump_c, abs(phi_c - phi_prev))
+    phi_prev = phi_c
+  end do
+  call check(jump_c > 0.25_wp*dth, 'corners: the contact hops by over a quarter of a spacing '// &
+             '(what the curve removes)')
+  print '(a,3f8.4)', '  largest step of the contact point / corner spacing (curve, corners), '// &
+    'offset:', jump/dth, jump_c/dth, off/dth
+
+  call begin_test('a half ring with its mirror plane: half the full ring''s contact')
+  mirror(:, 1) = [0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp]
+  nrm = [0.0_wp, 1.0_wp]
+  do k = 1, 2
+    d = sag + 1.0e-5_wp*10.0_wp**(k - 1)
+    call surface_curve_points(full, [0.0_wp, d], nrm, kf, none, 1.0e-9_wp, wk)
+    ef = surface_energy(wk)
+    f = sum(wk%fn(1:wk%npt))
+    call surface_curve_points(half, [0.0_wp, d], nrm, kf, mirror, 1.0e-9_wp, wk)
+    eh = surface_energy(wk)
+    fh = sum(wk%fn(1:wk%npt))
+    call check_close(eh, 0.5_wp*ef, 'energy of the half = half the full ring''s', rtol=1.0e-12_wp)
+    call check_close(fh, 0.5_wp*f, 'force of the half = half the full ring''s', rtol=1.0e-12_wp)
+  end do
+
+  call finish_tests('test_surface_curve')
+
+contains
+
+  !> Ring of CPDI2 corners, centre cen, of sector `sector`.
+  subroutine ring(p, sector)
+    type(particles_t), intent(inout) :: p
+    integer, intent(in) :: sector
+    integer :: nk, np, nc
+    call ring_counts(ri, ro, 4, nkf, sector, nk, np, nc)
+    call particles_allocate(p, np, nc)
+    call ring_fill(p, 0, 0, cen, ri, ro, 4, nk, sector, 7800.0_wp, [0.0_wp, 0.0_wp], 1, 1)
+  end subroutine ring
+
+  !> Angle (from straight down) of the force-weighted centre of the points in wk.
+  real(wp) function contact_angle() result(a)
+    integer :: j
+    xc = 0.0_wp
+    do j = 1, wk%npt
+      xc = xc + wk%fn(j)*pos(j)
+    end do
+    xc = xc/sum(wk%fn(1:wk%npt)) - cen
+    a = atan2(xc(1), -xc(2))
+  end function contact_angle
+
+  !> Position of point j: the curve point, or the corner.
+  function pos(j) result(x)
+    integer, intent(in) :: j
+    real(wp) :: x(2)
+    if (wk%curve) then
+      x = wk%xs(:, j)
+    else
+      x = full%xc(:, -wk%owner(j))
+    end if
+  end function pos
+
+end program test_surface_curve
