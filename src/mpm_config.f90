@@ -433,6 +433,9 @@ contains
       b%sector = sector_names(sid)
       b%sector_id = sid
     end if
+    b%self_contact = vlog(v, 'self_contact')
+    if (b%self_contact .and. sid == SECTOR_QUARTER) call err_var(rd, io, 'self_contact', '.true.', &
+      'not with sector = ''quarter'' (it meets its mirror image on the plane y = centre)')
     n_circ = vint(v, 'n_circ')
     if (n_circ == iunset) n_circ = 0
     parts = 1
@@ -470,8 +473,8 @@ contains
     if (chk_i(rd, io, v, 'n_y')) b%n_y = vint(v, 'n_y')
     if (vreal(v, 'r_inner') /= unset_real .or. vreal(v, 'r_outer') /= unset_real .or. &
         vint(v, 'n_thick') /= iunset .or. vint(v, 'n_circ') /= iunset .or. &
-        len_trim(vtext(v, 'sector')) > 0) call warn_group(rd, io, &
-      'r_inner, r_outer, n_thick, n_circ, sector are ignored for shape = ''rect''')
+        len_trim(vtext(v, 'sector')) > 0 .or. vlog(v, 'self_contact')) call warn_group(rd, io, &
+      'r_inner, r_outer, n_thick, n_circ, sector, self_contact are ignored for shape = ''rect''')
   end subroutine read_rect
 
   !> &wall

@@ -33,6 +33,7 @@ module mpm_config_echo
   type :: echo_t
     type(values_t) :: v
     logical :: hide(n_specs) = .false.
+    logical :: silent(n_specs) = .false.   ! rows left out without a comment (their default)
     character(len=64) :: why = ''
     integer :: n_motion = 0
   end type echo_t
@@ -187,6 +188,7 @@ contains
     character(len=*), intent(in) :: group
     e%v%group = group
     e%hide = .false.
+    e%silent = .false.
     e%why = ''
     e%n_motion = 0
   end subroutine start
@@ -309,6 +311,7 @@ contains
     call put_i(e, 'n_thick', b%n_thick)
     call put_i(e, 'n_circ', b%n_circ)
     call put_c(e, 'sector', enum_name(b%sector_id, sector_names, b%sector))
+    e%v%l(col(e, 'self_contact')) = b%self_contact
     call put_r(e, 'size', b%size)
     call put_i(e, 'n_x', b%n_x)
     call put_i(e, 'n_y', b%n_y)
@@ -317,6 +320,7 @@ contains
       call hide(e, only_names('ring'), 'for rings only')
     else
       call hide(e, only_names('rect'), 'for rectangles only')
+      if (.not. b%self_contact) e%silent(col(e, 'self_contact')) = .true.   ! the default
     end if
   end subroutine pack_body
 
@@ -387,6 +391,7 @@ contains
     names = ''
     do j = 1, size(idx)
       r = idx(j)
+      if (e%silent(r)) cycle
       if (e%hide(r)) then                      ! a run of rows left out: one comment line
         if (len(names) > 0) names = names//', '
         names = names//trim(specs(r)%name)

@@ -55,7 +55,7 @@ module mpm_config_table
     character(len=48) :: comment = ''       !! echo comment: meaning [unit]; % = the names
   end type var_spec_t
 
-  integer, parameter :: n_specs = 62
+  integer, parameter :: n_specs = 63
   character(len=*), parameter :: s0 = 'a real number >= 0 [s] (default 0)'
   character(len=*), parameter :: v0 = '2 finite real numbers [m/s] (default 0, 0)'
   character(len=*), parameter :: lu = '2 real numbers [m] each for lower and upper, lower '// &
@@ -172,6 +172,8 @@ module mpm_config_table
       '''half'' and by 4 for ''quarter'' (default 0)', &
       comment='particles around the whole ring (0 = auto)'), &
     var_spec_t('body', 'sector', 'e', c0='full', c_blank=.true., only='ring', comment='%'), &
+    var_spec_t('body', 'self_contact', 'l', only='ring', allowed='.true. or .false. (default '// &
+      '.false.); .true. needs sector = ''full'' or ''half''', comment='halves meet, never weld'), &
     var_spec_t('body', 'size', n=2, r0=big, required=.true., only='rect', unset='neg', &
       unset_note=rq//'rectangle sides [m]', &
       allowed='2 real numbers > 0 [m] (required for shape = ''rect'')', &
