@@ -14,7 +14,8 @@
 !! the reader (mpm_config), which asks wall_too_thin for the one rule they share.
 module mpm_advice
   use mpm_kinds, only: wp
-  use mpm_constants, only: SHAPE_RING, SECTOR_FULL, basis_names, scheme_names, PLANE_STRESS, &
+  use mpm_constants, only: SHAPE_RING, SECTOR_FULL, SECTOR_QUARTER, basis_names, scheme_names, &
+                           PLANE_STRESS, &
                            SCHEME_USL, SCHEME_MUSL, BASIS_LINEAR, BASIS_UGIMP, BASIS_CPDI1, BASIS_CPDI2, &
                            MODEL_J2, VOLUMETRIC_FBAR, VOLUMETRIC_STANDARD, volumetric_names
   use mpm_particles, only: ring_counts
@@ -373,20 +374,22 @@ contains
       'Use flip = 1 and smooth the force curve afterwards if it is too noisy')
   end subroutine advice_stability
 
-  !> Near full crush: the relative approach of the platens at t_end (the travel of every moving
-  !! wall, not the mirror planes, doubled where a mirror plane of a half/quarter model is
-  !! parallel to it) against the ring diameter.
+  !> Near full crush: the relative approach of the platens at t_end (the advance of every moving
+  !! wall into the material, not the mirror planes, doubled where a mirror plane of a
+  !! half/quarter model is parallel to it) against the ring diameter. Beyond delta/D = 0.8:
+  !! CPDI2 domains can fold at the side hinges (CPDI1 cannot), and the inner walls meet, which
+  !! one velocity field welds (self_contact; a quarter model meets its mirror image instead).
   subroutine advice_full_crush(cfg, walls, warnings)
     type(config_t), intent(in) :: cfg
     type(wall_t), intent(in) :: walls(:)
     character(len=:), allocatable, intent(inout) :: warnings
     real(wp) :: delta, travel, ratio
     integer :: k, m, ib
-    character(len=512) :: line
+    character(len=640) :: line
     delta = 0.0_wp
     do k = 1, size(walls)
       if (walls(k)%mirror) cycle
-      travel = wall_travel(walls(k), cfg%run%t_end)
+      travel = -wall_travel(walls(k), cfg%run%t_end)   ! wall_travel is along -normal
       if (.not. travel > 0.0_wp) cycle
       do m = 1, size(walls)
         if (walls(m)%mirror .and. abs(dot_product(walls(m)%normal, walls(k)%normal)) &
@@ -397,14 +400,22 @@ contains
     do ib = 1, size(cfg%bodies)
       associate (b => cfg%bodies(ib))
         if (b%shape_id /= SHAPE_RING) cycle
-        if (cfg%solver%basis_id /= BASIS_CPDI2 .and. cfg%solver%basis_id /= BASIS_CPDI1) cycle
         ratio = delta/(2.0_wp*b%r_outer)
-        if (ratio > delta_fold) then
+        if (.not. ratio > delta_fold) cycle
+        if (cfg%solver%basis_id == BASIS_CPDI2) then
           write(line, '(a,i0,a,f5.2,a)') 'body ', ib, ': the platens approach to delta/D = ', &
-            ratio, ': near full crush the inner walls meet and the side hinges close: '// &
-            'CPDI2 domains there can fold (at delta/D = 0.85 with n_thick = 2 and h = t/2 at '// &
-            '50 m/s per platen; the run stops with exit 4) and CPDI1 domains open gaps of '// &
-            '0.06-0.33 h (docs/stability.md). Stop at delta/D <= 0.8'
+            ratio, ': near full crush the side hinges close and CPDI2 domains there can fold '// &
+            '(at delta/D = 0.85 with n_thick = 2 and h = t/2 at 50 m/s per platen; the run '// &
+            'stops with exit 4; docs/stability.md). Use basis = ''cpdi1'' (its parallelograms '// &
+            'cannot fold: it carries namelists/contact/densify.nml to delta/D = 0.95), or stop '// &
+            'at delta/D <= 0.8'
+          call append_msg(warnings, line)
+        end if
+        if (b%sector_id /= SECTOR_QUARTER .and. .not. b%self_contact) then
+          write(line, '(a,i0,a,f5.2,a)') 'body ', ib, ': the platens approach to delta/D = ', &
+            ratio, ': the inner walls meet (at the centre first) and one velocity field welds '// &
+            'them a cell apart, passing the platen force across an open gap. Set '// &
+            'self_contact = .true. in this &body (docs/theory.md, "Self-contact")'
           call append_msg(warnings, line)
         end if
       end associate

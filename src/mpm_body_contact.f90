@@ -438,6 +438,7 @@ contains
         nb = n0 + g%nn*(fc%pn_b(e) - 1)
         allow = max(fc%pn_gap(e), 0.0_wp)/dt
         law = fc%pn_law(e)
+        if (law == 0) cycle                            ! welded (mpm_self_contact)
         if (.not. record) law = CONTACT_FRICTIONLESS   ! the re-map: no friction (below)
         call contact_law_impulse(law, fc%pn_mu(e), g%mass(na), g%mass(nb), &
                                  g%vel(:, na), g%vel(:, nb), fc%pn_n(:, e), allow, j, pn)

@@ -110,16 +110,18 @@ contains
     if (b%nf > 1) then                      ! mpm_body_contact: fields of the particles and
       b%particle_bytes = b%particle_bytes + 8.0_wp*b%particles + 4.0_wp*b%corners  ! corners,
       b%grid_bytes = b%grid_bytes + 4.0_wp*b%nodes       ! the contact node of each node
+      if (any(cfg%bodies%self_contact)) b%particle_bytes = b%particle_bytes + &
+                                                   4.0_wp*b%particles  ! mpm_self_contact: bonds
     end if
     b%total = b%particle_bytes + b%grid_bytes + base_bytes
   end function budget_estimate
 
   !> Velocity fields per grid node: one per body where there are several (each body its own
-  !! velocity field, mpm_body_contact), else 1.
+  !! velocity field, mpm_body_contact), and a second one for a ring with self_contact (its
+  !! lower half, mpm_self_contact); 1 for one body without self-contact.
   pure integer function contact_fields(cfg) result(nf)
     type(config_t), intent(in) :: cfg      !! the case
-    nf = 1
-    if (size(cfg%bodies) > 1) nf = size(cfg%bodies)
+    nf = size(cfg%bodies) + count(cfg%bodies%self_contact)
   end function contact_fields
 
   !> Particles, corners and the largest particle extent of a body (ring_counts and rect_counts

@@ -347,14 +347,17 @@ contains
       else
         b%n_circ = n_circ
       end if
+      if (b%self_contact .and. b%sector_id == SECTOR_QUARTER) call err_var(rd, io, &
+        'self_contact', '.true.', 'not with sector = ''quarter'' (it meets its mirror image on '// &
+        'the plane y = centre)')
       if (count(vvec(v, 'size') /= unset_real) > 0 .or. vint(v, 'n_x') /= iunset .or. &
           vint(v, 'n_y') /= iunset) call warn_group(rd, io, &
         'size, n_x, n_y are ignored for shape = ''ring''')
     else if (b%shape_id == SHAPE_RECT) then
       if (vreal(v, 'r_inner') /= unset_real .or. vreal(v, 'r_outer') /= unset_real .or. &
           vint(v, 'n_thick') /= iunset .or. vint(v, 'n_circ') /= iunset .or. &
-          len_trim(vtext(v, 'sector')) > 0) call warn_group(rd, io, &
-        'r_inner, r_outer, n_thick, n_circ, sector are ignored for shape = ''rect''')
+          len_trim(vtext(v, 'sector')) > 0 .or. b%self_contact) call warn_group(rd, io, &
+        'r_inner, r_outer, n_thick, n_circ, sector, self_contact are ignored for shape = ''rect''')
     end if
   end subroutine check_body
 

@@ -66,10 +66,11 @@ contains
       io_solver, 'volumetric', '''fbar''', 'needs plane = ''strain'' and no &material of '// &
       'model = ''neohookean''', '''standard'', or ''fbar'' with plane = ''strain'' and the '// &
       'models ''elastic'' and ''j2''')
-    if (io_solver > 0 .and. cfg%solver%volumetric_id == VOLUMETRIC_FBAR .and. &
-        size(cfg%bodies) > 1) call err_var(rd, io_solver, 'volumetric', '''fbar''', &
-      'averages the volume change within one velocity field, and each of the '// &
-      itoa(size(cfg%bodies))//' bodies has its own', '''standard'' with several bodies, or one &body')
+    if (io_solver > 0 .and. cfg%solver%volumetric_id == VOLUMETRIC_FBAR .and. (size(cfg%bodies) &
+        > 1 .or. any(cfg%bodies%self_contact))) call err_var(rd, io_solver, 'volumetric', '''fbar''', &
+      'averages the volume change within one velocity field; here are '//itoa(size(cfg%bodies) &
+      + count(cfg%bodies%self_contact))//' (one per body, two with self_contact)', '''standard'' '// &
+      'with several bodies or self_contact, or one &body')
     ! body -> material
     do k = 1, size(cfg%bodies)
       if (.not. rd%occ(occ_body(k))%read_ok .or. size(cfg%materials) == 0) cycle

@@ -30,6 +30,7 @@ module mpm_config_echo
   type :: echo_t
     type(values_t) :: v
     logical :: hide(n_specs) = .false.
+    logical :: silent(n_specs) = .false.   ! rows left out without a comment (their default)
     character(len=64) :: why = ''
     integer :: n_motion = 0
   end type echo_t
@@ -145,6 +146,7 @@ contains
     integer :: j
     e%v%group = group_names(ig)
     e%hide = .false.
+    e%silent = .false.
     e%why = ''
     e%n_motion = 0
     idx = group_specs(e%v%group)
@@ -169,6 +171,7 @@ contains
       else
         e%hide(idx) = specs(idx)%only == 'rect'
         e%why = 'for rectangles only'
+        e%silent(idx) = specs(idx)%name == 'self_contact' .and. .not. cfg%bodies(k)%self_contact
       end if
     case (6)
       e%n_motion = cfg%walls(k)%n_motion
@@ -201,6 +204,7 @@ contains
     names = ''
     do j = 1, size(idx)
       r = idx(j)
+      if (e%silent(r)) cycle
       if (e%hide(r)) then                      ! a run of rows left out: one comment line
         if (len(names) > 0) names = names//', '
         names = names//trim(specs(r)%name)

@@ -66,7 +66,7 @@ module mpm_config_table
     character(len=:), pointer :: c => null()
   end type field_t
 
-  integer, parameter :: n_specs = 64
+  integer, parameter :: n_specs = 65
   character(len=*), parameter :: s0 = 'a real number >= 0 [s] (default 0)'
   character(len=*), parameter :: v0 = '2 finite real numbers [m/s] (default 0, 0)'
   character(len=*), parameter :: lu = '2 real numbers [m] each for lower and upper, lower '// &
@@ -190,6 +190,8 @@ module mpm_config_table
       '''half'' and by 4 for ''quarter'' (default 0)', &
       comment='particles around the whole ring (0 = auto)'), &
     var_spec_t('body', 'sector', 'e', c0='full', c_blank=.true., only='ring', comment='%'), &
+    var_spec_t('body', 'self_contact', 'l', only='ring', allowed='.true. or .false. (default '// &
+      '.false.); .true. needs sector = ''full'' or ''half''', comment='halves meet, never weld'), &
     var_spec_t('body', 'size', n=2, r0=big, required=.true., lo=0.0_wp, lo_open=.true., &
       only='rect', unset='neg', &
       unset_note=rq//'rectangle sides [m]', &
@@ -424,6 +426,7 @@ contains
         call bind(f, 'body', 'n_thick', i=g%n_thick)
         call bind(f, 'body', 'n_circ', i=g%n_circ)
         call bind(f, 'body', 'sector', c=g%sector, i=g%sector_id)
+        call bind(f, 'body', 'self_contact', l=g%self_contact)
         call bind(f, 'body', 'size', v=g%size)
         call bind(f, 'body', 'n_x', i=g%n_x)
         call bind(f, 'body', 'n_y', i=g%n_y)

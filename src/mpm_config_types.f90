@@ -60,6 +60,7 @@ module mpm_config_types
     real(wp) :: r_outer = -1.0_wp                  !! ring outer radius [m]
     integer :: n_thick = 16                        !! particles through the wall
     integer :: n_circ = 0                          !! particles around the whole ring
+    logical :: self_contact = .false.              !! the ring's halves meet by contact (mpm_self_contact)
     real(wp) :: size(2) = -1.0_wp                  !! rectangle sides [m]
     integer :: n_x = 0, n_y = 0                    !! particles along the rectangle sides
     real(wp) :: velocity(2) = 0.0_wp               !! initial velocity [m/s]

@@ -21,6 +21,7 @@ module mpm_setup
   use mpm_budget, only: budget_t, budget_estimate, budget_check, budget_threads, &
                         budget_max_nodes, bytes_text, contact_fields
   use mpm_sys, only: sys_memory_available
+  use mpm_self_contact, only: self_contact_split
   implicit none
   private
   public :: setup_sim, setup_report, sector_factor
@@ -167,26 +168,44 @@ contains
   end subroutine setup_params
 
   !> Contact between bodies (mpm_body_contact): with several bodies, one velocity field per
-  !! body (the field of every particle and corner), and the law of every pair of bodies:
-  !! frictionless, or that of the &contact naming the pair, or of the &contact with bodies =
-  !! 0, 0; the pairs' impulse sums for history.csv.
+  !! body (the field of every particle and corner), and a second one for the lower half of a
+  !! ring with self-contact (mpm_self_contact); the law of every pair of bodies: frictionless,
+  !! or that of the &contact naming the pair, or of the &contact with bodies = 0, 0; a ring's
+  !! halves meet frictionlessly; the pairs' impulse sums for history.csv.
   subroutine setup_fields(cfg, s)
     type(config_t), intent(in) :: cfg      !! the case
     type(sim_t), intent(inout) :: s        !! particles in place; fields, laws set
     integer :: nb, ip, a, k, i, j
+    integer :: first(size(cfg%bodies))
+    real(wp) :: centers(2, size(cfg%bodies))
     nb = size(cfg%bodies)
     s%prm%nbody = nb
     s%prm%nf = contact_fields(cfg)
     if (s%prm%nf < 2) return
     allocate(s%prm%field(s%p%np), s%prm%corner_field(s%p%nc), s%prm%field_body(s%prm%nf))
-    s%prm%field = s%p%body(1:s%p%np)
+    k = 0
+    do i = 1, nb                             ! the fields of each body, in order
+      first(i) = k + 1
+      centers(:, i) = cfg%bodies(i)%center
+      k = k + 1
+      s%prm%field_body(k) = i
+      if (.not. cfg%bodies(i)%self_contact) cycle
+      k = k + 1
+      s%prm%field_body(k) = i
+    end do
+    s%prm%field = first(s%p%body(1:s%p%np))
+    if (any(cfg%bodies%self_contact)) then
+      allocate(s%prm%self_bond(s%p%np))
+      call self_contact_split(s%p%x(:, 1:s%p%np), s%p%half(:, 1:s%p%np), s%p%body(1:s%p%np), &
+                              cfg%bodies%self_contact, centers, first, cfg%grid%h, &
+                              s%prm%field, s%prm%self_bond)
+    end if
     s%prm%corner_field = 1
     do ip = 1, s%p%np
       do a = 1, 4
         s%prm%corner_field(s%p%corner(a, ip)) = s%prm%field(ip)
       end do
     end do
-    s%prm%field_body = [(k, k = 1, s%prm%nf)]
     s%prm%npair = (nb*(nb - 1))/2
     allocate(s%prm%pair_law(nb, nb), s%prm%pair_mu(nb, nb))
     s%prm%pair_law = CONTACT_FRICTIONLESS
@@ -205,8 +224,10 @@ contains
       s%prm%pair_mu(i, j) = cfg%contacts(k)%friction
       s%prm%pair_mu(j, i) = cfg%contacts(k)%friction
     end do
-    do i = 1, nb                             ! a body is one field: no contact with itself
-      s%prm%pair_law(i, i) = 0
+    do i = 1, nb                             ! a body is one field: no contact with itself,
+      s%prm%pair_law(i, i) = 0               ! but for the halves of a ring with self-contact
+      s%prm%pair_mu(i, i) = 0.0_wp
+      if (cfg%bodies(i)%self_contact) s%prm%pair_law(i, i) = CONTACT_FRICTIONLESS
     end do
     allocate(s%pair_acc(3, s%prm%npair), s%pair_force(3, s%prm%npair))
     s%pair_acc = 0.0_wp
@@ -364,8 +385,19 @@ contains
     call append_msg(report, line)
     if (.not. s%g%fixed) call append_msg(report, '      (fitted to the bodies plus two '// &
       'cells; it grows when the material moves out)')
-    if (s%prm%nf > 1) call append_msg(report, 'contact between bodies: '// &
-      itoa(s%prm%nf)//' velocity fields (one per body), '//pair_laws_text(s))
+    if (s%prm%nf > 1 .and. s%prm%nbody > 1) then
+      if (allocated(s%prm%self_bond)) then
+        call append_msg(report, 'contact between bodies: '//itoa(s%prm%nf)//' velocity '// &
+          'fields (one per body, two for a ring with self-contact), '//pair_laws_text(s))
+      else
+        call append_msg(report, 'contact between bodies: '//itoa(s%prm%nf)//' velocity '// &
+          'fields (one per body), '//pair_laws_text(s))
+      end if
+    end if
+    if (allocated(s%prm%self_bond)) call append_msg(report, 'self-contact: '// &
+      itoa(s%prm%nf - s%prm%nbody)//' ring(s) split into upper and lower halves (two velocity '// &
+      'fields, welded at the seams y = centre, frictionless contact elsewhere; '// &
+      itoa(count(s%prm%self_bond /= 0))//' particles bonded at the seams)')
     write(line, '(a,i0,4a)') 'walls: ', s%nwall, ' (', &
       plural(count(s%walls(:)%mirror), 'mirror plane'), ' added by the sector)'
     call append_msg(report, line)

@@ -36,6 +36,7 @@ module mpm_solver
   use mpm_contact, only: grid_velocity_walls, grid_update_walls, contact_begin_step, &
                          contact_reactions, contact_energy, contact_check
   use mpm_body_contact, only: body_contact_detect, body_contact_apply, body_contact_reactions
+  use mpm_self_contact, only: self_contact_mark, self_contact_weld
   use mpm_deformation, only: deformation_update, domains_update
   use mpm_timers, only: clock_seconds, PHASE_BASIS, PHASE_P2G, PHASE_GRID, PHASE_G2P, &
                         PHASE_REMAP, PHASE_STRESS, PHASE_CORNERS, PHASE_OTHER
@@ -141,8 +142,10 @@ contains
       call transfer_p2g(s%prm, s%p, s%g, s%tiles, s%bufs, s%wk, mass_momentum=.true., &
                         force=.false.)
       call body_contact_detect(s%prm, s%state_t, s%g, s%tiles, s%wk)
+      call self_contact_detect(s)
       call grid_velocity_walls(s%state_t, s%g, s%tiles, s%wk, dt)
       call body_contact_apply(s%prm, s%g, s%wk, dt, record=.false.)
+      if (allocated(s%prm%self_bond)) call self_contact_weld(s%g, s%wk%sw, record=.false.)
       call tick(s%diag, PHASE_P2G, clock)
       call deformation_update(s%prm, s%state_t, s%g, s%wk, dt, stat, errmsg)
       if (stat /= 0) return
@@ -153,11 +156,13 @@ contains
       call transfer_p2g(s%prm, s%p, s%g, s%tiles, s%bufs, s%wk, mass_momentum=.true., &
                         force=.true.)
       call body_contact_detect(s%prm, s%state_t, s%g, s%tiles, s%wk)
+      call self_contact_detect(s)
     end if
     call tick(s%diag, PHASE_P2G, clock)
     ! 3. grid update, damping and walls
     call grid_update_walls(s%prm, s%state_t, s%g, s%tiles, s%wk, dt)
     call body_contact_apply(s%prm, s%g, s%wk, dt, record=.true.)   ! between bodies
+    if (allocated(s%prm%self_bond)) call self_contact_weld(s%g, s%wk%sw, record=.true.)
     call contact_check(s%state_t, s%wk, s%g%h, stat, errmsg)
     if (stat /= 0) return
     call tick(s%diag, PHASE_GRID, clock)
@@ -173,6 +178,7 @@ contains
     if (remap) then
       call grid_velocity_walls(s%state_t, s%g, s%tiles, s%wk, dt)
       call body_contact_apply(s%prm, s%g, s%wk, dt, record=.false.)
+      if (allocated(s%prm%self_bond)) call self_contact_weld(s%g, s%wk%sw, record=.false.)
       call tick(s%diag, PHASE_REMAP, clock)
     end if
     ! 6. deformation and stress (USF did it in step 2), then the particle domains
@@ -191,6 +197,15 @@ contains
     call energy_balance(s%prm, s%state_t, s%g%h, dt, stat, errmsg)
     call tick(s%diag, PHASE_OTHER, clock)
   end subroutine solver_step
+
+  !> Self-contact (mpm_self_contact): after the detection between fields, the nodes where the
+  !! halves of a ring with self-contact are welded.
+  subroutine self_contact_detect(s)
+    type(sim_t), intent(inout) :: s        !! simulation: the welded nodes
+    if (.not. allocated(s%prm%self_bond)) return
+    call self_contact_mark(s%prm%field, s%prm%self_bond, s%prm%field_body, s%wk%nb, s%wk%blk, &
+                           s%wk%w, s%wk%gw, s%g, s%wk%fc, s%wk%sw)
+  end subroutine self_contact_detect
 
   !> Step 0: the stable (or fixed) time step, clipped so that the run ends exactly at t_end.
   subroutine time_step(prm, st, h, dt, stat, errmsg)

@@ -21,6 +21,7 @@ module mpm_state
   use mpm_walls, only: wall_t, walls_write_state, walls_read_state
   use mpm_surface_contact, only: surface_work_t
   use mpm_contact_law, only: field_contact_t
+  use mpm_self_contact, only: self_weld_t
   use mpm_material, only: material_t
   use mpm_timers, only: n_phases
   use mpm_strings, only: itoa, rtoa
@@ -76,6 +77,9 @@ module mpm_state
     integer, allocatable :: pair_law(:,:)  !! CONTACT_* law between bodies i and j (nbody,
                                            !! nbody)
     real(wp), allocatable :: pair_mu(:,:)  !! their Coulomb coefficient (nbody, nbody) [-]
+    integer, allocatable :: self_bond(:)   !! a ring with self-contact (mpm_self_contact): the
+                                           !! field each particle is welded to at the seams, or
+                                           !! 0 (np; allocated only with self-contact)
   end type params_t
 
   !> The state: everything a checkpoint holds (with the grid placement and diag_t's extremes).
@@ -124,6 +128,7 @@ module mpm_state
                                            !! velocity over the step before (8, nwall) [m/s, m, -]
     type(surface_work_t), allocatable :: surf(:)  !! per wall: surface points in contact
     type(field_contact_t) :: fc            !! contact between fields: nodes, pairs, gaps
+    type(self_weld_t) :: sw                !! self-contact: the nodes where a ring's halves weld
   end type work_t
 
   !> Diagnostics: measured, reported, never read back by the step. The extremes and the

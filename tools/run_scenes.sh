@@ -3,16 +3,19 @@
 # Run the paper's three scenes (namelists/crush.nml, impact.nml, wave.nml) with the release build
 # and write their figures to docs/figures/ (PNG) and their key numbers to docs/figures/scenes.txt.
 # The scenes of several bodies in contact (namelists/contact/: two_rings, nested,
-# nested_eccentric, stack, row3, plates) run when named (row3 also runs its one-tube reference
-# row3_single.nml, drawn three times over the row's force); their figures are
+# nested_eccentric, stack, row3, plates, densify) run when named (row3 also runs its one-tube
+# reference row3_single.nml, drawn three times over the row's force); their figures are
 # <scene>_bodies.png (forces and energies per body), <scene>_shapes.png (coloured by body) and
-# <scene>_eqps.png, their numbers go to build/scenes.txt.
+# <scene>_eqps.png, their numbers go to build/scenes.txt. densify (a ring crushed to
+# delta/D = 0.95 with self-contact) also runs itself without self-contact (densify_weld, one
+# velocity field) for docs/figures/densify.png (force against delta/D of both,
+# plots/plot_densify.py) and densify_shapes.png.
 # Two runs at once with one thread each (the machine has two cores).
 # A subset of the scenes writes its figures but not scenes.txt (the numbers of all three scenes):
 # its numbers go to build/scenes.txt instead.
 #   usage: tools/run_scenes.sh [scene ...]      (default: crush impact wave)
 set -eu
-usage() { echo "usage: tools/run_scenes.sh [crush] [impact] [wave] [two_rings] [nested] [nested_eccentric] [stack] [row3] [plates]"
+usage() { echo "usage: tools/run_scenes.sh [crush] [impact] [wave] [two_rings] [nested] [nested_eccentric] [stack] [row3] [plates] [densify]"
           echo "  (default: crush impact wave) runs namelists/<scene>.nml (namelists/contact/ for the"
           echo "  scenes of several bodies; release build bin/tubempm), writes docs/figures/<scene>.png"
           echo "  and <scene>_shapes.png (several bodies: <scene>_bodies.png, _shapes.png, _eqps.png),"
@@ -20,7 +23,7 @@ usage() { echo "usage: tools/run_scenes.sh [crush] [impact] [wave] [two_rings] [
 for a in "$@"; do
   case $a in
     -h|--help) usage; exit 0 ;;
-    crush|impact|wave|two_rings|nested|nested_eccentric|stack|row3|plates) ;;
+    crush|impact|wave|two_rings|nested|nested_eccentric|stack|row3|plates|densify) ;;
     *) echo "ERROR [run_scenes]: unknown scene '$a'" >&2; usage >&2; exit 2 ;;
   esac
 done
@@ -31,13 +34,20 @@ numbers=docs/figures/scenes.txt
 [ "$scenes" = "crush impact wave" ] || numbers=build/scenes.txt
 [ -x bin/tubempm ] || { echo "ERROR [run_scenes]: bin/tubempm not found: run make first" >&2; exit 2; }
 mkdir -p docs/figures
-nml() { if [ -f "namelists/$1.nml" ]; then echo "namelists/$1.nml"; else echo "namelists/contact/$1.nml"; fi; }
+nml() { if [ -f "namelists/$1.nml" ]; then echo "namelists/$1.nml"
+         elif [ "$1" = densify_weld ]; then echo build/densify_weld.nml
+         else echo "namelists/contact/$1.nml"; fi; }
 run() {
   local c=$1
   OMP_NUM_THREADS=1 bin/tubempm --quiet "$(nml "$c")" > "build/scene_$c.log" 2>&1 \
     || { echo "scene $c failed:"; tail -5 "build/scene_$c.log"; return 1; }
 }
 mkdir -p build
+case " $scenes " in   # densify without self-contact, for the comparison
+  *" densify "*) sed "s/title = 'densify'/title = 'densify_weld'/; s/^ *self_contact = .true.*$//" \
+                   namelists/contact/densify.nml > build/densify_weld.nml
+                 scenes="$scenes densify_weld" ;;
+esac
 runs=
 for c in $scenes; do runs="$runs $c"; [ "$c" = row3 ] && runs="$runs row3_single"; done
 pids=()
@@ -51,7 +61,14 @@ for p in "${pids[@]}"; do wait "$p" || fail=1; done
 for c in $scenes; do
   [ -f "out/$c/summary.nml" ] || continue
   { echo "== $c"; grep -E "status|steps|particles|wall_seconds|runtime_ratio|updates_per_second|energy_error" "out/$c/summary.nml"
-    if [ -f "namelists/$c.nml" ]; then
+    if [ "$c" = densify ]; then
+      $py plots/plot_case.py --case "$(nml "$c")" --out "build/densify_case.png"
+      $py plots/plot_densify.py --case "$(nml "$c")" --compare out/densify_weld \
+        "one velocity field (welds)" --out docs/figures/densify.png
+      $py plots/plot_shapes.py --case "$(nml "$c")" --out "docs/figures/${c}_shapes.png"
+    elif [ "$c" = densify_weld ]; then
+      $py plots/plot_shapes.py --case "$(nml "$c")" --out "docs/figures/${c}_shapes.png"
+    elif [ -f "namelists/$c.nml" ]; then
       $py plots/plot_case.py --case "namelists/$c.nml" --out "docs/figures/$c.png"
       $py plots/plot_shapes.py --case "namelists/$c.nml" --out "docs/figures/${c}_shapes.png"
     else
