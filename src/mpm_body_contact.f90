@@ -240,8 +240,10 @@ contains
         k0 = fc%cq_first(e)
         k1 = fc%cq_first(e + 1) - 1
         if (any(fc%cq_b(k0:k1)) .and. .not. all(fc%cq_b(k0:k1))) then
-          if (.not. fc%pn_fixed(e)) call separating_normal(fc%cq(:, k0:k1), fc%cq_b(k0:k1), &
-                                                          fc%pn_n(:, e))
+          ! the two halves of one ring (self-contact) keep the centre-of-mass normal
+          if (.not. fc%pn_fixed(e) .and. prm%field_body(fc%pn_a(e)) /= &
+              prm%field_body(fc%pn_b(e))) call separating_normal(fc%cq(:, k0:k1), &
+                                                                 fc%cq_b(k0:k1), fc%pn_n(:, e))
           call extremes(fc%cq(:, k0:k1), fc%cq_b(k0:k1), fc%pn_n(:, e), fc%pn_ext(:, e))
           fc%pn_gap(e) = fc%pn_ext(2, e) - fc%pn_ext(1, e)
         else
