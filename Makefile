@@ -70,8 +70,13 @@ $(BLD)/tubempm: $(LIBOBJ) $(BLD)/tubempm.o
 $(BLD)/testing.o: tests/testing.f90 | $(BLD)
 	$(FC_ALL) -J$(BLD) -c -o $@ $<
 
-$(BLD)/test_%: tests/test_%.f90 $(BLD)/testing.o $(LIBOBJ) | $(BLD)
-	$(FC_ALL) $(HDF5_FFLAGS) -I$(BLD) -J$(BLD)/tmod_$* -o $@ $< $(BLD)/testing.o $(LIBOBJ) $(HDF5_LIBS)
+# the test helpers that need the library (must_setup)
+$(BLD)/testing_sim.o: tests/testing_sim.f90 $(BLD)/testing.o $(LIBOBJ) | $(BLD)
+	$(FC_ALL) $(HDF5_FFLAGS) -J$(BLD) -c -o $@ $<
+
+$(BLD)/test_%: tests/test_%.f90 $(BLD)/testing.o $(BLD)/testing_sim.o $(LIBOBJ) | $(BLD)
+	$(FC_ALL) $(HDF5_FFLAGS) -I$(BLD) -J$(BLD)/tmod_$* -o $@ $< $(BLD)/testing.o \
+	  $(BLD)/testing_sim.o $(LIBOBJ) $(HDF5_LIBS)
 
 $(BLD)/tmod_%:
 	mkdir -p $@

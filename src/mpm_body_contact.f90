@@ -32,8 +32,8 @@
 !     cfl 0.3 and above); it acts there without friction (see body_contact_apply).
 module mpm_body_contact
   use mpm_kinds, only: wp
-  use mpm_constants, only: CONTACT_SLIP, CONTACT_FRICTIONLESS, BASIS_CPDI1, BASIS_CPDI2
-  use mpm_particles, only: particles_t
+  use mpm_constants, only: CONTACT_SLIP, CONTACT_FRICTIONLESS
+  use mpm_particles, only: particles_t, particle_corners
   use mpm_grid, only: grid_t
   use mpm_tiles, only: tiles_t, tiles_span
   use mpm_contact_law, only: field_contact_t, contact_law_impulse, field_contact_reserve
@@ -285,7 +285,7 @@ contains
       do k = 1, fc%nplist
         ip = fc%plist(k)
         f = prm%field(ip)
-        xq = domain_corners(p, prm%basis, ip)
+        xq = particle_corners(p, ip, prm%basis, deformed=.true.)
         do b = 0, nb - 1
           do a = 0, nb - 1
             kk = 1 + a + nb*b
@@ -385,33 +385,6 @@ contains
       sep = e(2) - e(1)
     end function sep
   end subroutine separating_normal
-
-  !> The corners of the domain of particle ip as it is deformed now (for the gaps).
-  pure function domain_corners(p, basis, ip) result(xq)
-    type(particles_t), intent(in) :: p     !! particles
-    integer, intent(in) :: basis           !! BASIS_* code
-    integer, intent(in) :: ip              !! particle
-    real(wp) :: xq(2, 4)
-    real(wp) :: r1(2), r2(2)
-    if (basis == BASIS_CPDI2) then
-      xq(:, 1) = p%xc(:, p%corner(1, ip))
-      xq(:, 2) = p%xc(:, p%corner(2, ip))
-      xq(:, 3) = p%xc(:, p%corner(3, ip))
-      xq(:, 4) = p%xc(:, p%corner(4, ip))
-      return
-    end if
-    if (basis == BASIS_CPDI1) then
-      r1 = matmul(p%F(:, :, ip), p%r10(:, ip))
-      r2 = matmul(p%F(:, :, ip), p%r20(:, ip))
-    else
-      r1 = p%F(:, 1, ip)*p%half(1, ip)
-      r2 = p%F(:, 2, ip)*p%half(2, ip)
-    end if
-    xq(:, 1) = p%x(:, ip) - r1 - r2
-    xq(:, 2) = p%x(:, ip) + r1 - r2
-    xq(:, 3) = p%x(:, ip) + r1 + r2
-    xq(:, 4) = p%x(:, ip) - r1 + r2
-  end function domain_corners
 
   !> The contact law at every pair entry on the node velocities (mpm_contact_law). With record
   !! (step 3) the velocity changes also enter dvel (FLIP sees the contact) and the impulses

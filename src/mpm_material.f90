@@ -541,14 +541,19 @@ contains
     real(wp), intent(in) :: dt           !! time step [s]
     real(wp), intent(out) :: k           !! flow stress [Pa]
     real(wp), intent(out) :: dk          !! dk/dd [Pa]
-    real(wp) :: e, h, dh, r, dr, z
+    real(wp) :: e, h, dh, r, dr, z, x
     if (mat%flow_stress_id == FLOW_JOHNSON_COOK) then
       call jc_flow(mat, eqps, d, dt, k, dk)
       return
     end if
     e = eqps + d
-    h = mat%sigma_y + mat%hardening*e + mat%voce_q*(1.0_wp - exp(-mat%voce_b*e))
-    dh = mat%hardening + mat%voce_q*mat%voce_b*exp(-mat%voce_b*e)
+    h = mat%sigma_y + mat%hardening*e
+    dh = mat%hardening
+    if (mat%voce_q /= 0.0_wp) then            ! the saturation term (the return's hot loop)
+      x = exp(-mat%voce_b*e)
+      h = h + mat%voce_q*(1.0_wp - x)
+      dh = dh + mat%voce_q*mat%voce_b*x
+    end if
     r = 1.0_wp
     dr = 0.0_wp
     if (mat%rate_law_id == RATE_COWPER_SYMONDS .and. d > 0.0_wp) then

@@ -231,14 +231,20 @@ contains
 
   !> The four corners of particle ip's domain for basis `basis`, counter-clockwise [m]: the
   !! shared CPDI2 corners; the CPDI1 parallelogram x -+ r1 -+ r2 with r = F r0; otherwise
-  !! (linear, uGIMP) the axis-aligned square x -+ half. The one answer to "where is this
-  !! particle's material" (wall gaps, output; the basis step gathers CPDI2 corners inline).
-  pure function particle_corners(p, ip, basis) result(xq)
+  !! (linear, uGIMP) the axis-aligned square x -+ half, or with `deformed` the half sizes
+  !! carried by F, x -+ F(:,1) half(1) -+ F(:,2) half(2) (the contact between bodies). The one
+  !! answer to "where is this particle's material" (wall gaps, output, contact; the basis step
+  !! gathers CPDI2 corners inline).
+  pure function particle_corners(p, ip, basis, deformed) result(xq)
     type(particles_t), intent(in) :: p        !! particles
     integer, intent(in) :: ip                 !! particle
     integer, intent(in) :: basis              !! BASIS_* code
+    logical, intent(in), optional :: deformed !! linear, uGIMP: the domain carried by F
     real(wp) :: xq(2, 4)
     real(wp) :: r1(2), r2(2)
+    logical :: carried
+    carried = .false.
+    if (present(deformed)) carried = deformed
     if (basis == BASIS_CPDI2) then
       xq(:, 1) = p%xc(:, p%corner(1, ip))
       xq(:, 2) = p%xc(:, p%corner(2, ip))
@@ -249,6 +255,9 @@ contains
     if (basis == BASIS_CPDI1) then
       r1 = matmul(p%F(:, :, ip), p%r10(:, ip))
       r2 = matmul(p%F(:, :, ip), p%r20(:, ip))
+    else if (carried) then
+      r1 = p%F(:, 1, ip)*p%half(1, ip)
+      r2 = p%F(:, 2, ip)*p%half(2, ip)
     else
       r1 = [p%half(1, ip), 0.0_wp]
       r2 = [0.0_wp, p%half(2, ip)]

@@ -19,14 +19,14 @@ program test_fbar
   use mpm_constants, only: BASIS_LINEAR, BASIS_CPDI2, basis_names, SCHEME_MUSL, SCHEME_USF, &
                            scheme_names, PLANE_STRAIN, MODEL_ELASTIC, MODEL_J2, SECTOR_QUARTER, &
                            VOLUMETRIC_STANDARD, VOLUMETRIC_FBAR
-  use mpm_config, only: config_t, config_resolve
+  use mpm_config, only: config_t
   use mpm_scene_builder, only: scene_new, scene_add_material, scene_add_ring, scene_add_rect
-  use mpm_setup, only: setup_sim
   use mpm_solver, only: sim_t, solver_step
   use mpm_weights, only: weights_compute
   use mpm_deformation, only: deformation_update
   use mpm_fbar, only: fbar_force_stress
   use testing, only: begin_test, check, check_close, finish_tests
+  use testing_sim, only: must_setup
   implicit none
   ! the cylinder
   real(wp), parameter :: a = 0.01_wp, b = 0.02_wp, E = 10.0e6_wp, rho = 1000.0_wp
@@ -68,22 +68,6 @@ program test_fbar
   call finish_tests('test_fbar')
 
 contains
-
-  !> A case of one material and one body, resolved and set up.
-  subroutine must_setup(cfg_in, s)
-    type(config_t), intent(in) :: cfg_in
-    type(sim_t), intent(out) :: s
-    type(config_t) :: cfg
-    integer :: stat
-    character(len=:), allocatable :: errmsg
-    cfg = cfg_in
-    call config_resolve(cfg, stat, errmsg)
-    call check(stat == 0, 'config_resolve: '//errmsg)
-    if (stat /= 0) error stop 1
-    call setup_sim(cfg, s, stat, errmsg)
-    call check(stat == 0, 'setup_sim: '//errmsg)
-    if (stat /= 0) error stop 1
-  end subroutine must_setup
 
   !> Patch test: a J2 block (ppc x ppc particles per cell) under the affine grid velocity
   !! v = G x (stretch, shear and spin, tr G /= 0), 60 steps of step 6 of both treatments from

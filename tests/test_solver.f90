@@ -7,11 +7,11 @@ program test_solver
   use mpm_constants, only: BASIS_LINEAR, BASIS_CPDI2, basis_names, &
                            SCHEME_USL, SCHEME_MUSL, scheme_names, PLANE_STRESS, &
                            PLANE_STRAIN, MODEL_ELASTIC, CONTACT_FRICTIONLESS
-  use mpm_config, only: config_t, config_resolve
+  use mpm_config, only: config_t
   use mpm_scene_builder, only: scene_new, scene_add_material, scene_add_rect, scene_add_ring
-  use mpm_setup, only: setup_sim
   use mpm_solver, only: sim_t, solver_step, solver_init_energy
   use testing, only: begin_test, check, check_close, finish_tests
+  use testing_sim, only: must_setup
   implicit none
   integer :: ib, is
 
@@ -66,22 +66,6 @@ contains
     integer, intent(in) :: n_thick
     call scene_add_ring(cfg, center, r_inner, r_outer, n_thick, velocity)
   end subroutine add_ring
-
-  !> Validate the case as an input file would be (config_resolve), then set it up.
-  subroutine must_setup(cfg_in, s)
-    type(config_t), intent(in) :: cfg_in
-    type(sim_t), intent(out) :: s
-    type(config_t) :: cfg
-    integer :: stat
-    character(len=:), allocatable :: errmsg
-    cfg = cfg_in
-    call config_resolve(cfg, stat, errmsg)
-    call check(stat == 0, 'config_resolve: '//errmsg)
-    if (stat /= 0) error stop 1
-    call setup_sim(cfg, s, stat, errmsg)
-    call check(stat == 0, 'setup_sim: '//errmsg)
-    if (stat /= 0) error stop 1
-  end subroutine must_setup
 
   function momentum(s) result(pm)
     type(sim_t), intent(in) :: s

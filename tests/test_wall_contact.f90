@@ -18,14 +18,14 @@ program test_wall_contact
                            plane_names, MODEL_J2, &
                            MODEL_ELASTIC, CONTACT_FRICTIONLESS, CONTACT_COULOMB, CONTACT_STICK, &
                            CONTACT_SLIP, contact_names, SECTOR_HALF, SECTOR_FULL
-  use mpm_config, only: config_t, config_resolve
+  use mpm_config, only: config_t
   use mpm_scene_builder, only: scene_new, scene_add_material, scene_add_rect, scene_add_ring, &
                                scene_add_wall
-  use mpm_setup, only: setup_sim
   use mpm_solver, only: sim_t, solver_step
   use mpm_walls, only: wall_travel
   use mpm_surface_contact, only: contact_alpha
   use testing, only: begin_test, check, check_close, finish_tests
+  use testing_sim, only: must_setup
   implicit none
 
   ! the block: steel-like, perfectly plastic, 10 x 10 mm, h = 1 mm, 2 x 2 particles per cell
@@ -65,22 +65,6 @@ program test_wall_contact
   call finish_tests('test_wall_contact')
 
 contains
-
-  !> Validate the case as an input file would be (config_resolve), then set it up.
-  subroutine must_setup(cfg_in, s)
-    type(config_t), intent(in) :: cfg_in
-    type(sim_t), intent(out) :: s
-    type(config_t) :: cfg
-    integer :: stat
-    character(len=:), allocatable :: errmsg
-    cfg = cfg_in
-    call config_resolve(cfg, stat, errmsg)
-    call check(stat == 0, 'config_resolve: '//errmsg)
-    if (stat /= 0) error stop 1
-    call setup_sim(cfg, s, stat, errmsg)
-    call check(stat == 0, 'setup_sim: '//errmsg)
-    if (stat /= 0) error stop 1
-  end subroutine must_setup
 
   !> Set wall k's contact law (and Coulomb coefficient).
   subroutine set_contact(cfg, k, law, mu)
