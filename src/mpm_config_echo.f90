@@ -154,7 +154,8 @@ contains
     call fields_values(f, idx, e%v)
     select case (ig)
     case (1)
-      e%hide(idx) = cfg%run%mirror_images .and. specs(idx)%name == 'mirror_images'
+      e%hide(idx) = (cfg%run%mirror_images .and. specs(idx)%name == 'mirror_images') .or. &
+                    (.not. cfg%run%end_at_release .and. specs(idx)%name == 'end_at_release')
     case (2)
       e%hide(idx) = cfg%solver%volumetric_id /= VOLUMETRIC_FBAR .and. &
                     specs(idx)%name == 'volumetric'

@@ -66,7 +66,7 @@ module mpm_config_table
     character(len=:), pointer :: c => null()
   end type field_t
 
-  integer, parameter :: n_specs = 65
+  integer, parameter :: n_specs = 66
   character(len=*), parameter :: s0 = 'a real number >= 0 [s] (default 0)'
   character(len=*), parameter :: v0 = '2 finite real numbers [m/s] (default 0, 0)'
   character(len=*), parameter :: lu = '2 real numbers [m] each for lower and upper, lower '// &
@@ -106,6 +106,8 @@ module mpm_config_table
       comment='OpenMP threads (0 = runtime default)'), &
     var_spec_t('run', 'mirror_images', 'l', l0=.true., allowed='.true. or .false. (default '// &
       '.true.)', comment='write the mirror images of a sector'), &
+    var_spec_t('run', 'end_at_release', 'l', allowed='.true. or .false. '// &
+      '(default .false.)', comment='end the run when its contact is over'), &
     ! ---------------------------------------------------------------------------- &solver
     var_spec_t('solver', 'basis', 'e', c0='cpdi2', comment='% [-]'), &
     var_spec_t('solver', 'scheme', 'e', c0='musl', comment='% [-]'), &
@@ -378,6 +380,7 @@ contains
         call bind(f, 'run', 'gravity', v=g%gravity)
         call bind(f, 'run', 'threads', i=g%threads)
         call bind(f, 'run', 'mirror_images', l=g%mirror_images)
+        call bind(f, 'run', 'end_at_release', l=g%end_at_release)
       end associate
     case (2)
       associate (g => cfg%solver)

@@ -26,6 +26,7 @@ module mpm_config_types
     real(wp) :: gravity(2) = 0.0_wp                !! body acceleration [m/s^2]
     integer :: threads = 0                         !! OpenMP threads (0 = runtime default)
     logical :: mirror_images = .true.              !! snapshots of a sector show the whole tube
+    logical :: end_at_release = .false.            !! end the run when its contact is over
   end type run_cfg_t
 
   !> &solver

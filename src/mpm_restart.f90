@@ -7,9 +7,9 @@
 ! placement (mpm_grid), the run's diagnostics (mpm_state: growths, extremes), the state
 ! (mpm_state: time and energies, then the walls (mpm_walls) and the particles (mpm_particles)),
 ! then the output positions (history rows and last row time, snapshot times and sizes, the next
-! snapshot time) and a trailing magic. This module lists no field of those types. It is written
-! to `checkpoint.tmp`, flushed, closed and renamed to `checkpoint.bin`, so a crash while writing
-! leaves the previous checkpoint intact.
+! snapshot time, the contact times of `end_at_release`) and a trailing magic. This module lists
+! no field of those types. It is written to `checkpoint.tmp`, flushed, closed and renamed to
+! `checkpoint.bin`, so a crash while writing leaves the previous checkpoint intact.
 module mpm_restart
   use mpm_kinds, only: wp, i8
   use mpm_state, only: sim_t, state_write, state_read, diag_write, diag_read
@@ -20,7 +20,7 @@ module mpm_restart
   public :: checkpoint_write, checkpoint_read, ckpt_extra_t
 
   character(len=12), parameter :: magic = 'TUBEMPM-CKPT'
-  integer, parameter :: format_version = 3
+  integer, parameter :: format_version = 4
 
   !> What the driver needs besides the simulation state to continue its outputs.
   type :: ckpt_extra_t
@@ -32,6 +32,8 @@ module mpm_restart
     integer, allocatable :: snap_np(:)     !! their particle counts
     integer, allocatable :: snap_nc(:)     !! their corner counts
     real(wp) :: wall_seconds = 0.0_wp      !! wall-clock time used before this checkpoint [s]
+    real(wp) :: contact_first = -1.0_wp    !! first and last step in contact (mpm_release;
+    real(wp) :: contact_last = -1.0_wp     !! < 0: none yet) [s]
   end type ckpt_extra_t
 
 contains
@@ -63,7 +65,7 @@ contains
     if (stat == 0) call state_write(s%state_t, u, stat, msg)
     if (stat == 0) write(u, iostat=stat, iomsg=msg) ex%history_rows, ex%history_next, &
       ex%history_last, ex%snapshot_next, size(ex%snap_times), ex%snap_times, ex%snap_np, &
-      ex%snap_nc, ex%wall_seconds, magic
+      ex%snap_nc, ex%wall_seconds, ex%contact_first, ex%contact_last, magic
     if (stat /= 0) then
       errmsg = 'cannot write '//tmp//': '//trim(msg)
       close(u, status='delete', iostat=k)
@@ -140,7 +142,8 @@ contains
       ex%history_last, ex%snapshot_next, nsnap
     if (ios == 0 .and. nsnap >= 0) then
       allocate(ex%snap_times(nsnap), ex%snap_np(nsnap), ex%snap_nc(nsnap))
-      read(u, iostat=ios, iomsg=msg) ex%snap_times, ex%snap_np, ex%snap_nc, ex%wall_seconds, m2
+      read(u, iostat=ios, iomsg=msg) ex%snap_times, ex%snap_np, ex%snap_nc, ex%wall_seconds, &
+        ex%contact_first, ex%contact_last, m2
     end if
     close(u, iostat=k)
     if (ios /= 0 .or. m2 /= magic) then

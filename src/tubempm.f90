@@ -22,6 +22,8 @@ program tubempm
   use mpm_images, only: images_of_walls
   use mpm_io_hdf5, only: snapfile_t, snap_create, snap_reopen, snap_write, snap_close, xdmf_write
   use mpm_restart, only: checkpoint_write, checkpoint_read, ckpt_extra_t
+  use mpm_release, only: release_t, release_observe, release_due, in_contact
+  use mpm_walls, only: wall_t
   use mpm_sys, only: sys_mkdir_p, sys_install_signals, sys_signal_received, sys_stdout_isatty
   use mpm_strings, only: itoa, rtoa, hms
   implicit none
@@ -51,6 +53,8 @@ program tubempm
     real(wp) :: elapsed = 0.0_wp           !! wall-clock time of this run so far [s]
     real(wp) :: last_progress = 0.0_wp     !! elapsed at the last progress line [s]
     real(wp) :: last_ckpt = 0.0_wp         !! elapsed at the last checkpoint [s]
+    type(release_t) :: rel                 !! the contact seen so far (end_at_release)
+    logical :: done = .false.              !! the step just taken is the last
   end type run_t
   integer, parameter :: backup_every = 10  !! steps between copies of the last good state:
                                            !! crash_<step>.h5 is 1 to 10 steps before a failure
@@ -215,9 +219,11 @@ contains
     call system_clock(r%c0, r%crate)
     ! 2. the time loop
     sig = 0
-    do while (s%t < s%prm%t_end)
+    r%done = s%t >= s%prm%t_end
+    do while (.not. r%done)
       call solver_step(s, st, msg)
       if (st /= 0) call on_failure(st, msg, s, r)
+      r%done = s%t >= s%prm%t_end .or. released(cfg, s, r)
       call write_outputs(cfg, s, r)
       if (mod(s%step, int(backup_every, i8)) == 0_i8) call keep_good_state(s, r)
       call show_progress(s, r)
@@ -233,6 +239,8 @@ contains
         exit
       end if
     end do
+    if (r%done .and. s%t < s%prm%t_end) r%sm%message = 'ended at release: contact from t = '// &
+      rtoa(r%rel%t_first)//' to '//rtoa(r%rel%t_last)//' s, none since (&run end_at_release)'
     ! 3. close the outputs, summary, end-of-run report
     call close_outputs(s, r, final_snapshot=sig == 0)
     if (sig /= 0) call fatal('run', trim(r%sm%message)//'; a checkpoint is in '//r%dir// &
@@ -275,6 +283,7 @@ contains
       if (st /= 0) call fatal('restart', msg, EXIT_IO)
       r%snaps%images = images_of_walls(s%walls, cfg%run%mirror_images)
       r%next_snap = ex%snapshot_next
+      r%rel = release_t(ex%contact_first, ex%contact_last)
       if (.not. r%quiet) write(output_unit, '(a)') 'restarting from the checkpoint at t = '// &
         rtoa(s%t)//' s, step '//itoa(s%step)
     else
@@ -297,6 +306,24 @@ contains
     end if
   end subroutine open_outputs
 
+  !> With `&run end_at_release`: record whether the step just taken had a contact force, and
+  !! whether the contact is over (mpm_release).
+  logical function released(cfg, s, r)
+    type(config_t), intent(in) :: cfg
+    type(sim_t), intent(in) :: s
+    type(run_t), intent(inout) :: r
+    type(wall_t) :: none(0)
+    real(wp) :: no_pairs(3, 0)
+    logical :: on
+    released = .false.
+    if (.not. cfg%run%end_at_release) return
+    on = .false.
+    if (s%nwall > 0) on = in_contact(s%walls(1:s%nwall), no_pairs, s%t)
+    if (s%prm%npair > 0) on = on .or. in_contact(none, s%pair_force, s%t)
+    call release_observe(r%rel, s%t, on)
+    released = release_due(r%rel, s%t, s%dt)
+  end function released
+
   !> After a step: the history row when due, the snapshot when due.
   subroutine write_outputs(cfg, s, r)
     type(config_t), intent(in) :: cfg
@@ -304,10 +331,10 @@ contains
     type(run_t), intent(inout) :: r
     character(len=:), allocatable :: msg
     integer :: st
-    call history_write(r%hist, s, s%t >= s%prm%t_end, st, msg)
+    call history_write(r%hist, s, r%done, st, msg)
     if (st /= 0) call fatal('output', msg, EXIT_IO)
     if (cfg%run%snapshot_every > 0.0_wp .and. s%t >= r%next_snap*(1.0_wp - 1.0e-12_wp) &
-        .and. s%t < s%prm%t_end) then
+        .and. .not. r%done) then
       call write_snapshot(s, r)
       do while (r%next_snap <= s%t*(1.0_wp + 1.0e-12_wp))
         r%next_snap = r%next_snap + cfg%run%snapshot_every
@@ -376,6 +403,8 @@ contains
     ex%snap_np = r%snaps%nps
     ex%snap_nc = r%snaps%ncs
     ex%wall_seconds = r%seconds0 + r%elapsed
+    ex%contact_first = r%rel%t_first
+    ex%contact_last = r%rel%t_last
     call checkpoint_write(r%dir, r%input_text, s, ex, st, msg)
     if (st /= 0) call fatal('checkpoint', msg, EXIT_IO)
     r%last_ckpt = r%elapsed
