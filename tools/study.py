@@ -29,7 +29,7 @@ out/study-quick/ instead: it checks the machinery, its coarse reference is no re
 `--tables-only` recomputes the table from existing run folders without running anything.
 
 Levels: ``quick`` (under 10 minutes on 2 cores: coarse sweeps, its own coarse reference),
-``full`` (1.5 CPU hours, about an hour on 2 cores; the committed table and figures), ``all`` (full plus
+``full`` (1.4 CPU hours, about an hour on 2 free cores; the committed table and figures), ``all`` (full plus
 n_t = 32 at h = t/8 for every scene, the crush's bases at h = t/4 and its aspect 1/2; several
 hours more).
 """
