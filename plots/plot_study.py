@@ -66,6 +66,13 @@ def volumetric(r: dict[str, Any]) -> str:
     return v if isinstance(v, str) and v else "standard"
 
 
+def cfl_used(r: dict[str, Any]) -> float:
+    """The cfl the run used: the table's cfl_used (its input's, or the automatic value for
+    cfl = 0), or its cfl in tables from before that column."""
+    c = r.get("cfl_used", math.nan)
+    return c if isinstance(c, float) and math.isfinite(c) else r["cfl"]
+
+
 def centre(r: dict[str, Any], **changes: Any) -> bool:
     """Is r the centre point of the sweeps (CPDI2, MUSL, the scene's centre cfl, aspect 1,
     30 m/s, standard volumetric treatment) with ``changes`` applied?"""
@@ -122,7 +129,7 @@ def advice(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
                         **({k: best[k] for k in ("name", "basis", "scheme", "h_over_t", "n_t",
                                                  "n_c", "aspect", "cfl", "particles", "cpu_s",
                                                  "runtime_ratio", "error")}
-                           | {"volumetric": volumetric(best)}
+                           | {"volumetric": volumetric(best), "cfl_used": cfl_used(best)}
                            if best else {"name": "none within the study"})})
     return out
 
@@ -132,7 +139,9 @@ def settings(r: dict[str, Any]) -> str:
     text = f"h/t {r['h_over_t']:g}, n_t {r['n_t']:g}, {r['basis']}"
     if not math.isclose(r["aspect"], 1.0):
         text += f", aspect {r['aspect']:g}"
-    if not math.isclose(r["cfl"], 0.2):
+    if r["cfl"] == 0.0:
+        text += f", cfl automatic ({cfl_used(r):g})"
+    elif not math.isclose(r["cfl"], 0.2):
         text += f", cfl {r['cfl']:g}"
     if volumetric(r) != "standard":
         text += f", {volumetric(r)}"
@@ -404,7 +413,7 @@ def main(argv: list[str] | None = None) -> int:
     adv = advice(rows)
     with open(out / f"advice_{args.level}.csv", "w", newline="") as fh:
         keys = ["scene", "target", "name", "basis", "scheme", "h_over_t", "n_t", "n_c", "aspect",
-                "cfl", "volumetric", "particles", "cpu_s", "runtime_ratio", "error"]
+                "cfl", "cfl_used", "volumetric", "particles", "cpu_s", "runtime_ratio", "error"]
         w = csv.DictWriter(fh, fieldnames=keys, extrasaction="ignore")
         w.writeheader()
         for a in adv:

@@ -225,8 +225,10 @@ def test_check_advice() -> None:
             check("none in the study" in line, f"advice line for {target}: {line!r}")
         else:
             cpu = re.search(r"([\d.]+) CPU s", line)
+            # (a run at cfl = 0 is compiled in, and advised, at the cfl it used: cfl_used)
+            cfl = float(a.get("cfl_used") or a["cfl"])
             check(f"n_thick {int(float(a['n_t']))}," in line
-                  and f"cfl {float(a['cfl']):.2f}" in line and a["basis"] in line
+                  and f"cfl {cfl:.2f}" in line and a["basis"] in line
                   and cpu is not None and close(float(cpu[1]), float(a["cpu_s"]), 5e-3),
                   f"advice line for {target} names the run's settings: {line!r}")
 
@@ -299,7 +301,8 @@ def test_crush_against_fe() -> None:
 def test_quasi_static_design() -> None:
     """The study's crush: its platens reach delta/D >= 0.5 (the window's end) by t_end even
     if the ramp gave no travel at all (a lower bound), it approaches more slowly than the
-    shipped scene, every crush run is at the crush's centre cfl except the cfl sweep, and
+    shipped scene, every crush run is at the crush's centre cfl except the cfl sweep and issue
+    17's points (h = t/4, n_t = 8, aspect 2 at cfl 1.2, 1.6 and automatic), and
     plots/plot_study.py knows the same centre cfl per scene."""
     import batch
     import plot_study
@@ -320,9 +323,45 @@ def test_quasi_static_design() -> None:
           f"quasi-static approach {2 * v} m/s, below the scene's {2 * v_scene} m/s")
     off = [p.name for p in pts if not close(p.cfl, study.CENTRE_CFL["crush"], 1e-12)]
     check(sorted(off) == sorted(p.name for p in pts if p.h_over_t == 0.25 and p.n_t == 8
-                                and p.aspect == 1.0 and p.cfl in (0.2, 0.4)),
-          f"crush runs off the centre cfl are the cfl sweep: {off}")
+                                and ((p.aspect == 1.0 and p.cfl in (0.2, 0.4))
+                                     or (p.aspect == 2.0 and p.cfl in (1.2, 1.6, 0.0)))),
+          f"crush runs off the centre cfl are the cfl sweep and issue 17's: {off}")
     check(plot_study.CENTRE_CFL == study.CENTRE_CFL, "plot_study and study: same centre cfl")
+
+
+def test_automatic_cfl() -> None:
+    """The study's runs at the automatic cfl (cfl = 0): tools/study.py's cfl_used, which the
+    table, the cost estimate and --check's compiled advice use, is the cfl that tubempm
+    reports for the run's input (`--check`: "cfl: X, automatic"), an independent computation
+    (src/mpm_advice.f90 from src/mpm_stability_table.inc); and at one particle per cell (the
+    1-per-cell limits) as well as at two."""
+    import re
+    import subprocess
+    import batch
+    import study
+    exe = Path(os.environ.get("TUBEMPM", ROOT / "build" / "debug" / "tubempm"))
+    if not check(exe.is_file(), f"binary {exe} present"):
+        return
+    pts = [p for pts in study.design("full").values() for p in pts if p.cfl == 0.0]
+    check(sorted(p.scene for p in pts) == ["crush", "impact"],
+          f"full design: one crush and one impact run at cfl = 0 ({[p.name for p in pts]})")
+    # and the same setting at one particle per cell through the wall (another stability table)
+    pts.append(study.Point("impact", h_over_t=0.25, n_t=4, cfl=0.0))
+    with tempfile.TemporaryDirectory(prefix="test_study_cfl") as tmp:
+        for p in pts:
+            case = p.case()
+            path = Path(tmp) / f"{p.name}.nml"
+            path.write_text(batch.render(case.base.read_text(), case.overrides))
+            out = subprocess.run([str(exe), "--check", "--quiet", str(path)],
+                                 capture_output=True, text=True).stdout
+            m = re.search(r"cfl: ([\d.]+), automatic \(cfl = 0\)", out)
+            if check(m is not None, f"{p.name}: --check reports the automatic cfl:\n{out}"):
+                check(close(float(m[1]), p.cfl_used, 1e-6),
+                      f"{p.name}: cfl_used {p.cfl_used} vs tubempm's {m[1]}")
+            check(p.cfl_used > 0.0 and close(p.steps() * p.cfl_used,
+                                             study.Point(p.scene, h_over_t=p.h_over_t,
+                                                         n_t=p.n_t, cfl=1.0).steps(), 1e-12),
+                  f"{p.name}: its step estimate uses cfl_used")
 
 
 def test_mass_scaling_is_time_scaling() -> None:
@@ -371,7 +410,7 @@ def test_mass_scaling_is_time_scaling() -> None:
 def main() -> int:
     for t in (test_render, test_richardson, test_pareto_advice, test_batch_runs,
               test_crush_metrics, test_check_advice, test_volumetric_factor,
-              test_crush_against_fe, test_quasi_static_design,
+              test_crush_against_fe, test_quasi_static_design, test_automatic_cfl,
               test_mass_scaling_is_time_scaling):
         try:
             t()

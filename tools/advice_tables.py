@@ -55,7 +55,7 @@ def study_include(rows: list[dict[str, Any]], adv: list[dict[str, Any]], source:
     """The study's runs (centre-point settings and errors) and the scenes and targets of the
     advice, as Fortran parameters (tubempm --check picks the run per target: the cheapest within
     it that its own warnings do not condemn)."""
-    from plot_study import SCENES, volumetric
+    from plot_study import SCENES, cfl_used, volumetric
     # the references are left out: their error (0 by definition) was not measured
     runs = [r for r in rows if math.isfinite(r.get("error", math.nan))
             and math.isfinite(r.get("cpu_s", math.nan)) and r["name"] != r["reference"]
@@ -70,7 +70,9 @@ def study_include(rows: list[dict[str, Any]], adv: list[dict[str, Any]], source:
     lines.append(arr("study_h_over_t", "real(wp)", [real(r["h_over_t"]) for r in runs]))
     lines.append(arr("study_n_t", "integer", [str(int(r["n_t"])) for r in runs]))
     lines.append(arr("study_aspect", "real(wp)", [real(r["aspect"]) for r in runs]))
-    lines.append(arr("study_cfl", "real(wp)", [real(r["cfl"]) for r in runs]))
+    # the cfl the run used (a run at cfl = 0 ran at the automatic value; --check compares it
+    # with an input's cfl in use)
+    lines.append(arr("study_cfl", "real(wp)", [real(cfl_used(r)) for r in runs]))
     lines.append(arr("study_volumetric", "character(len=8)",
                      [f"'{volumetric(r):8s}'" for r in runs]))
     lines.append(arr("study_error", "real(wp)", [real(r["error"]) for r in runs]))

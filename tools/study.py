@@ -9,9 +9,13 @@ Each scene is swept one factor at a time around a centre point (CPDI2, MUSL, cfl
 quasi-static crush: 0.8), square particles): the grid spacing h/t, the particles through the wall n_t, the particle aspect ratio
 (length around / length through the wall, which sets n_c), the basis, the cfl number, for
 the impact the impact speed, and the volumetric treatment (``&solver volumetric = 'fbar'``, the
-anti-locking F-bar, against 'standard' at one and two particles per cell through the wall). Runs go to out/study/<case>/ through tools/batch.py (several at
-once, one thread each, finished runs skipped, interrupted runs re-run), or with
-``--backend slurm`` as one Slurm job array (docs/batch.md).
+anti-locking F-bar, against 'standard' at one and two particles per cell through the wall).
+The full level adds the settings of issue 17's targets: the crush at h = t/4, n_t = 8, aspect 2
+at cfl 1.2 and 1.6, and the automatic time step (``cfl = 0``: the run's cfl is then the table's
+``cfl_used``) for that crush and for the impact at h = t/4, n_t = 8. Runs go to
+out/study/<case>/ through tools/batch.py (several at once, one thread each, finished runs
+skipped, interrupted runs re-run), or with ``--backend slurm`` as one Slurm job array
+(docs/batch.md).
 
 The study's crush is quasi-static (the platens approach at CRUSH_APPROACH, not the shipped
 scene's 10 m/s), and every crush error is measured against the static finite element curve
@@ -25,7 +29,7 @@ out/study-quick/ instead: it checks the machinery, its coarse reference is no re
 `--tables-only` recomputes the table from existing run folders without running anything.
 
 Levels: ``quick`` (under 10 minutes on 2 cores: coarse sweeps, its own coarse reference),
-``full`` (1.5 CPU hours, about an hour on 2 cores; the committed table and figures), ``all`` (full plus
+``full`` (1.4 CPU hours, about an hour on 2 free cores; the committed table and figures), ``all`` (full plus
 n_t = 32 at h = t/8 for every scene, the crush's bases at h = t/4 and its aspect 1/2; several
 hours more).
 """
@@ -94,6 +98,29 @@ CENTRE_CFL = {"crush": 0.8, "impact": 0.2, "wave": 0.2}
 FE_CURVE = ROOT / "docs" / "fe_reference" / "crush_fe.csv"
 FE_REFERENCE = "fe_reference/crush_fe.csv"
 
+#: The automatic cfl (``&run cfl = 0``, docs/input.md) is CFL_MARGIN times the largest cfl at
+#: which the stability study found the basis and scheme stable (docs/stability/
+#: cfl_limits_ppc*.csv: at 1 particle per cell through the wall below PPC_LOW, else at 2), or
+#: CFL_MARGIN times the smallest cfl it tried where it found none stable: src/mpm_advice.f90's
+#: cfl_automatic, which tests/test_study.py holds this to.
+CFL_MARGIN = 0.5
+PPC_LOW = 1.5
+STABILITY = ROOT / "docs" / "stability"
+
+
+def automatic_cfl(basis: str, scheme: str, ppc: float) -> float:
+    """The cfl that tubempm uses for ``cfl = 0`` with this basis and scheme at ppc particles per
+    cell through the wall (n_t h / t)."""
+    def rows(name: str) -> list[dict[str, str]]:
+        with open(STABILITY / name, newline="") as fh:
+            return list(csv.DictReader(fh))
+    limits = rows(f"cfl_limits_ppc{1 if ppc < PPC_LOW else 2}.csv")
+    limit = next(float(r["stable_cfl"]) for r in limits
+                 if r["basis"] == basis and r["scheme"] == scheme)
+    if limit <= 0.0:
+        limit = min(float(r["cfl"]) for k in (1, 2) for r in rows(f"cfl_runs_ppc{k}.csv"))
+    return CFL_MARGIN * limit
+
 #: Crush error window (delta / D, D the mean diameter) and energy point.
 CRUSH_WINDOW = (0.05, 0.5)
 #: Crush: width of the moving average of F(delta) for the smoothed error [delta / D].
@@ -116,6 +143,12 @@ class Point:
     cfl: float = 0.2
     speed: float = 30.0          # impact only [m/s]
     volumetric: str = "standard"  # &solver volumetric: 'standard' or 'fbar' (anti-locking)
+
+    @property
+    def cfl_used(self) -> float:
+        """The cfl the run uses: its input's, or the automatic value for cfl = 0."""
+        return self.cfl if self.cfl > 0.0 else automatic_cfl(self.basis, self.scheme,
+                                                             self.n_t * self.h_over_t)
 
     @property
     def name(self) -> str:
@@ -143,7 +176,7 @@ class Point:
         r = ring_of(self.scene)
         h = self.h_over_t * SCENES[self.scene]["t"]
         v = self.speed if self.scene == "impact" else 0.5 * CRUSH_APPROACH
-        dt = self.cfl * h / (r["c"] + v)
+        dt = self.cfl_used * h / (r["c"] + v)
         return self.t_end() / dt
 
     def t_end(self) -> float:
@@ -172,7 +205,7 @@ class Point:
     def labels(self) -> dict[str, Any]:
         return {"scene": self.scene, "basis": self.basis, "scheme": self.scheme,
                 "h_over_t": self.h_over_t, "n_t": self.n_t, "n_c": self.n_circ(),
-                "aspect": self.aspect, "cfl": self.cfl,
+                "aspect": self.aspect, "cfl": self.cfl, "cfl_used": self.cfl_used,
                 # impact speed; the crush's relative platen approach
                 "speed": self.speed if self.scene == "impact" else
                 CRUSH_APPROACH if self.scene == "crush" else "",
@@ -253,6 +286,13 @@ def design(level: str) -> dict[str, list[Point]]:
         if scene == "impact":
             pts += [P(scene, h_over_t=0.25, n_t=8, speed=v)
                     for v in (1.0, 2.0, 5.0, 16.5, 30.0, 60.0, 125.0)]
+        # issue 17's targets: the crush at h = t/4, n_t = 8, aspect 2 at cfl 1.2 and 1.6 (below
+        # the stability study's limit, 1.75) and at the automatic cfl, the impact at its advised
+        # setting (h = t/4, n_t = 8) at the automatic cfl
+        if scene == "crush":
+            pts += [P(scene, h_over_t=0.25, n_t=8, aspect=2.0, cfl=c) for c in (1.2, 1.6, 0.0)]
+        if scene == "impact":
+            pts += [P(scene, h_over_t=0.25, n_t=8, cfl=0.0)]
         if level == "all":
             pts += [P(scene, h_over_t=0.125, n_t=32)]
         seen: set[str] = set()
@@ -451,9 +491,9 @@ def richardson(f1: float, f2: float, f3: float, ratio: float = 2.0) -> dict[str,
 # ----------------------------------------------------------------------------------------------
 
 COLUMNS = ["scene", "name", "reference", "self_reference", "basis", "scheme", "h_over_t", "n_t",
-           "n_c", "aspect", "cfl", "speed", "volumetric", "particles", "steps", "status",
-           "exit_code", "wall_s", "cpu_s", "runtime_ratio", "mps", "energy_error", "error",
-           "err_self", "err_F_L2", "err_F_smooth", "noise", "err_energy_50", "force_mean",
+           "n_c", "aspect", "cfl", "cfl_used", "speed", "volumetric", "particles", "steps",
+           "status", "exit_code", "wall_s", "cpu_s", "runtime_ratio", "mps", "energy_error",
+           "error", "err_self", "err_F_L2", "err_F_smooth", "noise", "err_energy_50", "force_mean",
            "force_over_fe", "force_over_dh", "err_F_smooth_self", "kinetic_over_plastic",
            "energy_50", "energy_50_dh", "err_duration", "err_cor", "err_peak", "duration", "cor",
            "peak_10us", "v_impact", "impulse", "err_arrival", "err_speed", "wave_speed",
