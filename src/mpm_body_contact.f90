@@ -12,12 +12,14 @@
 !     of a's and b's particles that touch the node, within a cell of it along the surface
 !     (CPDI2: the shared corners; CPDI1: x -+ F r10 -+ F r20; uGIMP and linear: x -+ F
 !     (half_x, 0) -+ F (0, half_y), the particle's square deformed with it); the normal n, the
-!     direction within 60 degrees of that one that separates b's corners from a's the most,
-!     and the gap, that separation (the smallest x . n over b's corners minus the largest over
-!     a's). The surfaces are exact where the domains are (CPDI), so contact engages when they
-!     meet, not when the fields first share a node (a cell or more early); two surfaces that
-!     touch get the normal of their common tangent (the centre-of-mass direction tilts near
-!     the contact point of a curved surface, and a body sliding on it ploughed).
+!     direction within 60 degrees of that one that separates b's corners from a's the most
+!     (turning either way alike, and only where the turn gains more than 1e-6 h: mirror-image
+!     bodies get mirror-image normals), and the gap, that separation (the smallest x . n over
+!     b's corners minus the largest over a's). The surfaces are exact where the domains are
+!     (CPDI), so contact engages when they meet, not when the fields first share a node (a
+!     cell or more early); two surfaces that touch get the normal of their common tangent
+!     (the centre-of-mass direction tilts near the contact point of a curved surface, and a
+!     body sliding on it ploughed).
 !     Why not the mass gradients (Bardenhagen et al. 2001) for n: where a wall is two cells
 !     thick both of its faces fall in a node's support and their contributions nearly cancel;
 !     on two rings t = 2h the gradient normal pointed the wrong way at half the contact nodes
@@ -45,6 +47,8 @@ module mpm_body_contact
   real(wp), parameter :: no_gap = 1.0e30_wp  !! gap of an entry whose surfaces were not found [m]
   real(wp), parameter :: tang_window = 1.0_wp  !! corners count within this many cells of the
                                                !! node along the surface [-]
+  real(wp), parameter :: sep_eps = 1.0e-6_wp   !! separations closer than this many cells are
+                                               !! equal (separating_normal) [-]
 
 contains
 
@@ -243,7 +247,7 @@ contains
           ! the two halves of one ring (self-contact) keep the centre-of-mass normal
           if (.not. fc%pn_fixed(e) .and. prm%field_body(fc%pn_a(e)) /= &
               prm%field_body(fc%pn_b(e))) call separating_normal(fc%cq(:, k0:k1), &
-                                                                 fc%cq_b(k0:k1), fc%pn_n(:, e))
+                                                     fc%cq_b(k0:k1), sep_eps*g%h, fc%pn_n(:, e))
           call extremes(fc%cq(:, k0:k1), fc%cq_b(k0:k1), fc%pn_n(:, e), fc%pn_ext(:, e))
           fc%pn_gap(e) = fc%pn_ext(2, e) - fc%pn_ext(1, e)
         else
@@ -340,44 +344,74 @@ contains
   !! max_a x . n (golden-section search on the angle). Two surfaces that touch give their
   !! common tangent's normal (a ring on a flat block: the block's normal), where the
   !! centre-of-mass normal tilts with the part of the curved surface near the node.
-  pure subroutine separating_normal(q, isb, n)
+  !! The choice treats both turning senses alike, so that the mirror image of a pair of
+  !! surfaces gets the mirror image of the normal: the search runs once turning each way and
+  !! takes the better end, or the mean of the two if they separate equally well (within eps);
+  !! and n turns only if that gains more than eps over the given normal. Where two surfaces
+  !! overlap a little, min_b x . n - max_a x . n is largest at two turns of opposite sense
+  !! that gain next to nothing (a corner of b just behind one of a: their separation along n
+  !! is -d cos(phi)), and a single search (which breaks ties towards one sense) then turned
+  !! the normal one way at the first touch of two mirror-image rings and, by round-off, at
+  !! some nodes later: the lower ring of two colliding head-on took 8.9 % more plastic work
+  !! than the upper one by 0.5 ms (two_rings.nml at fbae066; docs/scenes.md).
+  pure subroutine separating_normal(q, isb, eps, n)
     real(wp), intent(in) :: q(:,:)         !! corners (2, k) [m]
     logical, intent(in) :: isb(:)          !! b's corner (k)
+    real(wp), intent(in) :: eps            !! separations closer than this are equal [m]
     real(wp), intent(inout) :: n(2)        !! unit normal from a into b: in, the initial
                                            !! one; out, the separating one [-]
     real(wp), parameter :: max_turn = 1.0471975511965976_wp  !! pi/3 [rad]
     real(wp), parameter :: tol = 1.0e-7_wp !! angle tolerance [rad]
     real(wp), parameter :: gr = 0.6180339887498949_wp  !! golden ratio - 1
-    real(wp) :: n0(2), t0(2), lo, hi, x1, x2, f1, f2
+    real(wp) :: n0(2), t0(2), xa, xb, fa, fb, x
     n0 = n
     t0 = [-n0(2), n0(1)]
-    lo = -max_turn
-    hi = max_turn
-    x1 = hi - gr*(hi - lo)
-    x2 = lo + gr*(hi - lo)
-    f1 = sep(x1)
-    f2 = sep(x2)
-    do while (hi - lo > tol)
-      if (f1 < f2) then
-        lo = x1
-        x1 = x2
-        f1 = f2
-        x2 = lo + gr*(hi - lo)
-        f2 = sep(x2)
-      else
-        hi = x2
-        x2 = x1
-        f2 = f1
-        x1 = hi - gr*(hi - lo)
-        f1 = sep(x1)
-      end if
-    end do
-    x1 = 0.5_wp*(lo + hi)
-    if (sep(x1) > sep(0.0_wp)) then
-      n = cos(x1)*n0 + sin(x1)*t0
+    xa = golden(1.0_wp)                    ! turning from n0 towards t0 first ...
+    xb = -golden(-1.0_wp)                  ! ... and towards -t0: the same search mirrored
+    fa = sep(xa)
+    fb = sep(xb)
+    if (fa > fb + eps) then
+      x = xa
+    else if (fb > fa + eps) then
+      x = xb
+    else
+      x = 0.5_wp*(xa + xb)
+    end if
+    if (sep(x) > sep(0.0_wp) + eps) then
+      n = cos(x)*n0 + sin(x)*t0
       n = n/sqrt(n(1)**2 + n(2)**2)
     end if
   contains
+    !> The turn phi in [-max_turn, max_turn] that maximises sep(s phi), to tol (golden
+    !! section; where the two inner points separate equally it keeps the lower part).
+    pure real(wp) function golden(s) result(phi)
+      real(wp), intent(in) :: s            !! 1 or -1: the sense of the turn [-]
+      real(wp) :: lo, hi, x1, x2, f1, f2
+      lo = -max_turn
+      hi = max_turn
+      x1 = hi - gr*(hi - lo)
+      x2 = lo + gr*(hi - lo)
+      f1 = sep(s*x1)
+      f2 = sep(s*x2)
+      do while (hi - lo > tol)
+        if (f1 < f2) then
+          lo = x1
+          x1 = x2
+          f1 = f2
+          x2 = lo + gr*(hi - lo)
+          f2 = sep(s*x2)
+        else
+          hi = x2
+          x2 = x1
+          f2 = f1
+          x1 = hi - gr*(hi - lo)
+          f1 = sep(s*x1)
+        end if
+      end do
+      phi = 0.5_wp*(lo + hi)
+    end function golden
+
+    !> min_b x . n - max_a x . n along n turned by phi from n0 [m].
     pure real(wp) function sep(phi)
       real(wp), intent(in) :: phi          !! turn from n0 [rad]
       real(wp) :: e(2)
