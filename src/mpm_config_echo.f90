@@ -156,7 +156,7 @@ contains
     case (1)
       e%hide(idx) = cfg%run%mirror_images .and. specs(idx)%name == 'mirror_images'
     case (2)
-      e%hide(idx) = cfg%solver%volumetric_id /= VOLUMETRIC_FBAR .and. &
+      e%hide(idx) = cfg%solver%volumetric_id < VOLUMETRIC_FBAR .and. &
                     specs(idx)%name == 'volumetric'
     case (3)
       e%hide(idx) = cfg%grid%fitted .and. specs(idx)%n == 2
