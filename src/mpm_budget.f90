@@ -11,13 +11,15 @@
 ! (bodies in contact) the field of each particle and corner and the particle list (8 per
 ! particle, 4 per corner) and the contact node map (4 per node); tiles_memory_bytes (44 bytes
 ! and the span sums per tile of 16 nodes); the snapshot writer's temporaries (corners, quads, F,
-! columns: 128 per particle), with volumetric = 'fbar' mpm_fbar's work arrays (80 bytes per
-! particle, 16 per node), and a fixed 32 MiB for the program and its libraries. Counts are
-! reals, so that a length typed in the wrong unit cannot overflow an integer.
+! columns: 128 per particle), with volumetric = 'fbar' or 'fbarwall' mpm_fbar's work arrays (80
+! bytes per particle, 16 per node; 'fbarwall' 8 more per particle), and a fixed 32 MiB for the
+! program and its libraries. Counts are reals, so that a length typed in the wrong unit cannot
+! overflow an integer.
 module mpm_budget
   use mpm_kinds, only: wp
   use mpm_constants, only: pi, EXIT_INPUT, SHAPE_RING, SECTOR_FULL, SECTOR_HALF, &
-                           SECTOR_QUARTER, BASIS_LINEAR, VOLUMETRIC_FBAR
+                           SECTOR_QUARTER, BASIS_LINEAR, VOLUMETRIC_FBAR, &
+                           VOLUMETRIC_FBARWALL
   use mpm_config, only: config_t, body_cfg_t
   use mpm_config_check, only: body_box
   use mpm_advice, only: advice_units
@@ -103,9 +105,11 @@ contains
     b%grid_bytes = b%nodes*(72.0_wp*real(b%nf, wp) &
                             + 40.0_wp*real(b%nf*(b%threads - 1), wp) &
                             + (44.0_wp + 8.0_wp*real(1 + 2*b%nwall, wp))/16.0_wp)
-    if (cfg%solver%volumetric_id == VOLUMETRIC_FBAR) then   ! mpm_fbar's work arrays
+    if (cfg%solver%volumetric_id >= VOLUMETRIC_FBAR) then   ! mpm_fbar's work arrays
       b%particle_bytes = b%particle_bytes + b%particles*80.0_wp
       b%grid_bytes = b%grid_bytes + b%nodes*16.0_wp
+      if (cfg%solver%volumetric_id == VOLUMETRIC_FBARWALL) &   ! columns through the wall
+        b%particle_bytes = b%particle_bytes + b%particles*8.0_wp
     end if
     if (b%nf > 1) then                      ! mpm_body_contact: fields of the particles and
       b%particle_bytes = b%particle_bytes + 8.0_wp*b%particles + 4.0_wp*b%corners  ! corners,

@@ -4,7 +4,7 @@
 module mpm_config_check
   use mpm_kinds, only: wp
   use mpm_constants, only: BASIS_CPDI2, SCHEME_MUSL, PLANE_STRAIN, SHAPE_RING, SHAPE_RECT, &
-                           SECTOR_HALF, SECTOR_QUARTER, VOLUMETRIC_FBAR, PLANE_STRESS, &
+                           SECTOR_HALF, SECTOR_QUARTER, VOLUMETRIC_FBAR, VOLUMETRIC_FBARWALL, PLANE_STRESS, &
                            MODEL_NEOHOOKEAN
   use mpm_config_types, only: config_t, material_cfg_t, body_cfg_t
   use mpm_config_text, only: lower, itoa, quote, file_stem, fmt_short, fmt_vec, fmt_real
@@ -25,8 +25,8 @@ contains
     type(config_t), intent(inout) :: cfg
     integer, intent(in) :: first_of(n_groups), occ_mat(:), occ_body(:), occ_con(:)
     integer :: k, j, id, io_run, io_solver, io_grid
-    logical :: all_named, all_ok
-    character(len=:), allocatable :: names_txt, want
+    logical :: all_named, all_ok, fbar
+    character(len=:), allocatable :: names_txt, want, vname
     real(wp) :: lo(2), hi(2)
 
     io_run = first_of(1)
@@ -60,17 +60,20 @@ contains
       end do
     end do
 
-    ! volumetric = 'fbar' (mpm_fbar) acts on the rate models elastic and j2, in plane strain
-    if (io_solver > 0 .and. cfg%solver%volumetric_id == VOLUMETRIC_FBAR .and. (cfg%solver%plane_id &
-        == PLANE_STRESS .or. any(cfg%materials%model_id == MODEL_NEOHOOKEAN))) call err_var(rd, &
-      io_solver, 'volumetric', '''fbar''', 'needs plane = ''strain'' and no &material of '// &
-      'model = ''neohookean''', '''standard'', or ''fbar'' with plane = ''strain'' and the '// &
-      'models ''elastic'' and ''j2''')
-    if (io_solver > 0 .and. cfg%solver%volumetric_id == VOLUMETRIC_FBAR .and. (size(cfg%bodies) &
-        > 1 .or. any(cfg%bodies%self_contact))) call err_var(rd, io_solver, 'volumetric', '''fbar''', &
-      'averages the volume change within one velocity field; here are '//itoa(size(cfg%bodies) &
-      + count(cfg%bodies%self_contact))//' (one per body, two with self_contact)', '''standard'' '// &
-      'with several bodies or self_contact, or one &body')
+    ! 'fbar', 'fbarwall' (mpm_fbar): the rate models elastic and j2, plane strain; 'fbarwall': rings
+    fbar = io_solver > 0 .and. cfg%solver%volumetric_id >= VOLUMETRIC_FBAR
+    vname = ''''//trim(cfg%solver%volumetric)//''''
+    if (fbar .and. (cfg%solver%plane_id == PLANE_STRESS .or. any(cfg%materials%model_id == &
+        MODEL_NEOHOOKEAN))) call err_var(rd, io_solver, 'volumetric', vname, 'needs plane = '// &
+      '''strain'' and no &material of model = ''neohookean''', '''standard'', or ''fbar'' or '// &
+      '''fbarwall'' with plane = ''strain'' and the models ''elastic'' and ''j2''')
+    if (fbar .and. (size(cfg%bodies) > 1 .or. any(cfg%bodies%self_contact))) call err_var(rd, &
+      io_solver, 'volumetric', vname, 'averages the volume change within one velocity field; '// &
+      'here are '//itoa(size(cfg%bodies) + count(cfg%bodies%self_contact))//' (one per body, '// &
+      'two with self_contact)', '''standard'' with several bodies or self_contact, or one &body')
+    if (fbar .and. cfg%solver%volumetric_id == VOLUMETRIC_FBARWALL .and. any(cfg%bodies% &
+        shape_id /= SHAPE_RING)) call err_var(rd, io_solver, 'volumetric', vname, 'needs rings '// &
+      '(it fits through a ring''s wall)', '''standard'' or ''fbar'', or shape = ''ring''')
     ! body -> material
     do k = 1, size(cfg%bodies)
       if (.not. rd%occ(occ_body(k))%read_ok .or. size(cfg%materials) == 0) cycle

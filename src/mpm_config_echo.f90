@@ -157,7 +157,7 @@ contains
       e%hide(idx) = (cfg%run%mirror_images .and. specs(idx)%name == 'mirror_images') .or. &
                     (.not. cfg%run%end_at_release .and. specs(idx)%name == 'end_at_release')
     case (2)
-      e%hide(idx) = cfg%solver%volumetric_id /= VOLUMETRIC_FBAR .and. &
+      e%hide(idx) = cfg%solver%volumetric_id < VOLUMETRIC_FBAR .and. &
                     specs(idx)%name == 'volumetric'
     case (3)
       e%hide(idx) = cfg%grid%fitted .and. specs(idx)%n == 2

@@ -9,7 +9,7 @@ module mpm_constants
   public :: BASIS_LINEAR, BASIS_UGIMP, BASIS_CPDI1, BASIS_CPDI2, basis_names
   public :: SCHEME_USL, SCHEME_USF, SCHEME_MUSL, scheme_names
   public :: PLANE_STRAIN, PLANE_STRESS, plane_names
-  public :: VOLUMETRIC_STANDARD, VOLUMETRIC_FBAR, volumetric_names
+  public :: VOLUMETRIC_STANDARD, VOLUMETRIC_FBAR, VOLUMETRIC_FBARWALL, volumetric_names
   public :: MODEL_ELASTIC, MODEL_NEOHOOKEAN, MODEL_J2, model_names
   public :: RATE_NONE, RATE_COWPER_SYMONDS, rate_law_names
   public :: FLOW_LINEAR, FLOW_JOHNSON_COOK, flow_stress_names
@@ -39,8 +39,9 @@ module mpm_constants
   character(len=*), parameter :: scheme_names(3) = [character(len=4) :: 'usl', 'usf', 'musl']
   integer, parameter :: PLANE_STRAIN = 1, PLANE_STRESS = 2
   character(len=*), parameter :: plane_names(2) = [character(len=6) :: 'strain', 'stress']
-  integer, parameter :: VOLUMETRIC_STANDARD = 1, VOLUMETRIC_FBAR = 2
-  character(len=*), parameter :: volumetric_names(2) = [character(len=8) :: 'standard', 'fbar']
+  integer, parameter :: VOLUMETRIC_STANDARD = 1, VOLUMETRIC_FBAR = 2, VOLUMETRIC_FBARWALL = 3
+  character(len=*), parameter :: volumetric_names(3) = [character(len=8) :: 'standard', 'fbar', &
+                                                        'fbarwall']
   integer, parameter :: MODEL_ELASTIC = 1, MODEL_NEOHOOKEAN = 2, MODEL_J2 = 3
   character(len=*), parameter :: model_names(3) = [character(len=10) :: &
     'elastic', 'neohookean', 'j2']

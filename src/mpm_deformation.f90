@@ -8,7 +8,7 @@
 module mpm_deformation
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use mpm_kinds, only: wp
-  use mpm_constants, only: EXIT_NUMERIC, BASIS_CPDI2, VOLUMETRIC_FBAR
+  use mpm_constants, only: EXIT_NUMERIC, BASIS_CPDI2, VOLUMETRIC_STANDARD
   use mpm_particles, only: particles_t, quad_area_centroid
   use mpm_grid, only: grid_t
   use mpm_material, only: material_t, material_stress_update
@@ -38,9 +38,9 @@ contains
     bad = 0
     stat = 0
     nchunk = (st%p%np + chunk - 1)/chunk
-    fbar = prm%volumetric == VOLUMETRIC_FBAR
+    fbar = prm%volumetric /= VOLUMETRIC_STANDARD
     if (fbar) then
-      call fbar_volume_change(st%p, g, wk, dt)
+      call fbar_volume_change(st%p, g, wk, dt, prm%volumetric)
     else if (.not. allocated(wk%dj)) then
       allocate(wk%dj(0), wk%djbar(0), wk%sforce(4, 0), wk%lgrad(2, 2, 0))   ! not used
     end if

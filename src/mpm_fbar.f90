@@ -3,6 +3,9 @@
 !! share its nodes, the stress update sees the step's deformation increment scaled to that
 !! average (the F-bar rate), and the internal forces see the in-plane mean stress averaged the
 !! same way (so that the forces do the work the material stores: the energy balance holds).
+!! volumetric = 'fbarwall': the same F-bar, with the average replaced by the least-squares
+!! linear fit through the wall (a ring's column of particles), which keeps what varies
+!! linearly through the wall (the volume change of bending) and removes the rest.
 ! SPDX-License-Identifier: MIT
 !
 ! The average of a particle quantity q (volume change, mean stress) is a node average mapped
@@ -15,11 +18,20 @@
 ! of the forces the work-conjugate of the averaged volume change of the stress update. The node
 ! sums are serial, in particle order (the results do not depend on the thread count); the
 ! particle loops run in parallel.
+!
+! 'fbarwall': a ring's particles form columns through the wall (the domains joined across their
+! edges (corner 2, corner 3) and (corner 1, corner 4), mpm_particles' ring_fill), layer l = 1
+! (inner) to n_thick. Over each column the V-weighted least-squares line in l,
+!   qbar_p = mean + slope (l_p - lbar),  mean, lbar V-weighted means,
+!   slope = sum V q (l - lbar) / sum V (l - lbar)^2,
+! is a V-weighted orthogonal projection: self-adjoint (the forces' mean stress is projected the
+! same way), a uniform and a linear q are kept, and the V-weighted sum of q is kept. Serial.
 module mpm_fbar
   use mpm_kinds, only: wp
   use mpm_particles, only: particles_t
   use mpm_grid, only: grid_t
   use mpm_state, only: work_t, chunk
+  use mpm_constants, only: VOLUMETRIC_FBARWALL
   implicit none
   private
   public :: fbar_volume_change, fbar_force_stress, fbar_rate, fbar_velocity_gradient
@@ -28,11 +40,12 @@ contains
 
   !> Each particle's velocity gradient into wk%lgrad, its volume change over the step,
   !! dj = det(I + dt L) - 1, into wk%dj, and its average over the neighbourhood into wk%djbar.
-  subroutine fbar_volume_change(p, g, wk, dt)
+  subroutine fbar_volume_change(p, g, wk, dt, mode)
     type(particles_t), intent(in) :: p     !! particles (areas at the start of the step)
     type(grid_t), intent(in) :: g          !! grid velocities
     type(work_t), intent(inout) :: wk      !! basis cache; dj and the node sums
     real(wp), intent(in) :: dt             !! time step [s]
+    integer, intent(in) :: mode            !! VOLUMETRIC_FBAR or VOLUMETRIC_FBARWALL
     integer :: ic, nchunk
     call fbar_allocate(wk, p%np, g%nn)
     nchunk = (p%np + chunk - 1)/chunk
@@ -43,29 +56,116 @@ contains
                                 g%nx, wk%blk, wk%gw, g%vel, dt, wk%lgrad, wk%dj)
     end do
     !$omp end parallel do
-    call node_average(p%np, g%nn, wk%nb, g%nx, wk%blk, wk%w, wk%par, p%vol, wk%dj, &
-                      wk%node_sum, wk%djbar)
+    call average(p, g, wk, mode)
   end subroutine fbar_volume_change
 
   !> The stress the internal forces use, into wk%sforce: the particle's stress with its
   !! in-plane mean (sigma_xx + sigma_yy)/2 replaced by the average over the neighbourhood.
-  subroutine fbar_force_stress(p, g, wk)
+  subroutine fbar_force_stress(p, g, wk, mode)
     type(particles_t), intent(in) :: p     !! particles: stress, area
     type(grid_t), intent(in) :: g          !! grid (size)
     type(work_t), intent(inout) :: wk      !! basis cache; sforce (dj, djbar as scratch)
+    integer, intent(in) :: mode            !! VOLUMETRIC_FBAR or VOLUMETRIC_FBARWALL
     integer :: ip
     call fbar_allocate(wk, p%np, g%nn)
     do ip = 1, p%np
       wk%dj(ip) = 0.5_wp*(p%stress(1, ip) + p%stress(2, ip))
     end do
-    call node_average(p%np, g%nn, wk%nb, g%nx, wk%blk, wk%w, wk%par, p%vol, wk%dj, &
-                      wk%node_sum, wk%djbar)
+    call average(p, g, wk, mode)
     do ip = 1, p%np
       wk%sforce(:, ip) = p%stress(:, ip)
       wk%sforce(1, ip) = p%stress(1, ip) + (wk%djbar(ip) - wk%dj(ip))
       wk%sforce(2, ip) = p%stress(2, ip) + (wk%djbar(ip) - wk%dj(ip))
     end do
   end subroutine fbar_force_stress
+
+  !> wk%djbar = the average of the particle quantity wk%dj of the treatment mode: through the
+  !! nodes ('fbar') or the line through the wall ('fbarwall'; module header).
+  subroutine average(p, g, wk, mode)
+    type(particles_t), intent(in) :: p     !! particles: areas, corners
+    type(grid_t), intent(in) :: g          !! grid (size)
+    type(work_t), intent(inout) :: wk      !! basis cache, node sums, columns; dj, djbar
+    integer, intent(in) :: mode            !! VOLUMETRIC_FBAR or VOLUMETRIC_FBARWALL
+    if (mode == VOLUMETRIC_FBARWALL) then
+      if (.not. allocated(wk%column)) call wall_columns(p, wk%column)
+      call column_fit(p%np, wk%column, p%vol, wk%dj, wk%djbar)
+    else
+      call node_average(p%np, g%nn, wk%nb, g%nx, wk%blk, wk%w, wk%par, p%vol, wk%dj, &
+                        wk%node_sum, wk%djbar)
+    end if
+  end subroutine average
+
+  !> Each particle's column through the wall and its layer in it (module header): the chains
+  !! of domains joined across their edges (corner 2, corner 3) = the next one's (corner 1,
+  !! corner 4), numbered from the domain with none before it (a ring's inner surface).
+  subroutine wall_columns(p, column)
+    type(particles_t), intent(in) :: p     !! particles: corner ids
+    integer, allocatable, intent(out) :: column(:,:)  !! column and layer (2, np)
+    integer, allocatable :: owner(:), next(:)
+    logical, allocatable :: inner(:)
+    integer :: ip, q, ncol, layer
+    allocate(column(2, p%np), owner(p%nc), next(p%np), inner(p%np))
+    owner = 0
+    next = 0
+    inner = .true.
+    column = 0
+    do ip = 1, p%np
+      owner(p%corner(1, ip)) = ip
+    end do
+    do ip = 1, p%np
+      q = owner(p%corner(2, ip))
+      if (q == 0 .or. q == ip) cycle
+      if (p%corner(4, q) /= p%corner(3, ip)) cycle
+      next(ip) = q
+      inner(q) = .false.
+    end do
+    ncol = 0
+    do ip = 1, p%np
+      if (.not. inner(ip)) cycle
+      ncol = ncol + 1
+      q = ip
+      layer = 0
+      do while (q /= 0)
+        layer = layer + 1
+        column(:, q) = [ncol, layer]
+        q = next(q)
+      end do
+    end do
+    do ip = 1, p%np                        ! (a closed chain: none in a ring; kept alone)
+      if (column(1, ip) /= 0) cycle
+      ncol = ncol + 1
+      column(:, ip) = [ncol, 1]
+    end do
+  end subroutine wall_columns
+
+  !> qbar = the V-weighted least-squares line in the layer over each column (module header);
+  !! a column of one layer, or of one layer's worth of area, keeps its mean.
+  subroutine column_fit(np, column, vol, q, qbar)
+    integer, intent(in) :: np              !! particles
+    integer, intent(in) :: column(2, np)   !! column and layer
+    real(wp), intent(in) :: vol(np)        !! areas [m^2]
+    real(wp), intent(in) :: q(np)          !! the quantity
+    real(wp), intent(out) :: qbar(np)      !! its fit
+    real(wp), allocatable :: c(:,:)
+    integer :: ip, k
+    real(wp) :: x, lbar, sxx, sxq
+    allocate(c(5, maxval(column(1, :))))
+    c = 0.0_wp
+    do ip = 1, np
+      k = column(1, ip)
+      x = real(column(2, ip), wp)
+      c(:, k) = c(:, k) + vol(ip)*[1.0_wp, x, x*x, q(ip), q(ip)*x]
+    end do
+    do ip = 1, np
+      k = column(1, ip)
+      x = real(column(2, ip), wp)
+      lbar = c(2, k)/c(1, k)
+      sxx = c(3, k) - lbar*c(2, k)        ! sum V (l - lbar)^2
+      sxq = c(5, k) - lbar*c(4, k)        ! sum V q (l - lbar)
+      qbar(ip) = c(4, k)/c(1, k)
+      if (sxx > 1.0e-9_wp*c(1, k)) qbar(ip) = qbar(ip) + sxq/sxx*(x - lbar)
+    end do
+  end subroutine column_fit
 
   !> The F-bar rate: the rate Lbar whose increment I + dt Lbar is (dJbar / dJ)^(1/2) (I + dt L),
   !! with dJ = 1 + dj and dJbar = 1 + djbar (the in-plane increment of a plane-strain F-bar;
@@ -119,6 +219,9 @@ contains
     end if
     if (.not. allocated(wk%dj)) allocate(wk%dj(np), wk%djbar(np), wk%sforce(4, np), &
                                          wk%lgrad(2, 2, np))
+    if (allocated(wk%column)) then
+      if (size(wk%column, 2) /= np) deallocate(wk%column)
+    end if
     if (allocated(wk%node_sum)) then
       if (size(wk%node_sum, 2) /= nn) deallocate(wk%node_sum)
     end if

@@ -124,6 +124,8 @@ module mpm_state
     real(wp), allocatable :: sforce(:,:)   !! stress of the internal forces (4, np) [Pa]
     real(wp), allocatable :: lgrad(:,:,:)  !! velocity gradient of the step (2, 2, np) [1/s]
     real(wp), allocatable :: node_sum(:,:) !! node sums of phi V q and phi V (2, nn)
+    integer, allocatable :: column(:,:)    !! 'fbarwall': column through the wall and layer of
+                                           !! each particle (2, np)
     real(wp), allocatable :: wall_work(:,:) !! per wall: velocity over the step, point, normal,
                                            !! velocity over the step before (8, nwall) [m/s, m, -]
     type(surface_work_t), allocatable :: surf(:)  !! per wall: surface points in contact

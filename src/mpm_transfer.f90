@@ -16,7 +16,7 @@ module mpm_transfer
   use mpm_grid, only: grid_t, buffers_t, grid_thread_buffers
   use mpm_tiles, only: tiles_t, tiles_span
   use mpm_state, only: params_t, state_t, work_t, chunk
-  use mpm_constants, only: VOLUMETRIC_FBAR
+  use mpm_constants, only: VOLUMETRIC_STANDARD
   use mpm_fbar, only: fbar_force_stress
   implicit none
   private
@@ -34,9 +34,9 @@ contains
     type(work_t), intent(inout) :: wk      !! basis cache (fbar: the forces' stress)
     logical, intent(in) :: mass_momentum   !! map mass and momentum
     logical, intent(in) :: force           !! map internal and body forces
-    if (force .and. prm%volumetric == VOLUMETRIC_FBAR) then
+    if (force .and. prm%volumetric /= VOLUMETRIC_STANDARD) then
       ! the forces see the averaged in-plane mean stress (mpm_fbar)
-      call fbar_force_stress(p, g, wk)
+      call fbar_force_stress(p, g, wk, prm%volumetric)
       if (prm%deterministic) then
         call p2g_coloured(prm, p, g, tl, wk, wk%sforce, mass_momentum, force)
       else

@@ -1,7 +1,9 @@
-!> volumetric = 'fbar' (issue 17): the patch test (a homogeneous deformation is reproduced
+!> volumetric = 'fbar' and 'fbarwall' (issue 17): the patch test (a homogeneous deformation is reproduced
 !! exactly: the averaged volume change equals the particle's, F is unchanged and the stresses
 !! equal the standard treatment's to round-off), and a nearly incompressible closed form that
-!! the standard treatment locks on: a thick elastic cylinder under a radial body force.
+!! the standard treatment locks on: a thick elastic cylinder under a radial body force; for
+!! 'fbarwall' also the patch test on a ring and its fit through the wall (a mean stress linear
+!! through the wall is kept, its column sums are kept, an alternating one is removed).
 !!   usage: test_fbar [SCRATCH] [--nu=NU] [--h=H] [--nt=N] [--damping=C] [--t=T] [--basis=B]
 !!          (experiments: one cylinder run of each treatment with these settings)
 ! SPDX-License-Identifier: MIT
@@ -18,7 +20,7 @@ program test_fbar
   use mpm_kinds, only: wp
   use mpm_constants, only: BASIS_LINEAR, BASIS_CPDI2, basis_names, SCHEME_MUSL, SCHEME_USF, &
                            scheme_names, PLANE_STRAIN, MODEL_ELASTIC, MODEL_J2, SECTOR_QUARTER, &
-                           VOLUMETRIC_STANDARD, VOLUMETRIC_FBAR
+                           VOLUMETRIC_STANDARD, VOLUMETRIC_FBAR, VOLUMETRIC_FBARWALL
   use mpm_config, only: config_t
   use mpm_scene_builder, only: scene_new, scene_add_material, scene_add_ring, scene_add_rect
   use mpm_solver, only: sim_t, solver_step
@@ -32,7 +34,7 @@ program test_fbar
   real(wp), parameter :: a = 0.01_wp, b = 0.02_wp, E = 10.0e6_wp, rho = 1000.0_wp
   real(wp), parameter :: g0 = 500.0_wp        ! body acceleration [m/s^2]: u(a) / a about 1e-3
   character(len=256) :: arg
-  real(wp) :: nu, h, damping, t_end, e_std, e_fbar
+  real(wp) :: nu, h, damping, t_end, e_std, e_fbar, e_wall
   integer :: nt, k, basis
   logical :: experiment
 
@@ -57,13 +59,18 @@ program test_fbar
   if (experiment) then
     e_std = cylinder_error(VOLUMETRIC_STANDARD)
     e_fbar = cylinder_error(VOLUMETRIC_FBAR)
-    print '(a,f8.4,a,f8.4)', 'cylinder: standard error ', e_std, ', fbar error ', e_fbar
+    e_wall = cylinder_error(VOLUMETRIC_FBARWALL)
+    print '(a,f8.4,a,f8.4,a,f8.4)', 'cylinder: standard error ', e_std, ', fbar error ', &
+      e_fbar, ', fbarwall error ', e_wall
     call finish_tests('test_fbar')
   end if
 
   call test_patch(BASIS_LINEAR, 2, SCHEME_MUSL)
   call test_patch(BASIS_CPDI2, 1, SCHEME_MUSL)
   call test_patch(BASIS_CPDI2, 2, SCHEME_USF)
+  call test_patch_ring(BASIS_CPDI2, SCHEME_MUSL)
+  call test_patch_ring(BASIS_LINEAR, SCHEME_USF)
+  call test_wall_fit()
   call test_cylinder()
   call finish_tests('test_fbar')
 
@@ -105,10 +112,87 @@ contains
                      'stresses = standard', atol=1.0e-11_wp*smax)
     call check_close(s2%p%eqps, s1%p%eqps, 'plastic strains = standard', &
                      atol=1.0e-11_wp*maxval(s1%p%eqps))
-    call fbar_force_stress(s2%p, s2%g, s2%wk)
+    call fbar_force_stress(s2%p, s2%g, s2%wk, VOLUMETRIC_FBAR)
     dev = maxval(abs(s2%wk%sforce - s2%p%stress))
     call check(dev <= 1.0e-11_wp*smax, 'the forces'' stress = the stress')
   end subroutine test_patch
+
+  !> The patch test of 'fbarwall': a quarter ring (4 particles through the wall, 1 per cell)
+  !! under the same affine velocity, the same checks as test_patch.
+  subroutine test_patch_ring(bas, scheme)
+    integer, intent(in) :: bas, scheme
+    type(config_t) :: cfg
+    type(sim_t) :: s1, s2
+    real(wp) :: smax, djmax, dev
+    call begin_test('patch test of fbarwall, quarter ring, '//trim(basis_names(bas))//' '// &
+                    trim(scheme_names(scheme)))
+    cfg = scene_new('patch_ring', 1.0_wp, 0.005_wp, bas, scheme, PLANE_STRAIN)
+    call scene_add_material(cfg, 'm', MODEL_J2, 1.0e9_wp, 0.3_wp, 1000.0_wp, &
+                            sigma_y=1.0e6_wp, hardening=1.0e7_wp)
+    call scene_add_ring(cfg, [0.0_wp, 0.0_wp], 0.04_wp, 0.06_wp, 4, sector=SECTOR_QUARTER)
+    call run_patch(cfg, VOLUMETRIC_STANDARD, s1)
+    call run_patch(cfg, VOLUMETRIC_FBARWALL, s2)
+    call check(s2%prm%volumetric == VOLUMETRIC_FBARWALL, 'the second run is fbarwall')
+    djmax = maxval(abs(s2%wk%dj))
+    call check(djmax > 0.0_wp, 'the volume changes')
+    call check(maxval(abs(s2%wk%djbar - s2%wk%dj)) <= 1.0e-13_wp*djmax, &
+               'fitted volume change = the particle''s (Jbar = J)')
+    call check(all(s2%p%F == s1%p%F), 'F identical')
+    call check(all(s2%p%vol == s1%p%vol), 'areas identical')
+    call check(maxval(s1%p%eqps) > 10.0_wp*1.0e6_wp/1.0e9_wp, 'far into the plastic range')
+    smax = maxval(abs(s1%p%stress))
+    call check_close(reshape(s2%p%stress, [size(s2%p%stress)]), &
+                     reshape(s1%p%stress, [size(s1%p%stress)]), &
+                     'stresses = standard', atol=1.0e-11_wp*smax)
+    call fbar_force_stress(s2%p, s2%g, s2%wk, VOLUMETRIC_FBARWALL)
+    dev = maxval(abs(s2%wk%sforce - s2%p%stress))
+    call check(dev <= 1.0e-11_wp*smax, 'the forces'' stress = the stress')
+  end subroutine test_patch_ring
+
+  !> The fit through the wall on a quarter ring of 5 particles through the wall (the layer of a
+  !! particle from its radius): an in-plane mean stress linear in the layer is kept (1e-9), the
+  !! V-weighted sum of the mean stress is kept (1e-12), and one that alternates from layer to
+  !! layer (+-1 MPa) is reduced to under half (its line over the five layers is nearly flat,
+  !! about the mean -0.2 MPa).
+  subroutine test_wall_fit()
+    type(config_t) :: cfg
+    type(sim_t) :: s
+    real(wp) :: r, dev, lin, sum_q, sum_f, worst
+    integer :: ip, layer, n
+    call begin_test('fbarwall: the fit through the wall')
+    cfg = scene_new('wall_fit', 1.0_wp, 0.005_wp, BASIS_CPDI2, SCHEME_MUSL, PLANE_STRAIN)
+    cfg%solver%volumetric_id = VOLUMETRIC_FBARWALL
+    call scene_add_material(cfg, 'm', MODEL_ELASTIC, 1.0e9_wp, 0.3_wp, 1000.0_wp, &
+                            sigma_y=1.0_wp)
+    call scene_add_ring(cfg, [0.0_wp, 0.0_wp], 0.04_wp, 0.06_wp, 5, sector=SECTOR_QUARTER)
+    call must_setup(cfg, s)
+    n = s%p%np
+    ! linear in the layer: kept
+    do ip = 1, n
+      r = norm2(s%p%x(:, ip))
+      layer = nint((r - 0.04_wp)/0.004_wp + 0.5_wp)
+      lin = 3.0e6_wp*real(layer, wp)
+      s%p%stress(:, ip) = [1.0e6_wp + lin, 2.0e6_wp + lin, 5.0e5_wp, 0.0_wp]
+    end do
+    call fbar_force_stress(s%p, s%g, s%wk, VOLUMETRIC_FBARWALL)
+    lin = maxval(abs(s%p%stress(1:2, 1:n)))
+    dev = maxval(abs(s%wk%sforce(:, 1:n) - s%p%stress(:, 1:n)))
+    call check(dev <= 1.0e-9_wp*lin, 'a mean stress linear through the wall is kept')
+    ! alternating from layer to layer (layer from the radius): reduced, sums kept
+    do ip = 1, n
+      r = norm2(s%p%x(:, ip))
+      layer = nint((r - 0.04_wp)/0.004_wp + 0.5_wp)
+      s%p%stress(:, ip) = 0.0_wp
+      s%p%stress(1:2, ip) = merge(1.0e6_wp, -1.0e6_wp, mod(layer, 2) == 0)
+    end do
+    call fbar_force_stress(s%p, s%g, s%wk, VOLUMETRIC_FBARWALL)
+    worst = maxval(abs(0.5_wp*(s%wk%sforce(1, 1:n) + s%wk%sforce(2, 1:n))))
+    call check(worst <= 0.5e6_wp, 'an alternating mean stress is reduced to under half')
+    sum_q = sum(s%p%vol(1:n)*0.5_wp*(s%p%stress(1, 1:n) + s%p%stress(2, 1:n)))
+    sum_f = sum(s%p%vol(1:n)*0.5_wp*(s%wk%sforce(1, 1:n) + s%wk%sforce(2, 1:n)))
+    call check(abs(sum_f - sum_q) <= 1.0e-12_wp*sum(s%p%vol(1:n))*1.0e6_wp, &
+               'the V-weighted sum of the mean stress is kept')
+  end subroutine test_wall_fit
 
   !> Set up the patch with a treatment and run 60 steps of step 6 under v = G x.
   subroutine run_patch(cfg_in, vol_id, s)
@@ -146,9 +230,13 @@ contains
     call begin_test('thick cylinder under a radial body force, nu = 0.499 (locking)')
     e_std = cylinder_error(VOLUMETRIC_STANDARD)
     e_fbar = cylinder_error(VOLUMETRIC_FBAR)
-    print '(a,f8.4,a,f8.4)', 'cylinder: RMS error of u_r, standard ', e_std, ', fbar ', e_fbar
+    e_wall = cylinder_error(VOLUMETRIC_FBARWALL)
+    print '(a,f8.4,a,f8.4,a,f8.4)', 'cylinder: RMS error of u_r, standard ', e_std, ', fbar ', &
+      e_fbar, ', fbarwall ', e_wall
     call check(e_fbar < 0.05_wp, 'fbar within 5 % of the closed form')
     call check(e_std > 4.0_wp*e_fbar, 'the standard treatment locks (error > 4 x fbar''s)')
+    call check(e_wall < 0.05_wp, 'fbarwall within 5 % of the closed form')
+    call check(e_std > 4.0_wp*e_wall, 'the standard treatment locks (error > 4 x fbarwall''s)')
   end subroutine test_cylinder
 
   !> Closed-form radial displacement of the cylinder at radius r [m] (program header).
