@@ -161,8 +161,10 @@ contains
     write(output_unit, '(a)') 'usage:'
     write(output_unit, '(a)') '  tubempm CASE.nml             run the case (outputs in &run output_dir)'
     write(output_unit, '(a)') '  tubempm --check CASE.nml     validate; print the derived set-up and exit'
-    write(output_unit, '(a)') '  tubempm --scene CASE.nml     print the kind of scene (crush, wave, impact, generic)'
-    write(output_unit, '(a)') '                               that summary.nml will name; nothing is run'
+    write(output_unit, '(a)') '  tubempm --scene CASE.nml     print the kind of scene (crush, wave, '// &
+      'impact, generic)'
+    write(output_unit, '(a)') '                               that summary.nml will name; '// &
+      'nothing is run'
     write(output_unit, '(a)') '  tubempm --restart DIR        continue the run in DIR from its last checkpoint'
     write(output_unit, '(a)') '  tubempm --defaults           print every namelist group with its defaults'
     write(output_unit, '(a)') '  tubempm --help | --version'
