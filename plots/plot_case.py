@@ -3,7 +3,8 @@
 """Plot the result of a tubempm run against the closed forms (and a measured curve).
 
 The plot is chosen by the kind of scene (the ``scene`` of summary.nml through
-mpmplot.scene.scene_kind, or --kind; a wave scene without probes gets the generic plot):
+mpmplot.scene.scene_kind, which asks ``tubempm --scene`` for an output without it, or --kind; a
+wave scene without probes gets the generic plot):
 
 * crush:   platen force vs platen displacement with the DeRuntz-Hodge curve and the elastic
            diametral stiffness; energies vs displacement with kinetic / plastic.
@@ -27,6 +28,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import subprocess
 import sys
 from typing import Any
 
@@ -467,7 +469,11 @@ def main(argv: list[str] | None = None) -> int:
         print(f"ERROR [plot_case]: {outdir}/history.csv has fewer than two rows; nothing to plot",
               file=sys.stderr)
         return 2
-    kind = args.kind or scene.scene_kind(inputs, outdir)
+    try:
+        kind = args.kind or scene.scene_kind(outdir, args.case)
+    except (OSError, ValueError, subprocess.SubprocessError) as exc:
+        print(f"ERROR [plot_case]: the kind of scene: {exc}; or give --kind", file=sys.stderr)
+        return 2
     if kind == "wave" and not args.kind and readers.history_probes(history) == 0:
         kind = "generic"                       # a platen pulse without probes: energies
     failure = readers.run_failure(outdir)

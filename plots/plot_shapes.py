@@ -20,6 +20,7 @@ import argparse
 import math
 import os
 import sys
+import textwrap
 from typing import Any
 
 import numpy as np
@@ -30,7 +31,7 @@ from mpmplot import readers, scene  # noqa: E402
 
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.collections import PolyCollection  # noqa: E402
-from matplotlib.colors import Normalize  # noqa: E402
+from matplotlib.colors import BoundaryNorm, ListedColormap, Normalize  # noqa: E402
 
 MAX_DEFAULT_FRAMES = 6
 
@@ -86,6 +87,13 @@ def draw_wall(ax: plt.Axes, point: np.ndarray, normal: np.ndarray, size: float,
     ax.plot([a[0], b[0]], [a[1], b[1]], color="0.2", lw=1.5, zorder=3)
 
 
+def body_colours(nbody: int) -> ListedColormap:
+    """One distinct colour per body id 1..nbody (tab10, tab20 beyond ten bodies, cycled
+    beyond twenty)."""
+    base = plt.get_cmap("tab10" if nbody <= 10 else "tab20")
+    return ListedColormap([base(k % base.N) for k in range(nbody)], name="bodies")
+
+
 def main(argv: list[str] | None = None) -> int:
     """Draw the selected snapshots into one figure."""
     p = argparse.ArgumentParser(description="Deformed particle domains of a tubempm run, "
@@ -134,10 +142,14 @@ def main(argv: list[str] | None = None) -> int:
     lo, hi = lo - pad, hi + pad
     key = "eqps" if args.colour == "eqps" else "body"
     vmax = max(float(np.max(f[key])) for f in frames)
-    vmin = 0.0 if key == "eqps" else 0.5
-    if key == "body":
-        vmax += 0.5
-    norm = Normalize(vmin=vmin, vmax=vmax if vmax > vmin else vmin + 1.0)
+    cmap, ticks = style.CMAP, None
+    if key == "body":                           # one colour per body id: a discrete scale
+        nbody = max(int(round(vmax)), 1)
+        ticks = list(range(1, nbody + 1))
+        cmap = body_colours(nbody)
+        norm = BoundaryNorm(np.arange(0.5, nbody + 1.0), cmap.N)
+    else:
+        norm = Normalize(vmin=0.0, vmax=vmax if vmax > 0.0 else 1.0)
     tmax = max(float(f.get("time", 0.0)) for f in frames)
     tscale, tunit = (1e3, "ms") if tmax >= 1e-3 else (1e6, "µs")
 
@@ -150,7 +162,7 @@ def main(argv: list[str] | None = None) -> int:
     pc = None
     for ax, frame in zip(axes.flat, frames):
         verts = frame["corners"][frame["quads"]] * mm
-        pc = PolyCollection(verts, array=np.asarray(frame[key], dtype=float), cmap=style.CMAP,
+        pc = PolyCollection(verts, array=np.asarray(frame[key], dtype=float), cmap=cmap,
                             norm=norm,
                             edgecolors=(0, 0, 0, 0.35) if args.edges else "face",
                             linewidths=0.15 if args.edges else 0.3, zorder=2)
@@ -167,10 +179,10 @@ def main(argv: list[str] | None = None) -> int:
         ax.grid(False)
     for ax in list(axes.flat)[n:]:
         ax.set_visible(False)
-    label = "equivalent plastic strain [-]" if key == "eqps" else "body [-]"
-    if vmax <= 0.0:
+    label = "equivalent plastic strain [-]" if key == "eqps" else "body"
+    if key == "eqps" and vmax <= 0.0:
         label += " (zero everywhere)"
-    fig.colorbar(pc, ax=axes, label=label, shrink=0.9)
+    fig.colorbar(pc, ax=axes, label=label, shrink=0.9, ticks=ticks)
     run = (inputs.get("run") or [{}])[0]
     title = str(run.get("title") or os.path.basename(os.path.normpath(outdir)))
     suptitle = f"{title}: deformed particle domains ({frames[0]['np']} particles)"
@@ -179,6 +191,7 @@ def main(argv: list[str] | None = None) -> int:
         suptitle = (f"{title}: deformed particle domains, the whole tube ({frames[0]['np']} "
                     f"particles: the computed {frames[0]['x'].shape[0] // (n_img + 1)} and "
                     + ("its mirror image)" if n_img == 1 else f"their {n_img} mirror images)"))
+    suptitle = textwrap.fill(suptitle, width=max(40, int(10 * fig.get_figwidth())))  # fits
     failure = readers.run_failure(outdir)
     if failure:
         style.mark_failed(fig, failure, suptitle)

@@ -452,7 +452,8 @@ contains
 
   !> Which study scene the case resembles: 'wave' (a wall gives a blow: a motion table that
   !! ends at rest), 'crush' (a platen keeps moving), 'impact' (a ring body moves at t = 0), or
-  !! ''.
+  !! '' (generic). The only classifier: summary.nml's scene and `tubempm --scene` print it, and
+  !! the plots read those.
   pure function scene_of(cfg) result(scene)
     type(config_t), intent(in) :: cfg     !! the case
     character(len=6) :: scene

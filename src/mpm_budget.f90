@@ -17,11 +17,11 @@
 ! overflow an integer.
 module mpm_budget
   use mpm_kinds, only: wp
-  use mpm_constants, only: pi, EXIT_INPUT, SHAPE_RING, SECTOR_FULL, SECTOR_HALF, &
-                           SECTOR_QUARTER, BASIS_LINEAR, VOLUMETRIC_FBAR, &
-                           VOLUMETRIC_FBARWALL
-  use mpm_config, only: config_t, body_cfg_t
-  use mpm_config_check, only: body_box
+  use mpm_constants, only: EXIT_INPUT, SHAPE_RING, SECTOR_FULL, SECTOR_HALF, &
+                           SECTOR_QUARTER, BASIS_LINEAR, VOLUMETRIC_FBAR, VOLUMETRIC_FBARWALL
+  use mpm_config, only: config_t
+  use mpm_shapes, only: body_box, body_estimate
+  use mpm_particles, only: basis_reach
   use mpm_advice, only: advice_units
   implicit none
   private
@@ -63,7 +63,7 @@ contains
     hi = -huge(1.0_wp)
     sector = SECTOR_FULL
     do ib = 1, size(cfg%bodies)
-      call body_counts(cfg%bodies(ib), np, nc, ext)
+      call body_estimate(cfg%bodies(ib), np, nc, ext)
       b%particles = b%particles + np
       b%corners = b%corners + nc
       ext_max = max(ext_max, ext)
@@ -81,8 +81,7 @@ contains
     b%nwall = size(cfg%walls) + nmirror
     b%threads = max(threads, 1)
     if (cfg%grid%fitted) then               ! mpm_setup: the corners plus 2 h (and a half size)
-      margin = 2.0_wp*h
-      if (cfg%solver%basis_id /= BASIS_LINEAR) margin = margin + 0.5_wp*ext_max
+      margin = 2.0_wp*h + basis_reach(cfg%solver%basis_id, 0.5_wp*ext_max)
       lo = lo - margin
       hi = hi + margin
     else
@@ -127,36 +126,6 @@ contains
     type(config_t), intent(in) :: cfg      !! the case
     nf = size(cfg%bodies) + count(cfg%bodies%self_contact)
   end function contact_fields
-
-  !> Particles, corners and the largest particle extent of a body (ring_counts and rect_counts
-  !! of mpm_particles, in reals).
-  pure subroutine body_counts(bd, np, nc, ext)
-    type(body_cfg_t), intent(in) :: bd     !! the body
-    real(wp), intent(out) :: np, nc        !! particles, corners [-]
-    real(wp), intent(out) :: ext           !! largest particle side [m]
-    real(wp) :: t, rm, n_full, nk, parts
-    if (bd%shape_id /= SHAPE_RING) then
-      np = real(bd%n_x, wp)*real(bd%n_y, wp)
-      nc = real(bd%n_x + 1, wp)*real(bd%n_y + 1, wp)
-      ext = max(bd%size(1)/real(max(bd%n_x, 1), wp), bd%size(2)/real(max(bd%n_y, 1), wp))
-      return
-    end if
-    parts = 1.0_wp
-    if (bd%sector_id == SECTOR_HALF) parts = 2.0_wp
-    if (bd%sector_id == SECTOR_QUARTER) parts = 4.0_wp
-    t = bd%r_outer - bd%r_inner
-    rm = 0.5_wp*(bd%r_inner + bd%r_outer)
-    if (bd%n_circ > 0) then
-      n_full = real(bd%n_circ, wp)
-    else
-      n_full = max(4.0_wp, 4.0_wp*anint(min(2.0_wp*pi*rm/(t/real(bd%n_thick, wp))/4.0_wp, &
-                                            1.0e30_wp)))
-    end if
-    nk = aint(n_full/parts)
-    np = real(bd%n_thick, wp)*nk
-    nc = real(bd%n_thick + 1, wp)*(nk + merge(0.0_wp, 1.0_wp, bd%sector_id == SECTOR_FULL))
-    ext = max(t/real(bd%n_thick, wp), 2.0_wp*pi*bd%r_outer/max(n_full, 1.0_wp))
-  end subroutine body_counts
 
   !> Refuse (stat = EXIT_INPUT) a case whose estimate exceeds the memory available (`known`:
   !! a number was found) or whose particles or nodes overflow the integer indices; errmsg

@@ -4,9 +4,10 @@
 module mpm_config_check
   use mpm_kinds, only: wp
   use mpm_constants, only: BASIS_CPDI2, SCHEME_MUSL, PLANE_STRAIN, SHAPE_RING, SHAPE_RECT, &
-                           SECTOR_HALF, SECTOR_QUARTER, VOLUMETRIC_FBAR, VOLUMETRIC_FBARWALL, PLANE_STRESS, &
-                           MODEL_NEOHOOKEAN
-  use mpm_config_types, only: config_t, material_cfg_t, body_cfg_t
+                           SECTOR_HALF, SECTOR_QUARTER, VOLUMETRIC_FBAR, VOLUMETRIC_FBARWALL, &
+                           PLANE_STRESS, MODEL_NEOHOOKEAN
+  use mpm_config_types, only: config_t, material_cfg_t
+  use mpm_shapes, only: body_box
   use mpm_config_text, only: lower, itoa, quote, file_stem, fmt_short, fmt_vec, fmt_real
   use mpm_config_table, only: n_groups
   use mpm_config_lexer, only: reader_t
@@ -15,7 +16,7 @@ module mpm_config_check
   use mpm_symmetry, only: symmetry_checks
   implicit none
   private
-  public :: cross_checks, advice_checks, body_box
+  public :: cross_checks, advice_checks
 
 contains
 
@@ -224,21 +225,5 @@ contains
         'faces of the wall share grid nodes and the wall bends wrongly (use h < thickness)')
     end do
   end subroutine advice_checks
-
-  !> Bounding box of the material of a body (ring sector convention of mpm_particles:
-  !! half = the side x >= centre, quarter = x >= centre and y >= centre).
-  pure subroutine body_box(b, lo, hi)
-    type(body_cfg_t), intent(in) :: b
-    real(wp), intent(out) :: lo(2), hi(2)
-    if (b%shape_id == SHAPE_RECT) then
-      lo = b%center - 0.5_wp*b%size
-      hi = b%center + 0.5_wp*b%size
-      return
-    end if
-    lo = b%center - b%r_outer
-    hi = b%center + b%r_outer
-    if (b%sector_id == SECTOR_HALF .or. b%sector_id == SECTOR_QUARTER) lo(1) = b%center(1)
-    if (b%sector_id == SECTOR_QUARTER) lo(2) = b%center(2)
-  end subroutine body_box
 
 end module mpm_config_check

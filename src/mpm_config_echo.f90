@@ -11,9 +11,9 @@ module mpm_config_echo
   use mpm_kinds, only: wp
   use mpm_constants, only: EXIT_IO, max_table, SHAPE_RECT, FLOW_JOHNSON_COOK, VOLUMETRIC_FBAR
   use mpm_config_types, only: config_t, unset_real
-  use mpm_config_text, only: itoa, quote, fmt_real, fill, fmt_vec, fmt_logical, finite
+  use mpm_config_text, only: itoa, quote, fmt_real, fmt_vec, fmt_logical, finite
   use mpm_config_table, only: specs, n_specs, n_groups, group_names, group_specs, echo_comment, &
-                              field_t, bind_fields
+                              unset_note, field_t, bind_fields
   use mpm_config_values, only: values_t, fields_values
   implicit none
   private
@@ -199,7 +199,7 @@ contains
     if (k == 0) then
       call w_line(w, '&'//trim(e%v%group))
     else
-      call w_line(w, '&'//trim(e%v%group)//fill(' ', 37 - len_trim(e%v%group))//'! #'//itoa(k))
+      call w_line(w, '&'//trim(e%v%group)//repeat(' ', 37 - len_trim(e%v%group))//'! #'//itoa(k))
     end if
     idx = group_specs(e%v%group)
     names = ''
@@ -224,7 +224,7 @@ contains
           echo_comment(r)//' and '//echo_comment(idx(j+1)))
         call w_table(w, trim(specs(r)%name), e%v%r(1:e%n_motion, r))
       else if (not_set(e%v, r)) then
-        call w_unset(w, trim(specs(r)%name), trim(specs(r)%unset_note))
+        call w_unset(w, trim(specs(r)%name), unset_note(r))
       else
         call w_kv(w, trim(specs(r)%name), value_text(e%v, r), echo_comment(r))
       end if
@@ -290,7 +290,7 @@ contains
       if (k < size(v)) line = line//','
       if (mod(k, 4) == 0 .and. k < size(v)) then
         call w_line(w, line)
-        line = fill(' ', len(name) + 4)
+        line = repeat(' ', len(name) + 4)
       end if
     end do
     call w_line(w, line)
@@ -309,7 +309,7 @@ contains
     character(len=*), intent(in) :: name, value, comment
     character(len=:), allocatable :: line
     line = '  '//name//' = '//value
-    if (len(line) < 38) line = line//fill(' ', 38 - len(line))
+    if (len(line) < 38) line = line//repeat(' ', 38 - len(line))
     call w_line(w, line//' ! '//comment)
   end subroutine w_kv
 
@@ -319,7 +319,7 @@ contains
     character(len=*), intent(in) :: name, comment
     character(len=:), allocatable :: line
     line = '  ! '//name//' = ...'
-    if (len(line) < 38) line = line//fill(' ', 38 - len(line))
+    if (len(line) < 38) line = line//repeat(' ', 38 - len(line))
     call w_line(w, line//' ! '//comment)
   end subroutine w_unset
 

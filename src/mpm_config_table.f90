@@ -16,12 +16,12 @@ module mpm_config_table
                            plane_names, model_names, rate_law_names, shape_names, sector_names, &
                            contact_names, flow_stress_names, volumetric_names
   use mpm_config_types, only: config_t, unset_real, iunset
-  use mpm_config_text, only: enum_text, join_list
+  use mpm_config_text, only: enum_text, join_list, lower
   implicit none
   private
   public :: var_spec_t, specs, n_specs, n_groups, group_names, group_repeatable
   public :: group_id, spec_index, group_specs, var_list, var_names, allowed_text, enum_names, &
-            echo_comment, field_t, bind_fields
+            echo_comment, unset_note, field_t, bind_fields
 
   integer, parameter :: n_groups = 8
   character(len=*), parameter :: group_names(n_groups) = [character(len=8) :: &
@@ -50,7 +50,8 @@ module mpm_config_table
     integer :: max_len = name_len           !! longest text
     character(len=4) :: only = ''           !! 'ring' or 'rect': a variable of that body shape
     character(len=4) :: unset = ''          !! echo: not set when neg (-1), huge, empty, zero
-    character(len=56) :: unset_note = ''    !! echo comment when not set
+    character(len=56) :: unset_note = ''    !! echo comment when not set ('' when required:
+                                            !! 'required: ' and the comment, unset_note())
     character(len=160) :: allowed = ''      !! "allowed:" text of messages ('' for kind e)
     character(len=48) :: comment = ''       !! echo comment: meaning [unit]; % = the names
     logical :: own = .false.                !! checked and stored by the group's own rules
@@ -71,7 +72,6 @@ module mpm_config_table
   character(len=*), parameter :: v0 = '2 finite real numbers [m/s] (default 0, 0)'
   character(len=*), parameter :: lu = '2 real numbers [m] each for lower and upper, lower '// &
     '< upper in both components, both given or neither (then fitted)'
-  character(len=*), parameter :: rq = 'required: '
 
   type(var_spec_t), parameter :: specs(n_specs) = [ &
     ! ---------------------------------------------------------------------------- &run
@@ -83,12 +83,10 @@ module mpm_config_table
       allowed='a folder path of at most 512 characters (default: out/<title>)', &
       comment='folder for all outputs'), &
     var_spec_t('run', 't_end', r0=big, required=.true., lo=0.0_wp, lo_open=.true., &
-      unset='neg', unset_note=rq//'simulated time [s]', &
-      allowed='a real number > 0 [s] (required)', comment='simulated time [s]'), &
+      unset='neg', allowed='a real number > 0 [s] (required)', comment='simulated time [s]'), &
     var_spec_t('run', 'cfl', r0=0.0_wp, lo=0.0_wp, hi=2.0_wp, &
       allowed='a real number with 0 <= cfl <= 2 (default 0: automatic; above 1 is unstable, '// &
-      'allowed for stability studies)', &
-      comment='dt = cfl h / (c_d + max speed) [-]'), &
+      'allowed for stability studies)', comment='dt = cfl h / (c_d + max speed) [-]'), &
     var_spec_t('run', 'dt', lo=0.0_wp, allowed='a real number >= 0 [s] (0 = from cfl; '// &
       'default 0)', comment='fixed time step if > 0 [s]'), &
     var_spec_t('run', 'history_every', lo=0.0_wp, allowed=s0, &
@@ -124,27 +122,23 @@ module mpm_config_table
       comment='results independent of the thread count'), &
     ! ---------------------------------------------------------------------------- &grid
     var_spec_t('grid', 'h', r0=big, required=.true., lo=0.0_wp, lo_open=.true., unset='neg', &
-      unset_note=rq//'cell size [m]', allowed='a real number > 0 [m] (required)', &
-      comment='cell size [m]'), &
+      allowed='a real number > 0 [m] (required)', comment='cell size [m]'), &
     var_spec_t('grid', 'lower', n=2, r0=big, allowed=lu, comment='lower domain corner [m]', &
       own=.true.), &
     var_spec_t('grid', 'upper', n=2, r0=big, allowed=lu, comment='upper domain corner [m]', &
       own=.true.), &
     ! ---------------------------------------------------------------------------- &material
     var_spec_t('material', 'name', 'c', required=.true., unset='emp', &
-      unset_note=rq//'label used by &body', &
       allowed='text of 1 to 64 characters, unique among the &material groups (required)', &
       comment='label used by &body'), &
     var_spec_t('material', 'model', 'e', c0='j2', comment='%'), &
     var_spec_t('material', 'E', r0=big, required=.true., lo=0.0_wp, lo_open=.true., &
-      unset='neg', unset_note=rq//'Young''s modulus [Pa]', &
-      allowed='a real number > 0 [Pa] (required)', comment='Young''s modulus [Pa]'), &
+      unset='neg', allowed='a real number > 0 [Pa] (required)', comment='Young''s modulus [Pa]'), &
     var_spec_t('material', 'nu', r0=big, required=.true., lo=0.0_wp, hi=0.5_wp, &
-      hi_open=.true., unset='neg', unset_note=rq//'Poisson''s ratio [-]', &
+      hi_open=.true., unset='neg', &
       allowed='a real number with 0 <= nu < 0.5 (required)', comment='Poisson''s ratio [-]'), &
     var_spec_t('material', 'rho', r0=big, required=.true., lo=0.0_wp, lo_open=.true., &
-      unset='neg', unset_note=rq//'density [kg/m^3]', &
-      allowed='a real number > 0 [kg/m^3] (required)', comment='density [kg/m^3]'), &
+      unset='neg', allowed='a real number > 0 [kg/m^3] (required)', comment='density [kg/m^3]'), &
     var_spec_t('material', 'sigma_y', own=.true., r0=big, lo=0.0_wp, lo_open=.true., unset='neg', &
       unset_note='required for model = ''j2'': initial yield stress [Pa]', &
       allowed='a real number > 0 [Pa] (required for model = ''j2'')', &
@@ -178,11 +172,11 @@ module mpm_config_table
     var_spec_t('body', 'center', n=2, allowed='2 finite real numbers [m] (default 0, 0)', &
       comment='centre [m]'), &
     var_spec_t('body', 'r_inner', r0=big, required=.true., lo=0.0_wp, lo_open=.true., &
-      only='ring', unset='neg', unset_note=rq//'inner radius [m]', &
+      only='ring', unset='neg', &
       allowed='a real number with 0 < r_inner < r_outer [m] (required for shape = ''ring'')', &
       comment='inner radius [m]'), &
     var_spec_t('body', 'r_outer', r0=big, required=.true., lo=0.0_wp, lo_open=.true., &
-      only='ring', unset='neg', unset_note=rq//'outer radius [m]', &
+      only='ring', unset='neg', &
       allowed='a real number > r_inner [m] (required for shape = ''ring'')', &
       comment='outer radius [m]'), &
     var_spec_t('body', 'n_thick', 'i', i0=iunset, lo=1.0_wp, only='ring', &
@@ -195,24 +189,20 @@ module mpm_config_table
     var_spec_t('body', 'self_contact', 'l', only='ring', allowed='.true. or .false. (default '// &
       '.false.); .true. needs sector = ''full'' or ''half''', comment='halves meet, never weld'), &
     var_spec_t('body', 'size', n=2, r0=big, required=.true., lo=0.0_wp, lo_open=.true., &
-      only='rect', unset='neg', &
-      unset_note=rq//'rectangle sides [m]', &
-      allowed='2 real numbers > 0 [m] (required for shape = ''rect'')', &
+      only='rect', unset='neg', allowed='2 real numbers > 0 [m] (required for shape = ''rect'')', &
       comment='rectangle sides [m]'), &
     var_spec_t('body', 'n_x', 'i', i0=iunset, required=.true., lo=1.0_wp, only='rect', &
-      unset='zero', unset_note=rq//'particles along x', &
+      unset='zero', &
       allowed='an integer >= 1 (required for shape = ''rect'')', comment='particles along x'), &
     var_spec_t('body', 'n_y', 'i', i0=iunset, required=.true., lo=1.0_wp, only='rect', &
-      unset='zero', unset_note=rq//'particles along y', &
+      unset='zero', &
       allowed='an integer >= 1 (required for shape = ''rect'')', comment='particles along y'), &
     var_spec_t('body', 'velocity', n=2, allowed=v0, comment='initial velocity [m/s]'), &
     ! ---------------------------------------------------------------------------- &wall
     var_spec_t('wall', 'point', n=2, r0=big, required=.true., unset='huge', &
-      unset_note=rq//'a point on the plane at t = 0 [m]', &
       allowed='2 finite real numbers [m] (required)', &
       comment='a point on the plane at t = 0 [m]'), &
     var_spec_t('wall', 'normal', own=.true., n=2, r0=big, required=.true., unset='huge', &
-      unset_note=rq//'unit normal into the material side [-]', &
       allowed='2 real numbers forming a unit vector, |normal| = 1 within 1e-6 (required)', &
       comment='unit normal into the material side [-]'), &
     var_spec_t('wall', 'contact', 'e', c0='frictionless', comment='%'), &
@@ -229,7 +219,6 @@ module mpm_config_table
       'as many as motion_t (default none)', comment='factors on velocity [-]'), &
     ! ---------------------------------------------------------------------------- &probe
     var_spec_t('probe', 'point', n=2, r0=big, required=.true., unset='huge', &
-      unset_note=rq//'the particle nearest to it is recorded [m]', &
       allowed='2 finite real numbers [m] (required)', &
       comment='the particle nearest to it is recorded [m]'), &
     ! ---------------------------------------------------------------------------- &contact
@@ -257,27 +246,10 @@ contains
   pure integer function spec_index(group, name) result(k)
     character(len=*), intent(in) :: group, name
     do k = 1, n_specs
-      if (specs(k)%group == group .and. lower_eq(specs(k)%name, name)) return
+      if (specs(k)%group == group .and. lower(specs(k)%name) == lower(name)) return
     end do
     k = 0
   end function spec_index
-
-  pure logical function lower_eq(a, b)
-    character(len=*), intent(in) :: a, b
-    integer :: k, ca, cb
-    lower_eq = len_trim(a) == len_trim(b)
-    if (.not. lower_eq) return
-    do k = 1, len_trim(a)
-      ca = iachar(a(k:k))
-      cb = iachar(b(k:k))
-      if (ca >= iachar('A') .and. ca <= iachar('Z')) ca = ca + 32
-      if (cb >= iachar('A') .and. cb <= iachar('Z')) cb = cb + 32
-      if (ca /= cb) then
-        lower_eq = .false.
-        return
-      end if
-    end do
-  end function lower_eq
 
   !> The rows of a group, in table order.
   pure function group_specs(group) result(idx)
@@ -349,6 +321,15 @@ contains
       s = trim(specs(k)%allowed)
     end if
   end function allowed_text
+
+  !> The echo's comment of row k when its value is not set: the row's unset_note, or for a
+  !! required row without one 'required: ' and its comment.
+  pure function unset_note(k) result(s)
+    integer, intent(in) :: k
+    character(len=:), allocatable :: s
+    s = trim(specs(k)%unset_note)
+    if (len(s) == 0 .and. specs(k)%required) s = 'required: '//trim(specs(k)%comment)
+  end function unset_note
 
   !> The echo's comment of row k (% replaced by the list of names).
   pure function echo_comment(k) result(s)

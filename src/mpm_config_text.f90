@@ -10,7 +10,7 @@ module mpm_config_text
   implicit none
   private
   public :: enum_text, join_list, suggestion, lower, is_blank, name_end, word_end, &
-            string_end, compact, itoa, quote, unquote, file_stem, fmt_real, fill, fmt_short, &
+            string_end, compact, itoa, quote, unquote, file_stem, fmt_real, fmt_short, &
             fmt_vec, fmt_list, fmt_logical, finite
 
 contains
@@ -251,12 +251,12 @@ contains
     end do
     if (e >= 0 .and. e <= 4) then                      ! plain decimal
       if (len(digits) <= e + 1) then
-        s = digits//fill('0', e + 1 - len(digits))//'.0'
+        s = digits//repeat('0', e + 1 - len(digits))//'.0'
       else
         s = digits(1:e+1)//'.'//digits(e+2:)
       end if
     else if (e < 0 .and. e >= -3) then
-      s = '0.'//fill('0', -e - 1)//digits
+      s = '0.'//repeat('0', -e - 1)//digits
     else
       if (len(digits) > 1) then
         s = digits(1:1)//'.'//digits(2:)//'e'//itoa(e)
@@ -266,18 +266,6 @@ contains
     end if
     if (neg) s = '-'//s
   end function fmt_real
-
-  !> n copies of character c.
-  pure function fill(c, n) result(s)
-    character(len=1), intent(in) :: c
-    integer, intent(in) :: n
-    character(len=:), allocatable :: s
-    integer :: k
-    s = ''
-    do k = 1, n
-      s = s//c
-    end do
-  end function fill
 
   !> Six significant digits, for derived numbers in messages.
   function fmt_short(x) result(s)

@@ -7,6 +7,7 @@ module mpm_config_types
   use mpm_kinds, only: wp
   use mpm_constants, only: name_len, path_len, max_table
   use mpm_material, only: material_cfg_t   ! &material: the model owns its parameters
+  use mpm_shapes, only: body_cfg_t         ! &body: the shapes own theirs
   implicit none
   private
   public :: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, body_cfg_t, &
@@ -49,23 +50,6 @@ module mpm_config_types
     real(wp) :: upper(2) = 0.0_wp                  !! upper domain corner [m]
     logical :: fitted = .true.                     !! lower/upper not given: fit to the scene
   end type grid_cfg_t
-
-  !> &body (repeatable)
-  type :: body_cfg_t
-    character(len=name_len) :: shape = 'ring'      !! ring | rect
-    character(len=name_len) :: material = ''       !! a &material name
-    character(len=name_len) :: sector = 'full'     !! full | half | quarter
-    integer :: shape_id = 0, material_id = 0, sector_id = 0  !! codes; material_id indexes materials
-    real(wp) :: center(2) = 0.0_wp                 !! centre [m]
-    real(wp) :: r_inner = -1.0_wp                  !! ring inner radius [m]
-    real(wp) :: r_outer = -1.0_wp                  !! ring outer radius [m]
-    integer :: n_thick = 16                        !! particles through the wall
-    integer :: n_circ = 0                          !! particles around the whole ring
-    logical :: self_contact = .false.              !! the ring's halves meet by contact (mpm_self_contact)
-    real(wp) :: size(2) = -1.0_wp                  !! rectangle sides [m]
-    integer :: n_x = 0, n_y = 0                    !! particles along the rectangle sides
-    real(wp) :: velocity(2) = 0.0_wp               !! initial velocity [m/s]
-  end type body_cfg_t
 
   !> &wall (repeatable)
   type :: wall_cfg_t

@@ -8,12 +8,13 @@
 ! use the domain's centroid, area and (CPDI1) half-vectors.
 module mpm_particles
   use mpm_kinds, only: wp, i8
-  use mpm_constants, only: pi, SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER, BASIS_CPDI1, BASIS_CPDI2
+  use mpm_constants, only: pi, SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER, BASIS_CPDI1, BASIS_CPDI2, &
+                           BASIS_LINEAR
   implicit none
   private
   public :: particles_t, particles_allocate, ring_counts, ring_fill, rect_counts, rect_fill, &
             quad_area_centroid, particles_memory_bytes, particles_write, particles_read, &
-            particle_corners, particles_copy
+            particle_corners, particles_copy, basis_reach
 
   !> All particles of all bodies. Component index first.
   type :: particles_t
@@ -267,6 +268,17 @@ contains
     xq(:, 3) = p%x(:, ip) + r1 + r2
     xq(:, 4) = p%x(:, ip) - r1 + r2
   end function particle_corners
+
+  !> How far the basis reaches beyond the particles' domain corners, given their largest half
+  !! size [m]: the fitted grid's margin beyond two cells (mpm_setup from the particles,
+  !! mpm_budget from the input's estimate). The half size for the bases whose particle is a
+  !! domain (uGIMP, CPDI1, CPDI2), 0 for linear (its particle is a point).
+  pure real(wp) function basis_reach(basis, half_max) result(reach)
+    integer, intent(in) :: basis              !! BASIS_* code
+    real(wp), intent(in) :: half_max          !! largest particle half size [m]
+    reach = 0.0_wp
+    if (basis /= BASIS_LINEAR) reach = half_max
+  end function basis_reach
 
   !> dst = src, reusing dst's arrays when they have the sizes already (the driver copies the
   !! particles every few steps as the last good state: no allocation each time).

@@ -3,12 +3,13 @@
 ! SPDX-License-Identifier: MIT
 module mpm_setup
   use mpm_kinds, only: wp, i8
-  use mpm_constants, only: pi, EXIT_INPUT, SHAPE_RING, SHAPE_RECT, SECTOR_FULL, SECTOR_HALF, &
-                           SECTOR_QUARTER, CONTACT_SLIP, BASIS_LINEAR, basis_names, &
-                           scheme_names, plane_names, sector_names, volumetric_names, &
+  use mpm_constants, only: EXIT_INPUT, SHAPE_RING, SECTOR_FULL, SECTOR_HALF, &
+                           SECTOR_QUARTER, CONTACT_SLIP, basis_names, &
+                           scheme_names, plane_names, volumetric_names, &
                            VOLUMETRIC_STANDARD, CONTACT_FRICTIONLESS, contact_names
   use mpm_config, only: config_t
-  use mpm_particles, only: particles_allocate, ring_counts, ring_fill, rect_counts, rect_fill
+  use mpm_particles, only: particles_allocate, basis_reach
+  use mpm_shapes, only: body_counts, body_fill, body_report
   use mpm_grid, only: grid_init
   use mpm_tiles, only: tiles_init
   use mpm_walls, only: wall_t
@@ -85,10 +86,8 @@ contains
             end if
             sector_id = b%sector_id
           end if
-          call ring_counts(b%r_inner, b%r_outer, b%n_thick, b%n_circ, b%sector_id, nk, npb, ncb)
-        else
-          call rect_counts(b%n_x, b%n_y, npb, ncb)
         end if
+        call body_counts(b, npb, ncb, nk)
         np = np + npb
         nc = nc + ncb
       end associate
@@ -100,15 +99,8 @@ contains
     do ib = 1, size(cfg%bodies)
       associate (b => cfg%bodies(ib))
         rho = cfg%materials(b%material_id)%rho*cfg%solver%mass_scale
-        if (b%shape_id == SHAPE_RING) then
-          call ring_counts(b%r_inner, b%r_outer, b%n_thick, b%n_circ, b%sector_id, nk, npb, ncb)
-          call ring_fill(s%p, np, nc, b%center, b%r_inner, b%r_outer, b%n_thick, nk, &
-                         b%sector_id, rho, b%velocity, b%material_id, ib)
-        else
-          call rect_counts(b%n_x, b%n_y, npb, ncb)
-          call rect_fill(s%p, np, nc, b%center, b%size, b%n_x, b%n_y, rho, b%velocity, &
-                         b%material_id, ib)
-        end if
+        call body_fill(s%p, np, nc, b, ib, rho)
+        call body_counts(b, npb, ncb, nk)
         np = np + npb
         nc = nc + ncb
       end associate
@@ -126,8 +118,7 @@ contains
     if (cfg%grid%fitted) then
       lo = minval(s%p%xc, dim=2)
       hi = maxval(s%p%xc, dim=2)
-      margin = 2.0_wp*cfg%grid%h
-      if (s%prm%basis /= BASIS_LINEAR) margin = margin + maxval(s%p%half)
+      margin = 2.0_wp*cfg%grid%h + basis_reach(s%prm%basis, maxval(s%p%half))
       lo = lo - margin
       hi = hi + margin
       anchor = cfg%bodies(1)%center
@@ -343,7 +334,7 @@ contains
     type(sim_t), intent(in) :: s           !! the simulation at t = 0
     character(len=:), allocatable, intent(out) :: report    !! the set-up, one item per line
     character(len=:), allocatable, intent(out) :: warnings  !! warnings, one per line ('' none)
-    integer :: ib, nk, npb, ncb, nthreads
+    integer :: ib, nthreads
     real(wp) :: dt_stable, dt, cfl_auto
     integer(i8) :: steps
     real(wp) :: seconds, rate, avail
@@ -360,22 +351,8 @@ contains
       cfg%solver%deterministic
     call append_msg(report, line)
     do ib = 1, size(cfg%bodies)
-      associate (b => cfg%bodies(ib))
-        if (b%shape_id == SHAPE_RING) then
-          call ring_counts(b%r_inner, b%r_outer, b%n_thick, b%n_circ, b%sector_id, nk, npb, ncb)
-          write(line, '(a,i0,a,i0,a,i0,a,i0,a,a,a,es10.3,a,f6.2)') 'body ', ib, ': ring, ', &
-            npb, ' particles (', b%n_thick, ' through the wall x ', nk, ' around, sector ', &
-            trim(sector_names(b%sector_id)), '), t = ', b%r_outer - b%r_inner, &
-            ' m, particle aspect ', (2.0_wp*pi*0.5_wp*(b%r_inner + b%r_outer)/real(nk, wp) &
-            *merge(1.0_wp, merge(0.5_wp, 0.25_wp, b%sector_id == SECTOR_HALF), &
-            b%sector_id == SECTOR_FULL))/((b%r_outer - b%r_inner)/real(b%n_thick, wp))
-        else
-          call rect_counts(b%n_x, b%n_y, npb, ncb)
-          write(line, '(a,i0,a,i0,a,i0,a,i0,a)') 'body ', ib, ': rect, ', npb, ' particles (', &
-            b%n_x, ' x ', b%n_y, ')'
-        end if
-        call append_msg(report, line)
-      end associate
+      line = body_report(cfg%bodies(ib), ib)
+      call append_msg(report, line)
     end do
     write(line, '(a,i0,a,i0)') 'particles: ', s%p%np, ', domain corners: ', s%p%nc
     call append_msg(report, line)

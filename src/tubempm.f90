@@ -1,8 +1,8 @@
 !> tubempm: material point method for thin-walled tubes under lateral compression.
 ! SPDX-License-Identifier: MIT
 !
-!   bin/tubempm CASE.nml | --check CASE.nml | --restart DIR | --defaults | --help | --version
-!   [--quiet]
+!   bin/tubempm CASE.nml | --check CASE.nml | --scene CASE.nml | --restart DIR | --defaults |
+!   --help | --version   [--quiet]
 ! The driver is the only place that stops the program (exit codes of docs/output.md).
 program tubempm
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit, compiler_version, &
@@ -29,7 +29,7 @@ program tubempm
   implicit none
 
   character(len=path_len) :: case_file, arg, restart_dir
-  logical :: check_only, quiet, restart
+  logical :: check_only, scene_only, quiet, restart
   integer :: i, nargs, stat
   character(len=:), allocatable :: errmsg, report, warnings, input_warnings, advice
   type(config_t) :: cfg
@@ -61,6 +61,7 @@ program tubempm
 
   ! command line
   check_only = .false.
+  scene_only = .false.
   quiet = .false.
   restart = .false.
   case_file = ''
@@ -85,6 +86,8 @@ program tubempm
       stop
     case ('--check')
       check_only = .true.
+    case ('--scene')
+      scene_only = .true.
     case ('--quiet', '-q')
       quiet = .true.
     case ('--restart')
@@ -116,6 +119,14 @@ program tubempm
   ! input, set-up, report
   call read_config(case_file, cfg, stat, errmsg, input_warnings, advice)   ! advice: once, below
   if (stat /= 0) call fatal('input', errmsg, stat)
+  if (scene_only) then                   ! the kind of scene summary.nml will name, for plots/
+    if (len_trim(scene_of(cfg)) == 0) then
+      write(output_unit, '(a)') 'generic'
+    else
+      write(output_unit, '(a)') trim(scene_of(cfg))
+    end if
+    stop
+  end if
   ! a completed run has nothing to continue (its input read and valid): say so, touch nothing
   if (restart) then
     if (index(read_text(trim(restart_dir)//'/summary.nml'), "status = 'completed'") > 0) then
@@ -154,6 +165,10 @@ contains
     write(output_unit, '(a)') 'usage:'
     write(output_unit, '(a)') '  tubempm CASE.nml             run the case (outputs in &run output_dir)'
     write(output_unit, '(a)') '  tubempm --check CASE.nml     validate; print the derived set-up and exit'
+    write(output_unit, '(a)') '  tubempm --scene CASE.nml     print the kind of scene (crush, wave, '// &
+      'impact, generic)'
+    write(output_unit, '(a)') '                               that summary.nml will name; '// &
+      'nothing is run'
     write(output_unit, '(a)') '  tubempm --restart DIR        continue the run in DIR from its last checkpoint'
     write(output_unit, '(a)') '  tubempm --defaults           print every namelist group with its defaults'
     write(output_unit, '(a)') '  tubempm --help | --version'

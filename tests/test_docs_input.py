@@ -8,10 +8,14 @@ are compared with the rows `var_spec_t('<group>', '<name>', ...)` of the source;
 but not the other is a failure. The unit column must be the unit in brackets at the end of the
 row's echo comment (`-` when it has none), and for a variable with a list of names the default
 column must name the row's default (`c0`). The variables used in the full example of the docs must
-be in the tables as well. Prints `test_docs_input: N passed, M failed` last; exit 1 on failure.
-Standard library only.
+be in the tables as well. The error lines quoted in "## Error messages" must be what the binary
+named by TUBEMPM (default bin/tubempm) prints for the file they name, each one verbatim (so an
+example cannot go stale when a group gains a variable). Prints `test_docs_input: N passed, M
+failed` last; exit 1 on failure. Standard library only.
 """
+import os
 import re
+import subprocess
 import sys
 from pathlib import Path
 
@@ -142,7 +146,30 @@ def main():
         for name in sorted(names):
             check(name in set(doc.get(group, [])),
                   f"the full example sets &{group}: {name}, which no table documents")
+    check_quoted_errors(doc_text)
     return T.summary()
+
+
+def check_quoted_errors(doc_text):
+    """Each quoted `ERROR [input]: tests/bad_inputs/<file>:...` line is one the binary prints."""
+    quoted = {}
+    for m in re.finditer(r"(?m)^ {4}(ERROR \[input\]: (tests/bad_inputs/[\w.]+?\.nml)\b.*)$",
+                         doc_text):
+        quoted.setdefault(m.group(2), []).append(m.group(1))
+    check(len(quoted) >= 2, f"docs/input.md quotes the errors of bad inputs ({sorted(quoted)})")
+    binary = os.environ.get("TUBEMPM", str(ROOT / "bin" / "tubempm"))
+    for rel, lines in sorted(quoted.items()):
+        try:
+            proc = subprocess.run([binary, rel], cwd=ROOT, capture_output=True, text=True,
+                                  timeout=60)
+        except OSError as exc:
+            check(False, f"{binary} {rel}: cannot run ({exc})")
+            continue
+        printed = set(proc.stderr.splitlines())
+        check(proc.returncode == 2, f"{rel}: exit 2 (got {proc.returncode})")
+        for line in lines:
+            check(line in printed, f"docs/input.md quotes a line {binary} does not print for "
+                  f"{rel}: {line!r}")
 
 
 if __name__ == "__main__":

@@ -483,8 +483,7 @@ def main() -> int:
     check_readers(outdir, scratch, snaps)
 
     # the plots
-    groups = namelist.read_namelist(case)
-    kind = scene.scene_kind(groups)
+    kind = scene.scene_kind(outdir, case)
     proc = run([sys.executable, str(PLOTS / "plot_case.py"), "--case", str(case)], timeout=300)
     if not check(proc.returncode == 0, f"plot_case.py exits 0 (got {proc.returncode})"):
         show(proc)

@@ -27,12 +27,23 @@ if [ -z "$pvbatch" ]; then
   echo "paraview: 0 passed, 0 failed"
   exit 0
 fi
-run_pv() {  # ParaView needs a display for its render view: a virtual one where there is none
+run_pv1() {  # ParaView needs a display for its render view: a virtual one where there is none
   if [ -z "${DISPLAY:-}" ] && command -v xvfb-run > /dev/null; then
     timeout 300 xvfb-run -a "$pvbatch" "$@"
   else
     timeout 300 "$pvbatch" "$@"
   fi
+}
+run_pv() {  # pvbatch 5.11 itself aborts (SIGABRT, exit 134, in its own start-up) about one run
+  # in three on a loaded machine, with any build of tubempm: one retry, said on stderr
+  run_pv1 "$@"
+  local rc=$?
+  if [ $rc -eq 134 ]; then
+    echo "paraview: pvbatch aborted (exit 134); retrying once" >&2
+    run_pv1 "$@"
+    rc=$?
+  fi
+  return $rc
 }
 
 # a full ring (2 bodies would do too): three snapshots, plastic flow so that eqps is not 0

@@ -12,11 +12,14 @@ their command line in this process; the figure they save is caught and its artis
   name the quantities and units, and no MPM-fit stiffness is printed;
 * impact: the force and velocity curves are the history's columns, and the printed coefficient
   of restitution is the one built into the history (0.75);
-* shapes: the drawn polygons are the snapshot's corners (in mm) and their colours its eqps;
+* shapes: the drawn polygons are the snapshot's corners (in mm) and their colours its eqps, or
+  with --colour body one discrete colour per body id;
 * a run whose summary.nml says 'unstable', or that has no summary.nml, is marked in red above
-  the plots (and the mark is absent for a completed run).
+  the plots (and the mark is absent for a completed run); without summary.nml the kind of scene
+  is asked of the binary named by TUBEMPM (`tubempm --scene input.nml`), so the made-up
+  input.nml files are valid cases.
 
-    python3 tests/test_plots.py SCRATCH
+    TUBEMPM=build/debug/tubempm python3 tests/test_plots.py SCRATCH
 """
 from __future__ import annotations
 
@@ -118,7 +121,8 @@ def check_failure_marks(folder: Path, module, argv: list[str], what: str) -> Non
 def test_crush(scratch: Path) -> None:
     folder = scratch / "crush"
     folder.mkdir(parents=True, exist_ok=True)
-    (folder / "input.nml").write_text(f"""&run title = 'synthetic crush', depth = 1.0 /
+    (folder / "input.nml").write_text(f"""&run title = 'synthetic crush', depth = 1.0, t_end = 1.0e-3 /
+&grid h = 0.5e-3 /
 &solver plane = 'strain' /
 &material name = 'steel', model = 'j2', E = 210.0e9, nu = 0.3, rho = 7800.0,
   sigma_y = {SIGMA_Y!r} /
@@ -174,7 +178,8 @@ def test_crush(scratch: Path) -> None:
 def test_impact(scratch: Path) -> None:
     folder = scratch / "impact"
     folder.mkdir(parents=True, exist_ok=True)
-    (folder / "input.nml").write_text(f"""&run title = 'synthetic impact', depth = 1.0 /
+    (folder / "input.nml").write_text(f"""&run title = 'synthetic impact', depth = 1.0, t_end = 1.0e-3 /
+&grid h = 0.5e-3 /
 &material name = 'al', model = 'elastic', E = 70.0e9, nu = 0.3, rho = 2700.0 /
 &body shape = 'ring', center = 0.0, 0.0265, r_inner = {R_IN!r}, r_outer = {R_OUT!r},
   velocity = 0.0, -30.0 /
@@ -212,6 +217,26 @@ def test_impact(scratch: Path) -> None:
     check(abs(value - 0.75) < 1e-3, f"impact: printed COR {value} = 0.75 built into the history")
 
 
+def check_body_colours(scratch: Path, folder: Path) -> None:
+    """--colour body: one colour per body id (tab10's first two for bodies 1 and 2), and a
+    colour bar with exactly the ids as ticks (a discrete scale, not a continuous one)."""
+    import matplotlib
+    argv = ["--dir", str(folder), "--out", str(scratch / "bodies.png"), "--colour", "body"]
+    rc, out, fig = run_main(plot_shapes, argv)
+    if not check(rc == 0 and fig is not None, f"shapes --colour body exits 0 (rc {rc}: {out})"):
+        return
+    polys = [c for ax in fig.axes for c in ax.collections if isinstance(c, PolyCollection)]
+    faces = np.asarray(polys[0].get_facecolors()) if polys else np.zeros((0, 4))
+    tab = matplotlib.colormaps["tab10"]
+    check(len(faces) == 2 and np.allclose(faces[0][:3], tab(0)[:3], atol=1e-9)
+          and np.allclose(faces[1][:3], tab(1)[:3], atol=1e-9),
+          f"shapes --colour body: body 1 and 2 in tab10's first two colours ({faces.tolist()})")
+    bars = [a for a in fig.axes if a.get_ylabel() == "body"]
+    ticks = list(bars[0].get_yticks()) if bars else []
+    check(ticks == [1.0, 2.0], f"shapes --colour body: the colour bar's ticks are the body ids "
+          f"({ticks})")
+
+
 def test_shapes(scratch: Path) -> None:
     import h5py
     folder = scratch / "crush"                  # reuse the crush folder's inputs and history
@@ -226,7 +251,7 @@ def test_shapes(scratch: Path) -> None:
         g.attrs["np"] = 2
         data = {"x": corners[quads].mean(axis=1), "v": np.zeros((2, 2)), "mass": np.ones(2),
                 "volume": np.ones(2), "stress": np.zeros((2, 4)), "F": np.tile([1.0, 0, 0, 1], (2, 1)),
-                "eqps": eqps, "corners": corners, "quads": quads}
+                "eqps": eqps, "corners": corners, "quads": quads, "body": np.array([1, 2])}
         for k, v in data.items():
             g.create_dataset(k, data=v)
     argv = ["--dir", str(folder), "--out", str(scratch / "shapes.png")]
@@ -244,6 +269,7 @@ def test_shapes(scratch: Path) -> None:
               "shapes: the colours are the snapshot's eqps")
     ax = fig.axes[0]
     check(ax.get_xlabel() == "x [mm]" and ax.get_ylabel() == "y [mm]", "shapes: axis labels")
+    check_body_colours(scratch, folder)
     check_failure_marks(folder, plot_shapes, argv, "shapes plot")
     # a half model's file: the subgroup 'mirrored' holds the whole tube (docs/output.md); made
     # up here as the two particles and their reflection in x = 0 (corner order reversed)

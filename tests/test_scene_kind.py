@@ -1,13 +1,16 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
-"""One scene classifier: tubempm writes it into summary.nml (``scene``), the plots read it.
+"""One scene classifier: tubempm's (``scene_of``, src/mpm_advice.f90), which it writes into
+summary.nml (``scene``) and prints with ``--scene`` without running; the plots only read it.
 
-Every namelist of namelists/ and tests/scenes/ is run for a few steps (t_end cut to 1e-7 s) with
-the binary named by TUBEMPM; its summary.nml must name the scene the file is known to be (the
-table below, written by hand from what each file models), the Python rule
-(mpmplot.scene.classify_inputs, the fallback for outputs written before the entry) must give the
-same answer from input.nml and from the case file, and scene_kind must read summary.nml (shown by
-a summary whose entry was changed) and fall back to the rule when the entry is missing.
+Every namelist of namelists/, namelists/contact/ and tests/scenes/ is classified both ways and
+compared with the scene the file is known to be (the table below, written by hand from what each
+file models, not by running the classifier): ``tubempm --scene`` on the case file, and a run of a
+few steps (t_end cut to 1e-7 s) whose summary.nml must name it. mpmplot.scene.scene_kind must give
+the same answer from the output folder (summary.nml) and from the case file alone (asking
+``tubempm --scene``), trust summary.nml over the inputs (shown by a summary whose entry was
+changed) and ask tubempm about input.nml when the entry is missing. No Python copy of the rule
+is left (``classify_inputs`` is gone), and ``--scene`` on a bad input prints no kind and exits 2.
 
     TUBEMPM=build/debug/tubempm python3 tests/test_scene_kind.py SCRATCH
 """
@@ -34,6 +37,14 @@ EXPECTED = {
     "namelists/default.nml": "impact",         # ring at 30 m/s onto a static target
     "namelists/impact.nml": "impact",
     "namelists/wave.nml": "wave",              # platen pulse (motion table back to 0), probes
+    "namelists/contact/densify.nml": "crush",  # the crush scene's tube, platens to 0.95 D
+    "namelists/contact/nested.nml": "crush",   # two nested tubes between platens
+    "namelists/contact/nested_eccentric.nml": "crush",
+    "namelists/contact/plates.nml": "crush",   # a platen drives the plates onto the tube
+    "namelists/contact/row3.nml": "crush",     # one platen over three tubes
+    "namelists/contact/row3_single.nml": "crush",
+    "namelists/contact/stack.nml": "crush",
+    "namelists/contact/two_rings.nml": "impact",  # two rings flying at each other, no wall moves
     "tests/scenes/crush_quarter.nml": "crush",
     "tests/scenes/elastic_quarter.nml": "wave",   # a platen pulse, as the wave scene's
     "tests/scenes/impact_half.nml": "impact",
@@ -56,15 +67,30 @@ def prepare(case: Path, folder: Path) -> Path:
     return path
 
 
+def ask(binary: str, case: Path) -> subprocess.CompletedProcess:
+    """tubempm --scene CASE."""
+    return subprocess.run([binary, "--scene", str(case)], capture_output=True, text=True,
+                          timeout=120)
+
+
 def main() -> int:
     scratch = Path(sys.argv[1] if len(sys.argv) > 1 else "/tmp/test_scene_kind").resolve()
     binary = os.environ.get("TUBEMPM", str(ROOT / "bin" / "tubempm"))
-    files = sorted(str(p.relative_to(ROOT)) for d in ("namelists", "tests/scenes")
+    os.environ["TUBEMPM"] = binary            # the plots ask the same binary
+    files = sorted(str(p.relative_to(ROOT)) for d in ("namelists", "namelists/contact",
+                                                      "tests/scenes")
                    for p in (ROOT / d).glob("*.nml"))
     check(sorted(EXPECTED) == files, f"the table names every scene file ({files})")
+    check(not hasattr(scene, "classify_inputs"), "no Python copy of the scene rule")
     last = None
     for rel in files:
         case = ROOT / rel
+        want = EXPECTED.get(rel, "?")
+        proc = ask(binary, case)
+        check(proc.returncode == 0 and proc.stdout == want + "\n",
+              f"{rel}: tubempm --scene prints {proc.stdout!r} (exit {proc.returncode}), "
+              f"expected {want!r}")
+        check(scene.scene_kind(case=case) == want, f"{rel}: scene_kind(case file) asks tubempm")
         folder = scratch / case.stem
         path = prepare(case, folder)
         proc = subprocess.run([binary, "--quiet", str(path)], capture_output=True, text=True,
@@ -74,29 +100,34 @@ def main() -> int:
             continue
         out = folder / "out"
         summary = namelist.read_namelist(out / "summary.nml")["summary"][0]
-        want = EXPECTED.get(rel, "?")
         check(summary.get("scene") == want,
               f"{rel}: summary.nml scene = {summary.get('scene')!r}, expected {want!r}")
-        resolved = scene.classify_inputs(namelist.read_namelist(out / "input.nml"))
-        check(resolved == want, f"{rel}: classify_inputs(input.nml) = {resolved!r}, "
-              f"expected {want!r}")
-        given = scene.classify_inputs(namelist.read_namelist(case))
-        check(given == want, f"{rel}: classify_inputs(case file) = {given!r}, expected {want!r}")
-        check(scene.scene_kind({}, out) == want, f"{rel}: scene_kind reads summary.nml")
+        check(scene.scene_kind(out) == want, f"{rel}: scene_kind reads summary.nml")
         last = out
     if last is not None:
-        # scene_kind trusts summary.nml over the inputs, and falls back when it has no entry
+        # scene_kind trusts summary.nml over the inputs, and asks tubempm about input.nml when
+        # the entry is missing
         text = (last / "summary.nml").read_text()
-        inputs = namelist.read_namelist(last / "input.nml")
-        rule = scene.classify_inputs(inputs)
+        rule = ask(binary, last / "input.nml").stdout.strip()
+        check(rule in scene.SCENES, f"tubempm --scene input.nml answers a kind ({rule!r})")
         other = "generic" if rule != "generic" else "crush"
         (last / "summary.nml").write_text(re.sub(r"scene = '\w+'", f"scene = '{other}'", text))
-        check(scene.scene_kind(inputs, last) == other, "scene_kind answers what summary.nml says")
+        check(scene.scene_kind(last) == other, "scene_kind answers what summary.nml says")
         (last / "summary.nml").write_text(re.sub(r"(?m)^\s*scene = '\w+'\n", "", text))
         check("scene" not in namelist.read_namelist(last / "summary.nml")["summary"][0],
               "the edited summary.nml has no scene entry")
-        check(scene.scene_kind(inputs, last) == rule, "scene_kind falls back to the rule for a "
+        check(scene.scene_kind(last) == rule, "scene_kind asks tubempm about input.nml for a "
               "summary.nml written before the entry")
+    bad = ROOT / "tests" / "bad_inputs" / "05_unknown_variable.nml"
+    proc = ask(binary, bad)
+    check(proc.returncode == 2 and proc.stdout == "" and "ERROR [input]" in proc.stderr,
+          f"tubempm --scene {bad.name}: exit 2, no kind, the input errors (exit "
+          f"{proc.returncode}, stdout {proc.stdout!r})")
+    try:
+        scene.scene_kind(case=bad)
+        check(False, "scene_kind refuses a bad input")
+    except ValueError as exc:
+        check("ERROR [input]" in str(exc), f"scene_kind passes tubempm's message on ({exc})")
     return 0
 
 

@@ -1,10 +1,13 @@
 # SPDX-License-Identifier: MIT
 """What a case is: its output folder, its walls as history.csv numbers them, its ring and
-material, and its kind of scene (crush, wave, impact, generic), read from summary.nml.
+material, and its kind of scene (crush, wave, impact, generic): tubempm's answer, read from
+summary.nml or asked of ``tubempm --scene``.
 """
 from __future__ import annotations
 
 import os
+import shutil
+import subprocess
 from pathlib import Path
 from typing import Any, Sequence
 
@@ -14,7 +17,7 @@ from .namelist import read_namelist
 from .readers import history_walls, read_summary
 
 __all__ = ["case_output_dir", "resolve_case", "wall_table", "crush_displacement", "scene_kind",
-           "classify_inputs", "SCENES",
+           "tubempm_binary", "SCENES",
            "ring_body", "body_material", "plane_of", "depth_of", "sector_factor",
            "ring_properties"]
 
@@ -163,13 +166,31 @@ def crush_displacement(history: dict[str, np.ndarray], inputs: dict[str, list[di
 SCENES = ("crush", "wave", "impact", "generic")   #: the kinds of scene summary.nml names
 
 
-def scene_kind(inputs: dict[str, list[dict[str, Any]]], outdir: str | os.PathLike | None = None
-               ) -> str:
+def tubempm_binary() -> str:
+    """The tubempm to ask: ``$TUBEMPM``, else the repository's ``bin/tubempm``, else
+    ``tubempm`` on the PATH. FileNotFoundError when none exists."""
+    env = os.environ.get("TUBEMPM", "").strip()
+    if env:
+        return env
+    local = Path(__file__).resolve().parents[2] / "bin" / "tubempm"
+    if local.is_file():
+        return str(local)
+    found = shutil.which("tubempm")
+    if found:
+        return found
+    raise FileNotFoundError(f"tubempm not found ({local}: build it with `make`, or set "
+                            "TUBEMPM to the binary)")
+
+
+def scene_kind(outdir: str | os.PathLike | None = None,
+               case: str | os.PathLike | None = None) -> str:
     """Which scenario a case is: 'crush', 'wave', 'impact' or 'generic'.
 
-    The answer is tubempm's own: the ``scene`` entry of ``<outdir>/summary.nml``. For a case
-    not run yet, or an output written before summary.nml had that entry, it is
-    :func:`classify_inputs` on the inputs (the same rule, written again in Python).
+    The answer is always tubempm's own (one classifier, ``scene_of`` in src/mpm_advice.f90):
+    the ``scene`` entry of ``<outdir>/summary.nml``; for a case not run yet, or an output
+    written before summary.nml had that entry, what ``tubempm --scene`` prints for
+    ``<outdir>/input.nml`` (the resolved input) or else for the case file. FileNotFoundError
+    without tubempm, ValueError when it refuses the input.
     """
     if outdir is not None:
         path = Path(outdir) / "summary.nml"
@@ -177,32 +198,18 @@ def scene_kind(inputs: dict[str, list[dict[str, Any]]], outdir: str | os.PathLik
             scene = str(read_summary(path).get("scene", "")).strip().lower()
             if scene in SCENES:
                 return scene
-    return classify_inputs(inputs)
-
-
-def classify_inputs(inputs: dict[str, list[dict[str, Any]]]) -> str:
-    """The scene rule of tubempm (the ``scene`` of summary.nml, docs/output.md), from inputs.
-
-    Tested in this order, and only when a body is a ring (else 'generic'):
-    wave: a wall with a nonzero velocity and a motion table whose last factor is 0 (a pulse);
-    crush: a wall with a nonzero velocity;
-    impact: a ring body with a nonzero initial velocity;
-    generic: anything else.
-    """
-    if ring_body(inputs) is None:
-        return "generic"
-    walls = inputs.get("wall", [])
-    for w in walls:
-        table = w.get("motion_f")
-        table = [v for v in (table if isinstance(table, list) else [table]) if v is not None]
-        if _nonzero(w.get("velocity")) and table and float(table[-1]) == 0.0:
-            return "wave"
-    if any(_nonzero(w.get("velocity")) for w in walls):
-        return "crush"
-    if any(_nonzero(b.get("velocity")) for b in inputs.get("body", [])
-           if str(b.get("shape", "ring")).lower() == "ring"):
-        return "impact"
-    return "generic"
+        if (Path(outdir) / "input.nml").is_file():
+            case = Path(outdir) / "input.nml"
+    if case is None:
+        raise ValueError(f"no summary.nml with a scene, no input.nml in {outdir} and no case "
+                         "file: nothing to classify")
+    proc = subprocess.run([tubempm_binary(), "--scene", str(case)], capture_output=True,
+                          text=True, timeout=120)
+    scene = proc.stdout.strip()
+    if proc.returncode != 0 or scene not in SCENES:
+        raise ValueError(f"tubempm --scene {case} (exit {proc.returncode}): "
+                         f"{(proc.stderr or proc.stdout).strip()[-400:]}")
+    return scene
 
 
 def ring_body(inputs: dict[str, list[dict[str, Any]]]) -> dict[str, Any] | None:
