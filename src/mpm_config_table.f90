@@ -85,8 +85,8 @@ module mpm_config_table
     var_spec_t('run', 't_end', r0=big, required=.true., lo=0.0_wp, lo_open=.true., &
       unset='neg', allowed='a real number > 0 [s] (required)', comment='simulated time [s]'), &
     var_spec_t('run', 'cfl', r0=0.0_wp, lo=0.0_wp, hi=2.0_wp, &
-      allowed='a real number with 0 <= cfl <= 2 (default 0: automatic; above 1 is unstable, '// &
-      'allowed for stability studies)', comment='dt = cfl h / (c_d + max speed) [-]'), &
+      allowed='a real number with 0 <= cfl <= 2 (default 0: automatic; --check warns above '// &
+      'the stability study''s limit)', comment='dt = cfl h / (c_d + max speed) [-]'), &
     var_spec_t('run', 'dt', lo=0.0_wp, allowed='a real number >= 0 [s] (0 = from cfl; '// &
       'default 0)', comment='fixed time step if > 0 [s]'), &
     var_spec_t('run', 'history_every', lo=0.0_wp, allowed=s0, &

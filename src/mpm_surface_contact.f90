@@ -43,7 +43,7 @@
 ! summed into the wall's reaction exactly (impulse on the wall = momentum taken from the body).
 module mpm_surface_contact
   use mpm_kinds, only: wp
-  use mpm_constants, only: BASIS_CPDI1, BASIS_CPDI2, CONTACT_COULOMB, CONTACT_STICK
+  use mpm_constants, only: BASIS_CPDI2, CONTACT_COULOMB, CONTACT_STICK
   use mpm_particles, only: particles_t, particle_corners
   use mpm_basis, only: bilinear_at
   implicit none
@@ -99,7 +99,7 @@ contains
     real(wp), intent(in) :: kf             !! stiffness per unit point mass, alpha c^2/h^2 [1/s^2]
     type(surface_work_t), intent(inout) :: wk  !! work arrays: the points
     integer :: ip, ic, a
-    real(wp) :: d, xq(2, 4), r1(2), r2(2)
+    real(wp) :: d, xq(2, 4), dq(4)
     wk%npt = 0
     wk%gmin = 0.0_wp
     wk%curve = .false.
@@ -114,28 +114,16 @@ contains
       return
     end if
     do ip = 1, p%np
-      ! the domain deformed with the particle: x -+ F r1 -+ F r2 (CPDI1: r = r10, r20; uGIMP
-      ! and linear: the half sizes), so that a corner moves as the grid's velocity field at
-      ! it to first order; the lowest corner first, in closed form
-      if (basis == BASIS_CPDI1) then
-        r1 = matmul(p%F(:, :, ip), p%r10(:, ip))
-        r2 = matmul(p%F(:, :, ip), p%r20(:, ip))
-      else
-        r1 = p%F(:, 1, ip)*p%half(1, ip)
-        r2 = p%F(:, 2, ip)*p%half(2, ip)
-      end if
-      d = dot_product(p%x(:, ip) - xw, normal)
-      if (d - abs(dot_product(r1, normal)) - abs(dot_product(r2, normal)) >= 0.0_wp) cycle
-      xq(:, 1) = p%x(:, ip) - r1 - r2
-      xq(:, 2) = p%x(:, ip) + r1 - r2
-      xq(:, 3) = p%x(:, ip) + r1 + r2
-      xq(:, 4) = p%x(:, ip) - r1 + r2
+      ! the domain deformed with the particle (particle_corners, deformed: x -+ F r1 -+ F r2),
+      ! so that a corner moves as the grid's velocity field at it to first order
+      xq = particle_corners(p, ip, basis, deformed=.true.)
+      dq = [(dot_product(xq(:, a) - xw, normal), a = 1, 4)]
+      if (minval(dq) >= 0.0_wp) cycle
       do a = 1, 4
-        d = dot_product(xq(:, a) - xw, normal)
-        if (d < 0.0_wp) call push(ip, xq(:, a) - p%x(:, ip), -kf*0.25_wp*p%mass(ip)*d, &
-                                  0.125_wp*kf*p%mass(ip)*d*d)
-        wk%gmin = min(wk%gmin, d)
+        if (dq(a) < 0.0_wp) call push(ip, xq(:, a) - p%x(:, ip), -kf*0.25_wp*p%mass(ip)*dq(a), &
+                                      0.125_wp*kf*p%mass(ip)*dq(a)*dq(a))
       end do
+      wk%gmin = min(wk%gmin, minval(dq))
     end do
   contains
     subroutine push(owner, xp, force, energy)
