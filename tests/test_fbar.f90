@@ -71,6 +71,8 @@ program test_fbar
   call test_patch_ring(BASIS_CPDI2, SCHEME_MUSL)
   call test_patch_ring(BASIS_LINEAR, SCHEME_USF)
   call test_wall_fit()
+  call test_self_adjoint(VOLUMETRIC_FBAR)
+  call test_self_adjoint(VOLUMETRIC_FBARWALL)
   call test_cylinder()
   call finish_tests('test_fbar')
 
@@ -193,6 +195,56 @@ contains
     call check(abs(sum_f - sum_q) <= 1.0e-12_wp*sum(s%p%vol(1:n))*1.0e6_wp, &
                'the V-weighted sum of the mean stress is kept')
   end subroutine test_wall_fit
+
+  !> The average of either treatment is self-adjoint in the V-weighted inner product,
+  !! sum_p V_p a_p bbar_p = sum_p V_p abar_p b_p, which is what makes the forces' averaged mean
+  !! stress the work-conjugate of the averaged volume change (the energy balance,
+  !! tests/test_fbar_energy.py): two unrelated mean-stress fields on a quarter ring of four
+  !! particles through the wall, averaged through the step's weights ('fbar') or the line through
+  !! the wall ('fbarwall'); equal to 1e-12 of sum V |a| |b|. Each average also changes the fields
+  !! (by more than 1 % of their RMS), so the equality is not that of the identity.
+  subroutine test_self_adjoint(mode)
+    integer, intent(in) :: mode             !! VOLUMETRIC_FBAR or VOLUMETRIC_FBARWALL
+    type(config_t) :: cfg
+    type(sim_t) :: s
+    real(wp), allocatable :: fa(:), fb(:), abar(:), bbar(:)
+    real(wp) :: lhs, rhs, scale
+    integer :: ip, n, stat
+    character(len=:), allocatable :: errmsg
+    call begin_test('the average is self-adjoint, '//merge('fbar    ', 'fbarwall', &
+                    mode == VOLUMETRIC_FBAR))
+    cfg = scene_new('adjoint', 1.0_wp, 0.005_wp, BASIS_CPDI2, SCHEME_MUSL, PLANE_STRAIN)
+    cfg%solver%volumetric_id = mode
+    call scene_add_material(cfg, 'm', MODEL_ELASTIC, 1.0e9_wp, 0.3_wp, 1000.0_wp, &
+                            sigma_y=1.0_wp)
+    call scene_add_ring(cfg, [0.0_wp, 0.0_wp], 0.04_wp, 0.06_wp, 4, sector=SECTOR_QUARTER)
+    call must_setup(cfg, s)
+    s%wk%par = .false.
+    errmsg = ''
+    call weights_compute(s%prm, s%state_t, s%g, s%wk, s%diag, stat, errmsg)
+    call check(stat == 0, 'weights: '//errmsg)
+    n = s%p%np
+    allocate(fa(n), fb(n), abar(n), bbar(n))
+    do ip = 1, n          ! two fields with no relation to the averages' structure
+      fa(ip) = 1.0e6_wp*sin(1.7_wp*real(ip, wp)) + 3.0e5_wp
+      fb(ip) = 2.0e6_wp*cos(0.37_wp*real(ip*ip, wp)) - 1.0e5_wp
+    end do
+    s%p%stress(:, 1:n) = 0.0_wp
+    s%p%stress(1, 1:n) = fa
+    s%p%stress(2, 1:n) = fa
+    call fbar_force_stress(s%p, s%g, s%wk, mode)
+    abar = 0.5_wp*(s%wk%sforce(1, 1:n) + s%wk%sforce(2, 1:n))
+    s%p%stress(1, 1:n) = fb
+    s%p%stress(2, 1:n) = fb
+    call fbar_force_stress(s%p, s%g, s%wk, mode)
+    bbar = 0.5_wp*(s%wk%sforce(1, 1:n) + s%wk%sforce(2, 1:n))
+    lhs = sum(s%p%vol(1:n)*fa*bbar)
+    rhs = sum(s%p%vol(1:n)*abar*fb)
+    scale = sum(s%p%vol(1:n)*abs(fa)*abs(fb))
+    call check(abs(lhs - rhs) <= 1.0e-12_wp*scale, 'sum V a bbar = sum V abar b')
+    call check(norm2(abar - fa) > 1.0e-2_wp*norm2(fa) .and. &
+               norm2(bbar - fb) > 1.0e-2_wp*norm2(fb), 'the average changes both fields')
+  end subroutine test_self_adjoint
 
   !> Set up the patch with a treatment and run 60 steps of step 6 under v = G x.
   subroutine run_patch(cfg_in, vol_id, s)
