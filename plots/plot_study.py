@@ -159,10 +159,12 @@ def fig_accuracy_runtime(rows, adv, out: Path) -> None:
             if sel:
                 ax.loglog([r["cpu_s"] for r in sel], [100 * r["error"] for r in sel], mk,
                           color=col, mfc="none" if b != "cpdi2" else col, ms=6, label=b)
-        sel = [r for r in rs if volumetric(r) == "fbar"]
-        if sel:
-            ax.loglog([r["cpu_s"] for r in sel], [100 * r["error"] for r in sel], "D",
-                      color="C4", ms=6, label="fbar (anti-locking)")
+        for vol, mk, col, label in (("fbar", "D", "C4", "fbar (anti-locking)"),
+                                    ("fbarwall", "v", "C5", "fbarwall (line through the wall)")):
+            sel = [r for r in rs if volumetric(r) == vol]
+            if sel:
+                ax.loglog([r["cpu_s"] for r in sel], [100 * r["error"] for r in sel], mk,
+                          color=col, ms=6, label=label)
         front = pareto([(r["cpu_s"], r["error"]) for r in rs])
         if front:
             c, e = zip(*front)
