@@ -15,10 +15,10 @@
 module mpm_advice
   use mpm_kinds, only: wp
   use mpm_constants, only: SHAPE_RING, SECTOR_FULL, SECTOR_QUARTER, basis_names, scheme_names, &
-                           PLANE_STRESS, &
-                           SCHEME_USL, SCHEME_MUSL, BASIS_LINEAR, BASIS_UGIMP, BASIS_CPDI1, BASIS_CPDI2, &
-                           MODEL_J2, VOLUMETRIC_FBAR, VOLUMETRIC_STANDARD, volumetric_names, &
-                           VOLUMETRIC_FBARWALL
+                           PLANE_STRESS, SCHEME_USL, SCHEME_MUSL, BASIS_LINEAR, BASIS_UGIMP, &
+                           BASIS_CPDI1, BASIS_CPDI2, MODEL_J2, MODEL_NEOHOOKEAN, &
+                           VOLUMETRIC_FBAR, VOLUMETRIC_STANDARD, VOLUMETRIC_FBARWALL, &
+                           volumetric_names
   use mpm_particles, only: ring_counts
   use mpm_config_types, only: config_t
   use mpm_walls, only: wall_t, wall_travel
@@ -367,6 +367,7 @@ contains
     integer :: scheme, basis
     character(len=512) :: line
     character(len=32) :: flip_text
+    logical :: wall_off
     scheme = cfg%solver%scheme_id
     basis = cfg%solver%basis_id
     flip = cfg%solver%flip
@@ -374,31 +375,22 @@ contains
     call cfl_automatic(cfg, cfl_auto)
     cfl_stable = cfl_ppc2
     if (ppc < ppc_low) cfl_stable = cfl_ppc1
+    ! 'fbarwall' through one or two layers is the standard treatment (a line through them is
+    ! exact): the warnings of 'standard' apply then
+    wall_off = cfg%solver%volumetric_id == VOLUMETRIC_FBARWALL .and. ring_n_thick(cfg, .false.) <= 2
     if (ppc < ppc_low .and. cfg%solver%volumetric_id == VOLUMETRIC_FBAR) then
       write(line, '(a,f5.2,a)') 'only ', ppc, ' particle(s) per cell through the wall '// &
         '(n_thick h / t): with volumetric = ''fbar'' the crush force at h = t/4, n_thick = 4 '// &
         'is still 9 % above the finite element reference (+32 % without it; L2 error 9.7 % '// &
         'against 32.9 %; docs/validation.md). Use n_thick >= 2 t/h for errors of a few %'
       call append_msg(warnings, line)
-    else if (cfg%solver%volumetric_id == VOLUMETRIC_FBARWALL .and. &
-             ring_n_thick(cfg, .false.) <= 2) then
-      write(line, '(a,i0,a)') 'volumetric = ''fbarwall'' changes nothing with n_thick = ', &
-        ring_n_thick(cfg, .false.), ': the line through two particles is exact, so the '// &
-        'volume changes stay those of ''standard'' (the study''s crush at h = t/2, '// &
-        'n_thick = 2: the same force curve to 1e-9; docs/validation.md). Use n_thick = 4 or ''fbar'''
-      call append_msg(warnings, line)
-    else if (cfg%solver%volumetric_id == VOLUMETRIC_FBARWALL .and. &
-             ring_n_thick(cfg, .true.) > fbarwall_nt_max) then
-      write(line, '(a,i0,a)') 'volumetric = ''fbarwall'' is made for about four particles '// &
-        'through the wall; here n_thick = ', ring_n_thick(cfg, .true.), ': at h = t/4, '// &
-        'n_thick = 8 the crush force is 16 % below the finite element reference (L2 error '// &
-        '16.6 %; standard: 2.3 %; docs/validation.md). Use ''standard'''
-      call append_msg(warnings, line)
-    else if (ppc < ppc_low .and. cfg%solver%volumetric_id == VOLUMETRIC_FBARWALL) then
+    else if (ppc < ppc_low .and. cfg%solver%volumetric_id == VOLUMETRIC_FBARWALL .and. &
+             .not. wall_off) then
       write(line, '(a,f5.2,a)') 'only ', ppc, ' particle(s) per cell through the wall '// &
         '(n_thick h / t): with volumetric = ''fbarwall'' the crush force at h = t/4, '// &
         'n_thick = 4 is 2 % above the finite element reference (L2 error 6.0 %; 32.9 % '// &
-        'without it; docs/validation.md). Use n_thick >= 2 t/h for errors of 2-3 %'
+        'without it; docs/validation.md). Use h = t/2 with n_thick = 4 (3.5 %), or '// &
+        '''standard'' with n_thick >= 2 t/h (2-3 %)'
       call append_msg(warnings, line)
     else if (ppc < ppc_low) then
       write(line, '(a,f5.2,a)') 'only ', ppc, ' particle(s) per cell through the wall '// &
@@ -407,7 +399,23 @@ contains
         'n_thick = 2) and the force noisy (docs/stability.md). Use n_thick >= 2 t/h'
       call append_msg(warnings, line)
     end if
-    if (cfg%solver%volumetric_id == VOLUMETRIC_FBARWALL) call fbarwall_aspect(cfg, warnings)
+    if (wall_off) then
+      write(line, '(a,i0,a)') 'volumetric = ''fbarwall'' changes nothing with n_thick = ', &
+        ring_n_thick(cfg, .false.), ': the line through one or two particles is exact, so '// &
+        'the volume changes stay those of ''standard'' (the study''s crush at h = t/2, '// &
+        'n_thick = 2: the same force curve to 1e-9; docs/validation.md). Use n_thick = 4 '// &
+        'or ''fbar'''
+      call append_msg(warnings, line)
+    else if (cfg%solver%volumetric_id == VOLUMETRIC_FBARWALL) then
+      if (ring_n_thick(cfg, .true.) > fbarwall_nt_max) then
+        write(line, '(a,i0,a)') 'volumetric = ''fbarwall'' is made for about four '// &
+          'particles through the wall; here n_thick = ', ring_n_thick(cfg, .true.), ': at '// &
+          'h = t/4, n_thick = 8 the crush force is 16 % below the finite element reference '// &
+          '(L2 error 16.6 %; standard: 2.3 %; docs/validation.md). Use ''standard'''
+        call append_msg(warnings, line)
+      end if
+      call fbarwall_aspect(cfg, warnings)
+    end if
     if (ppc < ppc_low .and. scheme /= SCHEME_USL .and. basis /= BASIS_UGIMP .and. &
         flip > 0.99_wp) then
       write(line, '(a,f5.2,a)') 'with ', ppc, ' particle(s) per cell through the wall, '// &
@@ -441,8 +449,9 @@ contains
   end subroutine advice_stability
 
   !> volumetric = 'fbarwall' with particles far from square: the study's crush at n_thick = 4
-  !! came out 6.6-16 % from the finite element curve at aspect 0.75, 1.5 and 2 against 3.5-6.0 %
-  !! at 0.85 and 1 (docs/validation.md, "The line through the wall and the particles' shape").
+  !! came out 6.6-16 % from the finite element curve at aspect 0.5, 0.75, 1.5 and 2 against
+  !! 3.5-6.0 % at 0.85 and 1 (docs/validation.md, "The line through the wall and the particles'
+  !! shape"). Not called where 'fbarwall' acts as 'standard' (n_thick <= 2).
   subroutine fbarwall_aspect(cfg, warnings)
     type(config_t), intent(in) :: cfg
     character(len=:), allocatable, intent(inout) :: warnings
@@ -582,16 +591,36 @@ contains
   !! FLIP, as the study ran) would be warned of by ring_resolution or advice_stability. So the
   !! advice never recommends what the warnings condemn (the wave scene's 5 % run at n_thick = 2
   !! is not advised: at h = t/4 it has half a particle per cell through the wall).
+  !> Whether the input could take volumetric = 'fbar' or 'fbarwall' at all (the rule is
+  !! mpm_config_check's, which refuses them otherwise): one velocity field (one body, no
+  !! self_contact), plane strain, no neohookean material, rings only for 'fbarwall' (both
+  !! treatments are asked for together: the study's runs of either are advised only where both
+  !! fit, which for its ring scenes is the same).
+  pure logical function volumetric_fits(cfg) result(fits)
+    type(config_t), intent(in) :: cfg     !! the case
+    fits = size(cfg%bodies) == 1 .and. cfg%solver%plane_id /= PLANE_STRESS
+    if (.not. fits) return
+    fits = .not. (cfg%bodies(1)%self_contact .or. cfg%bodies(1)%shape_id /= SHAPE_RING .or. &
+                  any(cfg%materials%model_id == MODEL_NEOHOOKEAN))
+  end function volumetric_fits
+
   logical function study_condemned(cfg, ib, i) result(condemned)
     type(config_t), intent(in) :: cfg     !! the case
     integer, intent(in) :: ib             !! its (first) ring body
     integer, intent(in) :: i              !! a run of the study table
     type(config_t) :: c
     character(len=:), allocatable :: w
+    real(wp) :: t
+    condemned = .true.
+    if (study_volumetric(i) /= 'standard' .and. .not. volumetric_fits(cfg)) return
     c = cfg
     c%bodies = cfg%bodies(ib:ib)
-    c%grid%h = study_h_over_t(i)*(cfg%bodies(ib)%r_outer - cfg%bodies(ib)%r_inner)
+    t = cfg%bodies(ib)%r_outer - cfg%bodies(ib)%r_inner
+    c%grid%h = study_h_over_t(i)*t
     c%bodies(1)%n_thick = study_n_t(i)
+    ! the study run's particles around the whole ring (its aspect), a multiple of 4
+    c%bodies(1)%n_circ = max(4, 4*nint(acos(-1.0_wp)*(cfg%bodies(ib)%r_inner + &
+      cfg%bodies(ib)%r_outer)*real(study_n_t(i), wp)/(study_aspect(i)*t)/4.0_wp))
     c%solver%basis_id = findloc(basis_names, study_basis(i), dim=1)
     c%solver%scheme_id = SCHEME_MUSL
     c%solver%flip = 1.0_wp
