@@ -7,21 +7,20 @@ The stress update sees the averaged volume change ('fbar': through the nodes; 'f
 line through the wall) and the internal forces the mean stress averaged by the same
 self-adjoint operator, so the forces do the work the material stores: kinetic + strain +
 plastic energy - external work stays at its initial value. The oracle is that conservation law
-(summary.nml's energy_error, docs/output.md), on a plastic impact where the treatment matters:
-an aluminium ring (r 10/12 mm, n_thick 4) hitting a rigid target at 30 m/s, half model, at one
-particle per cell through the wall (h = t/4) and at two (h = t/2), to 0.6 ms (through the peak
-of the contact, most of the kinetic energy turned into plastic work).
+(summary.nml's energy_error, docs/output.md), on a crush where the treatment matters and
+the wall penalty stores little: an aluminium ring (r 10/12 mm, n_thick 4, quarter model)
+crushed by a platen at 2 m/s (after a 0.2 ms ramp) to 1.5 ms, at one particle per cell
+through the wall (h = t/4) and at two (h = t/2).
 
-- every run completes with an energy error under 1 %
-  (the impact's own error, 0.3-0.7 % here with every treatment, is the wall contact's: the
-  penalty of a 30 m/s impact; the study's quasi-static crush has 0.006 %). The operator
-  property that makes the balance hold (the average is self-adjoint in the V-weighted inner
-  product, so the forces' averaged mean stress is the work-conjugate of the averaged rate) is
-  tested exactly in tests/test_fbar.f90;
-- the impact is plastic enough to test it: plastic work over 20 % of the initial kinetic
-  energy in every run;
+- every run completes with an energy error under 0.1 % of the external work (measured 0.006 %
+  to 0.02 % with every treatment). A force stress that is not the work-conjugate of the
+  averaged rate would add the work of the removed pressure, of the order of the change in
+  plastic work that the treatment makes (6-11 % here). The operator property behind the
+  balance (each average is self-adjoint in the V-weighted inner product) is tested exactly in
+  tests/test_fbar.f90;
+- the crush is plastic enough to test it: plastic work over 80 % of the external work;
 - the treatment acts: at one particle per cell the plastic work with 'fbar' and 'fbarwall'
-  differs from the standard run's by more than 1 % (locking stores less plastic work).
+  differs from the standard run's by more than 3 % (locking stores more).
 
     usage: TUBEMPM=build/debug/tubempm python3 tests/test_fbar_energy.py SCRATCH
 Prints `test_fbar_energy: N passed, M failed`.
@@ -42,16 +41,15 @@ from pycheck import Checks  # noqa: E402
 T = Checks("test_fbar_energy")
 check = T.check
 
-CASE = """&run t_end = 0.6e-3, history_every = 2.0e-5, output_dir = 'OUT' /
+CASE = """&run t_end = 1.5e-3, history_every = 2.0e-5, output_dir = 'OUT' /
 &solver volumetric = '{vol}' /
 &grid h = {h} /
 &material name = 'al', model = 'j2', E = 70.0e9, nu = 0.33, rho = 2700.0,
   sigma_y = 150.0e6, hardening = 200.0e6 /
-&body center = 0.0, 0.0125, r_inner = 10.0e-3, r_outer = 12.0e-3, n_thick = 4,
-  velocity = 0.0, -30.0, sector = 'half' /
-&wall point = 0.0, 0.0, normal = 0.0, 1.0 /
+&body center = 0.0, 12.0e-3, r_inner = 10.0e-3, r_outer = 12.0e-3, n_thick = 4,
+  sector = 'quarter' /
+&wall point = 0.0, 24.0e-3, normal = 0.0, -1.0, velocity = 0.0, -2.0, ramp = 2.0e-4 /
 """
-
 
 def run(scratch: Path, vol: str, h: float) -> dict:
     """One run; its summary ({} when it failed)."""
@@ -69,7 +67,7 @@ def run(scratch: Path, vol: str, h: float) -> dict:
     hist = readers.read_history(folder / "out" / "history.csv")
     summ = readers.read_summary(folder / "out" / "summary.nml")
     return {"energy_error": float(summ["energy_error"]), "plastic": float(hist["plastic"][-1]),
-            "kinetic0": float(hist["kinetic"][0])}
+            "external": float(hist["external"][-1])}
 
 
 def main() -> int:
@@ -81,18 +79,18 @@ def main() -> int:
             if not r:
                 continue
             print(f"  h = t/{round(t / h)}, {vol}: energy error {100 * r['energy_error']:.4f} %,"
-                  f" plastic work / initial kinetic {r['plastic'] / r['kinetic0']:.4f}")
-            check(abs(r["energy_error"]) < 1.0e-2,
+                  f" plastic work / external work {r['plastic'] / r['external']:.4f}")
+            check(abs(r["energy_error"]) < 1.0e-3,
                   f"{vol}, {per_cell} per cell: energy error {100 * r['energy_error']:.4f} % "
-                  "< 1 %")
-            check(r["plastic"] > 0.2 * r["kinetic0"],
-                  f"{vol}, {per_cell} per cell: plastic work {r['plastic']:.4g} J/m > 20 % of "
-                  f"the initial kinetic energy {r['kinetic0']:.4g} J/m")
+                  "< 0.1 %")
+            check(r["plastic"] > 0.8 * r["external"],
+                  f"{vol}, {per_cell} per cell: plastic work {r['plastic']:.4g} J/m > 80 % of "
+                  f"the external work {r['external']:.4g} J/m")
         if per_cell == 1 and all(res.values()):
             for vol in ("fbar", "fbarwall"):
                 d = res[vol]["plastic"] / res["standard"]["plastic"] - 1.0
-                check(abs(d) > 0.01, f"one per cell: {vol} changes the plastic work by "
-                                     f"{100 * d:+.2f} % (> 1 %) against the standard treatment")
+                check(abs(d) > 0.03, f"one per cell: {vol} changes the plastic work by "
+                                     f"{100 * d:+.2f} % (> 3 %) against the standard treatment")
     return T.summary()
 
 
