@@ -143,12 +143,14 @@ def main(argv: list[str] | None = None) -> int:
              ("crush_cpdi2_musl_h1_4_nt8_a1_cfl0.8", "C1"),
              ("crush_cpdi2_musl_h1_4_nt16_a1_cfl0.8", "C2"),
              ("crush_cpdi2_musl_h1_4_nt4_a1_cfl0.8", "C3"),
-             ("crush_cpdi2_musl_h1_4_nt4_a1_cfl0.8_fbar", "C4")]
+             ("crush_cpdi2_musl_h1_4_nt4_a1_cfl0.8_fbar", "C4"),
+             ("crush_cpdi2_musl_h1_2_nt4_a1_cfl0.8_fbarwall", "C5")]
     names = {"crush_cpdi2_musl_h1_8_nt16_a1_cfl0.8": "MPM h = t/8, n_t = 16 (study's finest)",
              "crush_cpdi2_musl_h1_4_nt8_a1_cfl0.8": "MPM h = t/4, n_t = 8",
              "crush_cpdi2_musl_h1_4_nt16_a1_cfl0.8": "MPM h = t/4, n_t = 16",
              "crush_cpdi2_musl_h1_4_nt4_a1_cfl0.8": "MPM h = t/4, n_t = 4",
-             "crush_cpdi2_musl_h1_4_nt4_a1_cfl0.8_fbar": "MPM h = t/4, n_t = 4, fbar"}
+             "crush_cpdi2_musl_h1_4_nt4_a1_cfl0.8_fbar": "MPM h = t/4, n_t = 4, fbar",
+             "crush_cpdi2_musl_h1_2_nt4_a1_cfl0.8_fbarwall": "MPM h = t/2, n_t = 4, fbarwall"}
     for name, col in picks:
         if name not in study:
             continue
