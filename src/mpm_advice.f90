@@ -68,21 +68,15 @@ contains
   pure integer function ring_n_thick(cfg, largest) result(nt)
     type(config_t), intent(in) :: cfg      !! the case
     logical, intent(in) :: largest         !! the largest n_thick, else the smallest
-    integer :: ib
-    logical :: first
+    logical :: ring(size(cfg%bodies))
+    ring = cfg%bodies%shape_id == SHAPE_RING
     nt = 0
-    first = .true.
-    do ib = 1, size(cfg%bodies)
-      if (cfg%bodies(ib)%shape_id /= SHAPE_RING) cycle
-      if (first) then
-        nt = cfg%bodies(ib)%n_thick
-      else if (largest) then
-        nt = max(nt, cfg%bodies(ib)%n_thick)
-      else
-        nt = min(nt, cfg%bodies(ib)%n_thick)
-      end if
-      first = .false.
-    end do
+    if (.not. any(ring)) return
+    if (largest) then
+      nt = maxval(cfg%bodies%n_thick, mask=ring)
+    else
+      nt = minval(cfg%bodies%n_thick, mask=ring)
+    end if
   end function ring_n_thick
 
   !> A ring's particle aspect ratio: length around the wall over length through it, with the
@@ -377,7 +371,8 @@ contains
     if (ppc < ppc_low) cfl_stable = cfl_ppc1
     ! 'fbarwall' through one or two layers is the standard treatment (a line through them is
     ! exact): the warnings of 'standard' apply then
-    wall_off = cfg%solver%volumetric_id == VOLUMETRIC_FBARWALL .and. ring_n_thick(cfg, .false.) <= 2
+    wall_off = cfg%solver%volumetric_id == VOLUMETRIC_FBARWALL .and. &
+               ring_n_thick(cfg, .false.) <= 2
     if (ppc < ppc_low .and. cfg%solver%volumetric_id == VOLUMETRIC_FBAR) then
       write(line, '(a,f5.2,a)') 'only ', ppc, ' particle(s) per cell through the wall '// &
         '(n_thick h / t): with volumetric = ''fbar'' the crush force at h = t/4, n_thick = 4 '// &

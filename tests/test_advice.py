@@ -117,29 +117,24 @@ def check_volumetric_warnings(scratch: Path, crush: str) -> None:
                       r"(?:standard: )?([\d.]+) %", err)
         return [float(m.group(1)), float(m.group(2))] if m else []
 
+    def quotes_study(err: str, key: str, vol: str, nt: int, force_text: str) -> None:
+        """The warning after `key` quotes the study's L2 errors of the run with `vol` and of the
+        standard run at h = t/4, n_thick nt, and its mean force as force_text.format(%)."""
+        run_vol, run_std = base.format(nt) + "_" + vol, base.format(nt)
+        q = quoted(err, key)
+        check(q == [l2(run_vol), l2(run_std)], f"{vol} at n_thick {nt} quotes L2 {q} = the "
+              f"study's {[l2(run_vol), l2(run_std)]}")
+        check(force_text.format(round(abs(force(run_vol)))) in err,
+              f"{vol} at n_thick {nt} quotes the mean force {force(run_vol):+.1f} %")
+
     err = run("fbar", 0.25, 4)
-    q = quoted(err, "with volumetric = 'fbar' the crush force")
-    check(q == [l2(base.format(4) + "_fbar"), l2(base.format(4))],
-          f"fbar at one per cell quotes L2 {q} = the study's "
-          f"{[l2(base.format(4) + '_fbar'), l2(base.format(4))]}")
-    check(f"still {round(force(base.format(4) + '_fbar')):d} % above" in err,
-          f"fbar at one per cell quotes the mean force +{force(base.format(4) + '_fbar'):.1f} %")
+    quotes_study(err, "with volumetric = 'fbar' the crush force", "fbar", 4, "still {:d} % above")
     err = run("fbarwall", 0.25, 4)
-    q = quoted(err, "with volumetric = 'fbarwall' the crush force")
-    check(q == [l2(base.format(4) + "_fbarwall"), l2(base.format(4))],
-          f"fbarwall at one per cell quotes L2 {q} = the study's "
-          f"{[l2(base.format(4) + '_fbarwall'), l2(base.format(4))]}")
-    check(f"is {round(force(base.format(4) + '_fbarwall')):d} % above" in err,
-          f"fbarwall at one per cell quotes the mean force "
-          f"+{force(base.format(4) + '_fbarwall'):.1f} %")
+    quotes_study(err, "with volumetric = 'fbarwall' the crush force", "fbarwall", 4,
+                 "is {:d} % above")
     check("made for about four particles" not in err, "fbarwall at n_thick 4: no n_thick warning")
     err = run("fbarwall", 0.25, 8)
-    q = quoted(err, "made for about four particles")
-    check(q == [l2(base.format(8) + "_fbarwall"), l2(base.format(8))],
-          f"fbarwall at n_thick 8 quotes L2 {q} = the study's "
-          f"{[l2(base.format(8) + '_fbarwall'), l2(base.format(8))]}")
-    check(f"is {round(-force(base.format(8) + '_fbarwall')):d} % below" in err,
-          f"fbarwall at n_thick 8 quotes the mean force {force(base.format(8) + '_fbarwall'):.1f} %")
+    quotes_study(err, "made for about four particles", "fbarwall", 8, "is {:d} % below")
     err = run("fbarwall", 0.5, 4)       # two per cell, four through the wall: measured good
     check("WARNING" not in err, f"a crush with fbarwall at h = t/2, n_thick 4 draws no warning "
           f"({err[:300]!r})")

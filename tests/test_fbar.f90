@@ -158,17 +158,11 @@ contains
   !! layer (+-1 MPa) is reduced to under half (its line over the five layers is nearly flat,
   !! about the mean -0.2 MPa).
   subroutine test_wall_fit()
-    type(config_t) :: cfg
     type(sim_t) :: s
     real(wp) :: r, dev, lin, sum_q, sum_f, worst
     integer :: ip, layer, n
     call begin_test('fbarwall: the fit through the wall')
-    cfg = scene_new('wall_fit', 1.0_wp, 0.005_wp, BASIS_CPDI2, SCHEME_MUSL, PLANE_STRAIN)
-    cfg%solver%volumetric_id = VOLUMETRIC_FBARWALL
-    call scene_add_material(cfg, 'm', MODEL_ELASTIC, 1.0e9_wp, 0.3_wp, 1000.0_wp, &
-                            sigma_y=1.0_wp)
-    call scene_add_ring(cfg, [0.0_wp, 0.0_wp], 0.04_wp, 0.06_wp, 5, sector=SECTOR_QUARTER)
-    call must_setup(cfg, s)
+    call elastic_quarter_ring(5, VOLUMETRIC_FBARWALL, s)
     n = s%p%np
     ! linear in the layer: kept
     do ip = 1, n
@@ -206,7 +200,6 @@ contains
   !! (by more than 1 % of their RMS), so the equality is not that of the identity.
   subroutine test_self_adjoint(mode)
     integer, intent(in) :: mode             !! VOLUMETRIC_FBAR or VOLUMETRIC_FBARWALL
-    type(config_t) :: cfg
     type(sim_t) :: s
     real(wp), allocatable :: fa(:), fb(:), abar(:), bbar(:)
     real(wp) :: lhs, rhs, scale
@@ -214,12 +207,7 @@ contains
     character(len=:), allocatable :: errmsg
     call begin_test('the average is self-adjoint, '//merge('fbar    ', 'fbarwall', &
                     mode == VOLUMETRIC_FBAR))
-    cfg = scene_new('adjoint', 1.0_wp, 0.005_wp, BASIS_CPDI2, SCHEME_MUSL, PLANE_STRAIN)
-    cfg%solver%volumetric_id = mode
-    call scene_add_material(cfg, 'm', MODEL_ELASTIC, 1.0e9_wp, 0.3_wp, 1000.0_wp, &
-                            sigma_y=1.0_wp)
-    call scene_add_ring(cfg, [0.0_wp, 0.0_wp], 0.04_wp, 0.06_wp, 4, sector=SECTOR_QUARTER)
-    call must_setup(cfg, s)
+    call elastic_quarter_ring(4, mode, s)
     s%wk%par = .false.
     errmsg = ''
     call weights_compute(s%prm, s%state_t, s%g, s%wk, s%diag, stat, errmsg)
@@ -252,16 +240,10 @@ contains
   !! the treatment is then the standard one (--check warns of it; the study's crush at h = t/2,
   !! n_thick = 2 gives the standard run's history to 1e-9).
   subroutine test_wall_two_layers()
-    type(config_t) :: cfg
     type(sim_t) :: s
     integer :: ip, n
     call begin_test('fbarwall through two layers is the identity')
-    cfg = scene_new('two_layers', 1.0_wp, 0.005_wp, BASIS_CPDI2, SCHEME_MUSL, PLANE_STRAIN)
-    cfg%solver%volumetric_id = VOLUMETRIC_FBARWALL
-    call scene_add_material(cfg, 'm', MODEL_ELASTIC, 1.0e9_wp, 0.3_wp, 1000.0_wp, &
-                            sigma_y=1.0_wp)
-    call scene_add_ring(cfg, [0.0_wp, 0.0_wp], 0.04_wp, 0.06_wp, 2, sector=SECTOR_QUARTER)
-    call must_setup(cfg, s)
+    call elastic_quarter_ring(2, VOLUMETRIC_FBARWALL, s)
     n = s%p%np
     do ip = 1, n
       s%p%stress(:, ip) = [1.0e6_wp*sin(1.3_wp*real(ip, wp)), 2.0e5_wp*cos(0.7_wp*real(ip, wp)), &
@@ -271,6 +253,21 @@ contains
     call check(maxval(abs(s%wk%sforce(:, 1:n) - s%p%stress(:, 1:n))) <= &
                1.0e-12_wp*maxval(abs(s%p%stress(:, 1:n))), 'any mean stress is kept')
   end subroutine test_wall_two_layers
+
+  !> An elastic quarter ring (r 40/60 mm, h = 5 mm, CPDI2) of n_thick particles through the
+  !! wall, with the volumetric treatment mode, set up in s.
+  subroutine elastic_quarter_ring(n_thick, mode, s)
+    integer, intent(in) :: n_thick          !! particles through the wall
+    integer, intent(in) :: mode             !! VOLUMETRIC_* code
+    type(sim_t), intent(out) :: s
+    type(config_t) :: cfg
+    cfg = scene_new('quarter_ring', 1.0_wp, 0.005_wp, BASIS_CPDI2, SCHEME_MUSL, PLANE_STRAIN)
+    cfg%solver%volumetric_id = mode
+    call scene_add_material(cfg, 'm', MODEL_ELASTIC, 1.0e9_wp, 0.3_wp, 1000.0_wp, &
+                            sigma_y=1.0_wp)
+    call scene_add_ring(cfg, [0.0_wp, 0.0_wp], 0.04_wp, 0.06_wp, n_thick, sector=SECTOR_QUARTER)
+    call must_setup(cfg, s)
+  end subroutine elastic_quarter_ring
 
   !> Set up the patch with a treatment and run 60 steps of step 6 under v = G x.
   subroutine run_patch(cfg_in, vol_id, s)
