@@ -185,7 +185,7 @@ contains
                                   stiffness(prm, g), mirror(:, 1:nm), 1.0e-6_wp*g%h, wk%surf(iw))
       else
         call surface_points(st%p, prm%basis, wk%wall_work(3:4, iw), wk%wall_work(5:6, iw), &
-                            stiffness(prm, g), wk%surf(iw))
+                            stiffness(prm, g), wk%par, wk%surf(iw))
       end if
       st%e_contact = st%e_contact + surface_energy(wk%surf(iw))
       call surface_push(wk%surf(iw), g%origin, g%h, g%nx, g%ny, g%mass, g%mass_cut, wk%nb, &
@@ -253,7 +253,7 @@ contains
                                   mirror(:, 1:nm), 1.0e-6_wp*g%h, wk%surf(iw))
       else
         call surface_points(st%p, prm%basis, xw, st%walls(iw)%normal, stiffness(prm, g), &
-                            wk%surf(iw))
+                            wk%par, wk%surf(iw))
       end if
       st%e_contact = st%e_contact + surface_energy(wk%surf(iw))
     end do

@@ -83,6 +83,9 @@ module mpm_surface_contact
     integer, allocatable :: nxt(:), prv(:) !! the next and previous corner along the body's
                                            !! boundary (counter-clockwise), 0 inside, -1 at a
                                            !! pinch (nc)
+    integer, allocatable :: bnd(:)         !! the boundary corners (nxt or prv not 0), in order
+    real(wp), allocatable :: dmin(:)       !! linear, uGIMP, CPDI1: each particle's deepest
+                                           !! corner gap (np) [m]
     real(wp), allocatable :: dc(:)         !! gap of every corner to the wall (nc) [m]
   end type surface_work_t
 
@@ -91,15 +94,16 @@ contains
   !> The surface points of particles p (basis `basis`) that lie behind the plane through xw
   !! with unit normal `normal` (into the material), with their penalty forces and energies
   !! (stiffness kf m_c per point), in wk (wk%npt of them), in corner or particle order.
-  subroutine surface_points(p, basis, xw, normal, kf, wk)
+  subroutine surface_points(p, basis, xw, normal, kf, par, wk)
     type(particles_t), intent(in) :: p     !! particles (positions, corners, F, masses)
     integer, intent(in) :: basis           !! BASIS_* code
     real(wp), intent(in) :: xw(2)          !! a point on the plane [m]
     real(wp), intent(in) :: normal(2)      !! unit normal into the material [-]
     real(wp), intent(in) :: kf             !! stiffness per unit point mass, alpha c^2/h^2 [1/s^2]
+    logical, intent(in) :: par             !! the scan runs in parallel
     type(surface_work_t), intent(inout) :: wk  !! work arrays: the points
     integer :: ip, ic, a
-    real(wp) :: d, xq(2, 4), dq(4)
+    real(wp) :: d, xq(2, 4), dq(4), gmin
     wk%npt = 0
     wk%gmin = 0.0_wp
     wk%curve = .false.
@@ -113,17 +117,32 @@ contains
       end do
       return
     end if
+    ! the domain deformed with the particle (particle_corners, deformed: x -+ F r1 -+ F r2),
+    ! so that a corner moves as the grid's velocity field at it to first order; the scan of
+    ! every particle in parallel, then the few behind the plane gathered in particle order
+    if (.not. allocated(wk%dmin)) allocate(wk%dmin(p%np))
+    if (size(wk%dmin) /= p%np) then
+      deallocate(wk%dmin)
+      allocate(wk%dmin(p%np))
+    end if
+    gmin = 0.0_wp
+    !$omp parallel do default(none) schedule(static) shared(p, basis, xw, normal, wk) &
+    !$omp   private(ip, xq, a) reduction(min: gmin) if(par)
     do ip = 1, p%np
-      ! the domain deformed with the particle (particle_corners, deformed: x -+ F r1 -+ F r2),
-      ! so that a corner moves as the grid's velocity field at it to first order
+      xq = particle_corners(p, ip, basis, deformed=.true.)
+      wk%dmin(ip) = minval([(dot_product(xq(:, a) - xw, normal), a = 1, 4)])
+      gmin = min(gmin, wk%dmin(ip))
+    end do
+    !$omp end parallel do
+    wk%gmin = gmin
+    do ip = 1, p%np
+      if (wk%dmin(ip) >= 0.0_wp) cycle
       xq = particle_corners(p, ip, basis, deformed=.true.)
       dq = [(dot_product(xq(:, a) - xw, normal), a = 1, 4)]
-      if (minval(dq) >= 0.0_wp) cycle
       do a = 1, 4
         if (dq(a) < 0.0_wp) call push(ip, xq(:, a) - p%x(:, ip), -kf*0.25_wp*p%mass(ip)*dq(a), &
                                       0.125_wp*kf*p%mass(ip)*dq(a)*dq(a))
       end do
-      wk%gmin = min(wk%gmin, minval(dq))
     end do
   contains
     subroutine push(owner, xp, force, energy)

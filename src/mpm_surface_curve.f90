@@ -67,7 +67,7 @@ contains
     real(wp), intent(in) :: mirror(:,:)    !! the mirror planes: point, unit normal (4, nm) [m, -]
     real(wp), intent(in) :: tol            !! distance under which a corner is on a plane [m]
     type(surface_work_t), intent(inout) :: wk  !! work arrays: the points
-    integer :: ic, a, b, mc, q
+    integer :: ic, a, b, mc, q, k
     real(wp) :: e1(2), e2(2), l1, l2
     logical :: sharp, ma, mb
     wk%npt = 0
@@ -80,14 +80,18 @@ contains
       deallocate(wk%dc)
       allocate(wk%dc(p%nc))
     end if
-    do ic = 1, p%nc
+    ! only the boundary corners carry pieces, and only they are read below; the deepest
+    ! corner of a mesh that is not folded (the basis stops a run that folds) is one of them
+    do k = 1, size(wk%bnd)
+      ic = wk%bnd(k)
       wk%dc(ic) = (p%xc(1, ic) - xw(1))*normal(1) + (p%xc(2, ic) - xw(2))*normal(2)
       wk%gmin = min(wk%gmin, wk%dc(ic))
     end do
-    do ic = 1, p%nc
+    do k = 1, size(wk%bnd)
+      ic = wk%bnd(k)
       a = wk%prv(ic)
       b = wk%nxt(ic)
-      if (a <= 0 .and. b <= 0) cycle       ! inside, or isolated
+      if (a <= 0 .and. b <= 0) cycle       ! isolated
       ! a cut face on a mirror plane is no surface; where it ends at the surface, the piece
       ! of the corner is the whole one with the mirror image of its other neighbour (the
       ! full body's piece, whose image gap is the neighbour's when the wall is square to the
@@ -240,15 +244,16 @@ contains
 
   !> The boundary chain of the CPDI2 corners (computed once: the corners' connectivity does
   !! not change): nxt(c), prv(c) the neighbours along the boundary, 0 for an inner corner, -1
-  !! where the boundary pinches (a corner with two boundary edges out or in).
+  !! where the boundary pinches (a corner with two boundary edges out or in); bnd the
+  !! boundary corners in increasing order.
   subroutine boundary_chain(p, wk)
     type(particles_t), intent(in) :: p     !! particles (corner ids)
-    type(surface_work_t), intent(inout) :: wk  !! nxt, prv set
+    type(surface_work_t), intent(inout) :: wk  !! nxt, prv, bnd set
     integer, allocatable :: out(:,:), nout(:)
     integer :: ip, a, ca, cb
     if (allocated(wk%nxt)) then
       if (size(wk%nxt) == p%nc) return
-      deallocate(wk%nxt, wk%prv)
+      deallocate(wk%nxt, wk%prv, wk%bnd)
     end if
     allocate(wk%nxt(p%nc), wk%prv(p%nc), out(4, p%nc), nout(p%nc))
     wk%nxt = 0
@@ -279,6 +284,7 @@ contains
         end if
       end do
     end do
+    wk%bnd = pack([(ca, ca = 1, p%nc)], wk%prv /= 0 .or. wk%nxt /= 0)
   end subroutine boundary_chain
 
 end module mpm_surface_curve

@@ -1,12 +1,12 @@
 !> Fortran side of the C shim src/mpm_sys_c.c: directories, signals, terminal, rename.
 ! SPDX-License-Identifier: MIT
 module mpm_sys
-  use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char
+  use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char, c_double
   use mpm_kinds, only: wp
   implicit none
   private
   public :: sys_mkdir_p, sys_install_signals, sys_signal_received, sys_stdout_isatty, &
-            sys_rename, sys_exit, sys_memory_available
+            sys_rename, sys_exit, sys_memory_available, sys_cores_busy
 
   interface
     function c_install_signals() result(r) bind(C, name='tubempm_install_signals')
@@ -35,6 +35,12 @@ module mpm_sys
       integer(c_int), value :: n
       integer(c_int) :: r
     end function c_rename
+    function c_cores_busy(ms, ncpu) result(r) bind(C, name='tubempm_cores_busy')
+      import :: c_int, c_double
+      integer(c_int), value :: ms
+      integer(c_int), intent(out) :: ncpu
+      real(c_double) :: r
+    end function c_cores_busy
     subroutine c_exit(code) bind(C, name='tubempm_exit')
       import :: c_int
       integer(c_int), value :: code
@@ -42,6 +48,17 @@ module mpm_sys
   end interface
 
 contains
+
+  !> The cores of this process's CPU set and how many of them other work keeps busy, measured
+  !! from /proc/stat over `ms` milliseconds while this process sleeps; busy < 0 when unknown.
+  subroutine sys_cores_busy(ms, ncpu, busy)
+    integer, intent(in) :: ms              !! sampling time [ms]
+    integer, intent(out) :: ncpu           !! CPUs this process may run on [-]
+    real(wp), intent(out) :: busy          !! cores used by other work, -1 if unknown [-]
+    integer(c_int) :: n
+    busy = real(c_cores_busy(int(ms, c_int), n), wp)
+    ncpu = int(n)
+  end subroutine sys_cores_busy
 
   !> End the program with exit status `code`, printing nothing (every unit is flushed first).
   subroutine sys_exit(code)

@@ -1,9 +1,11 @@
-/* System calls Fortran lacks: mkdir -p, signal flags, isatty, atomic rename.
+/* System calls Fortran lacks: mkdir -p, signal flags, isatty, atomic rename, busy cores.
  * SPDX-License-Identifier: MIT
  * SIGINT/SIGTERM only set a flag; the time loop polls it, finishes the step, writes a
  * checkpoint and stops cleanly (issue 8). */
-#define _POSIX_C_SOURCE 200809L
+#define _GNU_SOURCE
 #include <errno.h>
+#include <sched.h>
+#include <time.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -82,4 +84,48 @@ int tubempm_rename(const char *from, const char *to, char *msg, int len) {
 void tubempm_exit(int code) {
   fflush(NULL);
   exit(code);
+}
+
+/* Jiffies of every CPU of the set: busy (all but idle and iowait) and total, from /proc/stat.
+ * Returns the number of CPUs read, or -1. */
+static int cpu_times(const cpu_set_t *set, unsigned long long *busy, unsigned long long *total) {
+  FILE *f = fopen("/proc/stat", "r");
+  char line[512];
+  int n = 0;
+  if (f == NULL) return -1;
+  *busy = 0;
+  *total = 0;
+  while (fgets(line, sizeof line, f) != NULL) {
+    int cpu;
+    unsigned long long v[8] = {0};
+    if (strncmp(line, "cpu", 3) != 0 || line[3] < '0' || line[3] > '9') continue;
+    if (sscanf(line + 3, "%d %llu %llu %llu %llu %llu %llu %llu %llu", &cpu, &v[0], &v[1], &v[2],
+               &v[3], &v[4], &v[5], &v[6], &v[7]) < 5) continue;
+    if (cpu < 0 || cpu >= CPU_SETSIZE || !CPU_ISSET(cpu, set)) continue;
+    unsigned long long all = v[0] + v[1] + v[2] + v[3] + v[4] + v[5] + v[6] + v[7];
+    *total += all;
+    *busy += all - v[3] - v[4];   /* idle, iowait; steal counts as busy: the core is not ours */
+    n++;
+  }
+  fclose(f);
+  return n;
+}
+
+/* Cores of this process's CPU set kept busy by other work, measured over `ms` milliseconds while
+ * this process sleeps (so that none of it is this process's). *ncpu: the CPUs of the set.
+ * Returns the busy cores (0 .. *ncpu), or -1 when /proc/stat or the CPU set cannot be read. */
+double tubempm_cores_busy(int ms, int *ncpu) {
+  cpu_set_t set;
+  unsigned long long b0, t0, b1, t1;
+  struct timespec gap;
+  *ncpu = 0;
+  if (sched_getaffinity(0, sizeof set, &set) != 0) return -1.0;
+  int n = cpu_times(&set, &b0, &t0);
+  if (n <= 0) return -1.0;
+  gap.tv_sec = ms / 1000;
+  gap.tv_nsec = (long)(ms % 1000) * 1000000L;
+  nanosleep(&gap, NULL);
+  if (cpu_times(&set, &b1, &t1) != n || t1 <= t0) return -1.0;
+  *ncpu = n;
+  return (double)n * (double)(b1 - b0) / (double)(t1 - t0);
 }

@@ -24,7 +24,8 @@ program tubempm
   use mpm_restart, only: checkpoint_write, checkpoint_read, ckpt_extra_t
   use mpm_release, only: release_t, release_observe, release_due, in_contact
   use mpm_walls, only: wall_t
-  use mpm_sys, only: sys_mkdir_p, sys_install_signals, sys_signal_received, sys_stdout_isatty
+  use mpm_sys, only: sys_mkdir_p, sys_install_signals, sys_signal_received, sys_stdout_isatty, &
+                     sys_cores_busy
   use mpm_strings, only: itoa, rtoa, hms
   implicit none
 
@@ -139,9 +140,7 @@ program tubempm
   if (len(input_warnings) > 0) call print_warnings(input_warnings)
   call setup_sim(cfg, s, stat, errmsg)
   if (stat /= 0) call fatal('input', errmsg, stat)
-  if (cfg%run%threads > 0) then
-    !$ call omp_set_num_threads(cfg%run%threads)
-  end if
+  call choose_threads(cfg%run%threads, check_only .or. s%p%np < s%prm%parallel_min, quiet)
   call setup_report(cfg, s, report, warnings)
   if (check_only .or. .not. quiet) then
     write(output_unit, '(a)') report
@@ -157,6 +156,38 @@ program tubempm
   call run_case(cfg, s, quiet, restart)
 
 contains
+
+  !> The threads of the run: `&run threads` when given; with 0 and no OMP_NUM_THREADS, the
+  !! runtime default (one per core) lowered to the cores that no other work keeps busy,
+  !! measured over 40 ms before the run: two threads on two cores of which other work holds
+  !! one run at 0.55-0.9 times one thread (docs/performance.md, Threads).
+  subroutine choose_threads(threads, serial, quiet)
+    integer, intent(in) :: threads         !! &run threads (0 = runtime default)
+    logical, intent(in) :: serial          !! no parallel loops follow (--check, small scenes)
+    logical, intent(in) :: quiet           !! no progress lines
+    integer :: nmax, ncpu, free, n, ios
+    real(wp) :: busy
+    character(len=16) :: text
+    if (threads > 0) then
+      !$ call omp_set_num_threads(threads)
+      return
+    end if
+    call get_environment_variable('OMP_NUM_THREADS', length=n, status=ios)
+    if (ios == 0 .and. n > 0) return       ! the count the user gave the runtime
+    if (serial) return
+    nmax = 1
+    !$ nmax = omp_get_max_threads()
+    if (nmax < 2) return
+    call sys_cores_busy(40, ncpu, busy)
+    if (busy < 0.0_wp) return              ! not measurable here: the runtime default
+    free = max(1, min(nmax, ncpu - nint(busy)))
+    if (free == nmax) return
+    !$ call omp_set_num_threads(free)
+    write(text, '(f0.1)') busy
+    if (.not. quiet) write(output_unit, '(a)') 'threads: '//itoa(free)//' of '//itoa(nmax)// &
+      ' (other work keeps '//trim(text)//' of the '//itoa(ncpu)//' cores busy; '// &
+      '&run threads or OMP_NUM_THREADS sets the count)'
+  end subroutine choose_threads
 
   subroutine print_help()
     write(output_unit, '(a)') 'tubempm '//version_string// &

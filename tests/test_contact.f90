@@ -7,6 +7,7 @@
 !! nothing; points that share nodes.
 ! SPDX-License-Identifier: MIT
 program test_contact
+  !$ use omp_lib, only: omp_set_num_threads
   use mpm_kinds, only: wp
   use mpm_constants, only: pi, BASIS_CPDI1, BASIS_CPDI2, BASIS_UGIMP, CONTACT_COULOMB, &
                            CONTACT_STICK
@@ -21,7 +22,7 @@ program test_contact
   real(wp) :: nrm(2), w4(4), fsum(2)
   integer :: nodes(4), k, blk(2, 1)
   real(wp) :: wdummy(4, 1), gwdummy(2, 4, 1)
-  type(surface_work_t) :: wk
+  type(surface_work_t) :: wk, wp2
   type(particles_t) :: p
 
   dt = 1.0e-4_wp
@@ -33,30 +34,40 @@ program test_contact
   ! ---- CPDI2: the corners behind the plane, mass shares, forces, energies
   call begin_test('CPDI2 corners in contact: forces and energies in closed form')
   call two_squares(p)                        ! two unit squares side by side, y in [-0.01, 0.99]
-  call surface_points(p, BASIS_CPDI2, [0.0_wp, 0.0_wp], nrm, kf, wk)
+  call surface_points(p, BASIS_CPDI2, [0.0_wp, 0.0_wp], nrm, kf, .false., wk)
   call check(wk%npt == 3, 'the three bottom corners are in contact')
   ! bottom corners x = 0, 1, 2 at y = -0.01; mass shares m/4, m/2, m/4 (m = 2 per square)
   call check_close(wk%fn(1:3), kf*0.01_wp*[0.5_wp, 1.0_wp, 0.5_wp], 'f_c = kf m_c (-g_c)', &
                    rtol=1e-13_wp)
   call check_close(surface_energy(wk), 0.5_wp*kf*2.0_wp*0.01_wp**2, &
                    'energy = sum 1/2 kf m_c g_c^2', rtol=1e-13_wp)
-  call surface_points(p, BASIS_CPDI2, [0.0_wp, -0.02_wp], nrm, kf, wk)
+  call surface_points(p, BASIS_CPDI2, [0.0_wp, -0.02_wp], nrm, kf, .false., wk)
   call check(wk%npt == 0, 'a plane below the body touches nothing')
 
   ! ---- uGIMP / CPDI1: the domain deformed with F
   call begin_test('uGIMP and CPDI1: the deformed domain touches')
   call two_squares(p)
   p%F(2, 2, :) = 0.9_wp                      ! compressed 10 % along y: half height 0.45
-  call surface_points(p, BASIS_UGIMP, [0.0_wp, 0.06_wp], nrm, kf, wk)
+  call surface_points(p, BASIS_UGIMP, [0.0_wp, 0.06_wp], nrm, kf, .false., wk)
   ! centres at y = 0.49, bottom at 0.49 - 0.45 = 0.04: 0.02 behind the plane at 0.06
   call check(wk%npt == 4, 'two bottom corners of each particle')
   call check_close(wk%fn(1:4), [(kf*0.5_wp*0.02_wp, k = 1, 4)], 'f = kf m/4 (-g)', rtol=1e-12_wp)
-  call surface_points(p, BASIS_UGIMP, [0.0_wp, 0.03_wp], nrm, kf, wk)
+  call surface_points(p, BASIS_UGIMP, [0.0_wp, 0.03_wp], nrm, kf, .false., wk)
   call check(wk%npt == 0, 'the undeformed square (bottom at -0.01) would touch, F r does not')
   p%r10(:, 1:2) = reshape([0.5_wp, 0.0_wp, 0.5_wp, 0.0_wp], [2, 2])
   p%r20(:, 1:2) = reshape([0.0_wp, 0.5_wp, 0.0_wp, 0.5_wp], [2, 2])
-  call surface_points(p, BASIS_CPDI1, [0.0_wp, 0.06_wp], nrm, kf, wk)
+  call surface_points(p, BASIS_CPDI1, [0.0_wp, 0.06_wp], nrm, kf, .false., wk)
   call check(wk%npt == 4, 'CPDI1: the same corners x -+ F r10 -+ F r20')
+  ! the scan in parallel (two threads, one particle each) gathers the same points in order
+  !$ call omp_set_num_threads(2)
+  call surface_points(p, BASIS_CPDI1, [0.0_wp, 0.06_wp], nrm, kf, .true., wp2)
+  !$ call omp_set_num_threads(1)
+  call check(wp2%npt == wk%npt, 'parallel scan: as many points as the serial one')
+  if (wp2%npt == wk%npt) then
+    call check(all(wp2%owner(1:wk%npt) == wk%owner(1:wk%npt)), 'parallel scan: same owners, in order')
+    call check(all(wp2%fn(1:wk%npt) == wk%fn(1:wk%npt)) .and. wp2%gmin == wk%gmin, &
+               'parallel scan: same forces and deepest gap, bit for bit')
+  end if
 
   ! ---- the force on the nodes and the exact impulse
   call begin_test('force spread with bilinear weights; impulse = momentum given')
@@ -126,7 +137,7 @@ contains
                     x(1), x(2) + 5.1_wp], [2, 4])
     q%corner(:, 1) = [1, 2, 3, 4]
     q%mass = 4.0_wp*m                          ! the first corner's share is m
-    call surface_points(q, BASIS_CPDI2, [0.0_wp, x(2) - g], nrm, kf, wk)
+    call surface_points(q, BASIS_CPDI2, [0.0_wp, x(2) - g], nrm, kf, .false., wk)
     call check(wk%npt == 1, 'one point in contact')
   end subroutine one_point
 
@@ -153,7 +164,7 @@ contains
     do it = 1, 100000
       q%xc(:, 1) = [1.0_wp, 1.0_wp + y]         ! exactly on node (1, 1): N = 1 there
       q%xc(:, 2:4) = reshape([1.5_wp, 9.0_wp, 1.5_wp, 9.5_wp, 1.0_wp, 9.5_wp], [2, 3])
-      call surface_points(q, BASIS_CPDI2, [0.0_wp, 1.0_wp], nrm, kf, wb)
+      call surface_points(q, BASIS_CPDI2, [0.0_wp, 1.0_wp], nrm, kf, .false., wb)
       f1 = 0.0_wp
       call surface_push(wb, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, m1, 0.0_wp, 2, blk, wdummy, gwdummy, &
                         nrm, hstep, f1, imp1)

@@ -69,7 +69,7 @@ program test_surface_curve
     theta = 3.0_wp*dth*real(i, wp)/300.0_wp + 0.01_wp*dth
     nrm = [sin(theta), cos(theta)]
     xw = cen - (ro - 1.05_wp*sag)*nrm      ! a corner or two behind the wall
-    call surface_points(full, BASIS_CPDI2, xw, nrm, kf, wk)
+    call surface_points(full, BASIS_CPDI2, xw, nrm, kf, .false., wk)
     phi_c = contact_angle()
     if (i > 0) jump_c = max(jump_c, abs(phi_c - phi_prev))
     phi_prev = phi_c
