@@ -6,7 +6,7 @@ module mpm_sys
   implicit none
   private
   public :: sys_mkdir_p, sys_install_signals, sys_signal_received, sys_stdout_isatty, &
-            sys_rename, sys_exit, sys_memory_available, sys_cores_busy
+            sys_rename, sys_exit, sys_memory_available, sys_cores_busy, sys_free_threads
 
   interface
     function c_install_signals() result(r) bind(C, name='tubempm_install_signals')
@@ -59,6 +59,29 @@ contains
     busy = real(c_cores_busy(int(ms, c_int), n), wp)
     ncpu = int(n)
   end subroutine sys_cores_busy
+
+  !> Of nmax threads, as many as there are cores that other work does not keep busy (at least
+  !! one), measured over 40 ms (sys_cores_busy): two threads on two cores of which other work
+  !! holds one ran at 0.55-0.72 times one thread (docs/performance.md, Threads). why says what
+  !! was measured; nmax when it cannot be measured.
+  subroutine sys_free_threads(nmax, n, why)
+    integer, intent(in) :: nmax            !! threads wanted [-]
+    integer, intent(out) :: n              !! threads to use [-]
+    character(len=:), allocatable, intent(out) :: why  !! 'other work keeps B of the C cores busy'
+    integer :: ncpu
+    real(wp) :: busy
+    character(len=16) :: b, c
+    n = nmax
+    why = 'not measured'
+    if (nmax < 2) return
+    call sys_cores_busy(40, ncpu, busy)
+    if (busy < 0.0_wp) return
+    n = max(1, min(nmax, ncpu - nint(busy)))
+    write(b, '(f0.1)') busy
+    write(c, '(i0)') ncpu
+    if (b(1:1) == '.') b = '0'//b
+    why = 'other work keeps '//trim(b)//' of the '//trim(c)//' cores busy'
+  end subroutine sys_free_threads
 
   !> End the program with exit status `code`, printing nothing (every unit is flushed first).
   subroutine sys_exit(code)

@@ -25,7 +25,7 @@ program tubempm
   use mpm_release, only: release_t, release_observe, release_due, in_contact
   use mpm_walls, only: wall_t
   use mpm_sys, only: sys_mkdir_p, sys_install_signals, sys_signal_received, sys_stdout_isatty, &
-                     sys_cores_busy
+                     sys_free_threads
   use mpm_strings, only: itoa, rtoa, hms
   implicit none
 
@@ -158,16 +158,14 @@ program tubempm
 contains
 
   !> The threads of the run: `&run threads` when given; with 0 and no OMP_NUM_THREADS, the
-  !! runtime default (one per core) lowered to the cores that no other work keeps busy,
-  !! measured over 40 ms before the run: two threads on two cores of which other work holds
-  !! one run at 0.55-0.9 times one thread (docs/performance.md, Threads).
+  !! runtime default without the cores other work keeps busy (sys_free_threads), said when it
+  !! leaves any out.
   subroutine choose_threads(threads, serial, quiet)
     integer, intent(in) :: threads         !! &run threads (0 = runtime default)
     logical, intent(in) :: serial          !! no parallel loops follow (--check, small scenes)
     logical, intent(in) :: quiet           !! no progress lines
-    integer :: nmax, ncpu, free, n, ios
-    real(wp) :: busy
-    character(len=16) :: text
+    integer :: nmax, n, ios, free
+    character(len=:), allocatable :: why
     if (threads > 0) then
       !$ call omp_set_num_threads(threads)
       return
@@ -177,16 +175,11 @@ contains
     if (serial) return
     nmax = 1
     !$ nmax = omp_get_max_threads()
-    if (nmax < 2) return
-    call sys_cores_busy(40, ncpu, busy)
-    if (busy < 0.0_wp) return              ! not measurable here: the runtime default
-    free = max(1, min(nmax, ncpu - nint(busy)))
+    call sys_free_threads(nmax, free, why)
     if (free == nmax) return
     !$ call omp_set_num_threads(free)
-    write(text, '(f0.1)') busy
     if (.not. quiet) write(output_unit, '(a)') 'threads: '//itoa(free)//' of '//itoa(nmax)// &
-      ' (other work keeps '//trim(text)//' of the '//itoa(ncpu)//' cores busy; '// &
-      '&run threads or OMP_NUM_THREADS sets the count)'
+      ' ('//why//'; &run threads or OMP_NUM_THREADS sets the count)'
   end subroutine choose_threads
 
   subroutine print_help()

@@ -9,9 +9,10 @@
 program test_contact
   !$ use omp_lib, only: omp_set_num_threads
   use mpm_kinds, only: wp
-  use mpm_constants, only: pi, BASIS_CPDI1, BASIS_CPDI2, BASIS_UGIMP, CONTACT_COULOMB, &
+  use mpm_constants, only: pi, BASIS_CPDI1, BASIS_CPDI2, BASIS_UGIMP, BASIS_LINEAR, CONTACT_COULOMB, &
                            CONTACT_STICK
-  use mpm_particles, only: particles_t, particles_allocate
+  use mpm_particles, only: particles_t, particles_allocate, particle_corners
+  use mpm_strings, only: itoa
   use mpm_surface_contact, only: surface_work_t, surface_points, surface_push, surface_friction, &
                                  surface_energy
   use testing, only: begin_test, check, check_close, finish_tests
@@ -58,6 +59,7 @@ program test_contact
   p%r20(:, 1:2) = reshape([0.0_wp, 0.5_wp, 0.0_wp, 0.5_wp], [2, 2])
   call surface_points(p, BASIS_CPDI1, [0.0_wp, 0.06_wp], nrm, kf, .false., wk)
   call check(wk%npt == 4, 'CPDI1: the same corners x -+ F r10 -+ F r20')
+  call random_cloud()
   ! the scan in parallel (two threads, one particle each) gathers the same points in order
   !$ call omp_set_num_threads(2)
   call surface_points(p, BASIS_CPDI1, [0.0_wp, 0.06_wp], nrm, kf, .true., wp2)
@@ -116,6 +118,56 @@ contains
     q%mass = 2.0_wp
     q%half = 0.5_wp
   end subroutine two_squares
+
+  !> 400 particles of random size, shape (F) and place, half of them within reach of the plane
+  !! y = 0.3: the points that surface_points gathers (it skips the particles whose corners are
+  !! surely clear of the plane) are those of the plain scan of every corner of every particle,
+  !! bit for bit, in the same order, with the same deepest gap; linear, uGIMP and CPDI1.
+  subroutine random_cloud()
+    integer, parameter :: n = 400
+    type(particles_t) :: q
+    type(surface_work_t) :: ws
+    real(wp) :: u(8), xq(2, 4), d, gmin, fn(4*n)
+    integer :: ip, a, npt, ib, owner(4*n)
+    integer, parameter :: bases(3) = [BASIS_LINEAR, BASIS_UGIMP, BASIS_CPDI1]
+    call begin_test('surface points: the skipped particles are clear of the plane')
+    call particles_allocate(q, n, 4*n)
+    do ip = 1, n
+      call random_number(u)
+      q%half(:, ip) = 0.01_wp + 0.04_wp*u(1:2)
+      q%F(:, :, ip) = reshape([1.0_wp + 0.6_wp*(u(3) - 0.5_wp), 0.6_wp*(u(4) - 0.5_wp), &
+                               0.6_wp*(u(5) - 0.5_wp), 1.0_wp + 0.6_wp*(u(6) - 0.5_wp)], [2, 2])
+      q%x(:, ip) = [2.0_wp*u(7), 0.3_wp + 0.2_wp*(u(8) - 0.5_wp)]
+      q%r10(:, ip) = [q%half(1, ip), 0.3_wp*q%half(2, ip)]
+      q%r20(:, ip) = [-0.2_wp*q%half(1, ip), q%half(2, ip)]
+      q%mass(ip) = 1.0_wp + u(1)
+    end do
+    do ib = 1, 3
+      npt = 0
+      gmin = 0.0_wp
+      do ip = 1, n
+        xq = particle_corners(q, ip, bases(ib), deformed=.true.)
+        do a = 1, 4
+          d = dot_product(xq(:, a) - [0.0_wp, 0.3_wp], nrm)
+          gmin = min(gmin, d)
+          if (d < 0.0_wp) then
+            npt = npt + 1
+            owner(npt) = ip
+            fn(npt) = -kf*0.25_wp*q%mass(ip)*d
+          end if
+        end do
+      end do
+      call surface_points(q, bases(ib), [0.0_wp, 0.3_wp], nrm, kf, .false., ws)
+      call check(npt > 20 .and. npt < 4*n - 20, 'the plane cuts the cloud ('// &
+                 itoa(npt)//' points)')
+      call check(ws%npt == npt, 'as many points as the plain scan, basis '//itoa(ib))
+      if (ws%npt == npt) then
+        call check(all(ws%owner(1:npt) == owner(1:npt)) .and. all(ws%fn(1:npt) == fn(1:npt)), &
+                   'the same points and forces, bit for bit, in order')
+      end if
+      call check(ws%gmin == gmin, 'the same deepest gap, bit for bit')
+    end do
+  end subroutine random_cloud
 
   !> A 4 x 4 grid of unit cells, node masses 1 to 2, no force, velocities set.
   subroutine grid_setup()

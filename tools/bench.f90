@@ -9,6 +9,8 @@
 !          impact aluminium ring, half sector, touching a rigid target at 30 m/s
 !   BASIS  linear | ugimp | cpdi1 | cpdi2;  N_THICK particles through the wall (even), the cell
 !          is h = t / (N_THICK/2), i.e. 2 x 2 particles per cell; J2 plasticity, plane strain
+!   THREADS 1, 2, ...; 0: as a run with &run threads = 0, the cores no other work keeps busy
+!          (the row gives the count chosen)
 !   STEPS  time steps per repetition; REPS repetitions (after 3 untimed warm-up steps)
 !   DETERMINISTIC 0 | 1 (default 0); SCHEME usl | usf | musl (default musl)
 ! Row: scene, basis, scheme, deterministic, threads, particles, nodes, block width, steps, reps,
@@ -17,7 +19,7 @@
 ! wall time, median), yielded fraction, ns per particle-step of each phase (mpm_timers),
 ! modelled memory [bytes], peak resident memory VmHWM [bytes].
 program bench
-  !$ use omp_lib, only: omp_set_num_threads
+  !$ use omp_lib, only: omp_set_num_threads, omp_get_max_threads
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
   use mpm_kinds, only: wp, i8
   use mpm_constants, only: basis_names, scheme_names, SCHEME_MUSL, PLANE_STRAIN, MODEL_J2, &
@@ -27,10 +29,11 @@ program bench
   use mpm_setup, only: setup_sim
   use mpm_solver, only: sim_t, solver_step, solver_memory_bytes
   use mpm_timers, only: clock_seconds, n_phases, phase_names
+  use mpm_sys, only: sys_free_threads
   implicit none
   integer, parameter :: warm_steps = 3
   character(len=64) :: arg(8)
-  character(len=:), allocatable :: errmsg
+  character(len=:), allocatable :: errmsg, why
   type(config_t) :: cfg
   type(sim_t) :: s
   integer :: nargs, k, basis, scheme, n_thick, threads, steps, reps, rep, stat, det
@@ -74,10 +77,15 @@ contains
     if (nargs >= 7) read(arg(7), *) det
     scheme = SCHEME_MUSL
     if (nargs >= 8) scheme = findloc(scheme_names, trim(arg(8)), dim=1)
-    if (basis == 0 .or. scheme == 0 .or. n_thick < 2 .or. threads < 1 .or. steps < 1 &
+    if (basis == 0 .or. scheme == 0 .or. n_thick < 2 .or. threads < 0 .or. steps < 1 &
         .or. reps < 1) then
       write(error_unit, '(a)') 'bench: bad arguments'
       error stop 2
+    end if
+    if (threads == 0) then                 ! as tubempm with &run threads = 0
+      threads = 1
+      !$ threads = omp_get_max_threads()
+      call sys_free_threads(threads, threads, why)
     end if
     !$ call omp_set_num_threads(threads)
 

@@ -13,6 +13,10 @@ exponent and the memory per particle; it writes everything to OUT/bench_<date>.c
 plot to OUT/scaling.png. With --compare OLD.csv (an earlier run) it adds the ratio to it.
 A run during which other processes used more than a quarter of a core is repeated (up to three
 times); the column other_busy keeps the cores they used (the largest over the rounds).
+Last, the busy series (issue 16: "no collapse when the other core is busy"): the CPDI2 impact at
+about 1e5 particles with 1 and 2 threads and with the automatic count of a run (`&run threads
+= 0`), each beside a spinning process on all but one core, interleaved ROUNDS times; its rows go
+to OUT/bench_<date>_busy.csv (--no-busy skips it).
 
 usage: tools/bench.py --exe build/release/bench [--out out/bench] [--quick] [--tag TAG]
                       [--compare OLD.csv]
@@ -83,15 +87,18 @@ def cpu_ticks():
     return (sum(v) - v[3] - v[4]) / os.sysconf("SC_CLK_TCK")
 
 
-def run(exe, header, cfg):
-    """One process of the bench program; repeated (up to 3 times) while other work took more
-    than a quarter of a core during it. The row gets other_busy: cores used by other work."""
+def run(exe, header, cfg, tries=3):
+    """One process of the bench program; repeated (up to `tries` times) while other work took
+    more than a quarter of a core during it. The row gets other_busy: cores used by other work.
+    threads 0: the count a run with `&run threads = 0` chooses (no OMP_NUM_THREADS)."""
     scene, basis, nt, threads, det = cfg
     steps = max(5, min(400, int(round(TARGET_PARTICLE_STEPS / particles(scene, nt)))))
     cmd = [exe, scene, basis, str(nt), str(threads), str(steps), str(REPS), str(det)]
     env = dict(os.environ, OMP_NUM_THREADS=str(threads))
+    if threads == 0:
+        env.pop("OMP_NUM_THREADS")
     best = None
-    for _ in range(3):
+    for _ in range(tries):
         c0, r0, t0 = cpu_ticks(), resource.getrusage(resource.RUSAGE_CHILDREN), time.time()
         out = subprocess.run(cmd, capture_output=True, text=True, env=env)
         c1, r1, t1 = cpu_ticks(), resource.getrusage(resource.RUSAGE_CHILDREN), time.time()
@@ -251,6 +258,42 @@ def plot(rows, phases, old, path):
     plt.close(fig)
 
 
+def busy_series(exe, header, phases):
+    """The CPDI2 impact at about 1e5 particles beside a spinning process on all but one core:
+    1 thread, 2 threads, and the automatic count (threads 0), interleaved ROUNDS times."""
+    ncpu = len(os.sched_getaffinity(0))
+    if ncpu < 2:
+        return []
+    cfgs = [("impact", "cpdi2", SIZES["impact"][2], t, 0) for t in (1, 2, 0)]
+    spin = [subprocess.Popen([sys.executable, "-c", "while True: pass"])
+            for _ in range(ncpu - 1)]
+    try:
+        time.sleep(0.5)
+        got = {cfg: [] for cfg in cfgs}
+        for _ in range(ROUNDS):
+            for cfg in cfgs:
+                got[cfg].append(run(exe, header, cfg, tries=1))
+    finally:
+        for p in spin:
+            p.kill()
+            p.wait()
+    rows = []
+    for cfg in cfgs:
+        r = merge(got[cfg], phases)
+        r["threads_asked"] = str(cfg[3])
+        rows.append(r)
+    one = float(rows[0]["mps_median"])
+    print(f"\nbusy series: impact cpdi2 {int(rows[0]['particles'])} particles beside "
+          f"{ncpu - 1} spinning process(es)")
+    for r in rows:
+        asked = "auto" if r["threads_asked"] == "0" else r["threads_asked"]
+        print(f"  threads {asked:>4s} (ran {r['threads']}): "
+              f"{float(r['mps_median']) / 1e6:6.3f} M particle-steps/s, "
+              f"{float(r['mps_median']) / one:5.2f} x one thread, other work "
+              f"{float(r['other_busy']):.2f} cores")
+    return rows
+
+
 def read_csv(path):
     with open(path) as f:
         return list(csv.DictReader(line for line in f if not line.startswith("#")))
@@ -265,6 +308,7 @@ def main():
     ap.add_argument("--tag", default="", help="label added to the file names")
     ap.add_argument("--compare", default="", help="an earlier CSV file to compare with")
     ap.add_argument("--no-plot", action="store_true", help="skip the PNG")
+    ap.add_argument("--no-busy", action="store_true", help="skip the busy series")
     args = ap.parse_args()
 
     header = subprocess.run([args.exe, "--header"], capture_output=True, text=True,
@@ -294,6 +338,7 @@ def main():
                   f"M particle-steps/s", flush=True)
     busy1 = busy_cores()
     report(rows, phases, old)
+    busy_rows = [] if args.no_busy else busy_series(args.exe, header, phases)
     print(f"\ncores busy with other work before {busy0:.2f}, after {busy1:.2f}; "
           f"{time.time() - t0:.0f} s in all")
     os.makedirs(args.out, exist_ok=True)
@@ -307,6 +352,16 @@ def main():
         w.writeheader()
         w.writerows(rows)
     print(f"table written to {name}")
+    if busy_rows:
+        bname = os.path.join(args.out, f"bench_{stamp}{tag}_busy.csv")
+        with open(bname, "w") as f:
+            f.write(f"# tubempm make bench, busy series, {stamp}, {platform.node()}: a "
+                    f"spinning process on all but one core; threads_asked 0 = automatic\n")
+            w = csv.DictWriter(f, fieldnames=header + ["other_busy", "threads_asked"],
+                               lineterminator="\n")
+            w.writeheader()
+            w.writerows(busy_rows)
+        print(f"busy series written to {bname}")
     if not args.no_plot:
         png = os.path.join(args.out, f"scaling{tag}.png")
         plot(rows, phases, old, png)
