@@ -53,6 +53,7 @@ module mpm_surface_contact
 
   real(wp), parameter :: contact_alpha = 1.0_wp  !! penalty stiffness over the material's [-]
   integer, parameter :: max_sweeps = 200     !! Gauss-Seidel sweeps at most [-]
+  integer, parameter :: scan_chunk = 1024    !! particles per task of the corner scan [-]
   real(wp), parameter :: sweep_tol = 1.0e-13_wp  !! relative change that ends the sweeps [-]
 
   !> Points in contact with one wall and the work arrays of their solve, grown as needed (no
@@ -102,7 +103,7 @@ contains
     real(wp), intent(in) :: kf             !! stiffness per unit point mass, alpha c^2/h^2 [1/s^2]
     logical, intent(in) :: par             !! the scan runs in parallel
     type(surface_work_t), intent(inout) :: wk  !! work arrays: the points
-    integer :: ip, ic, a
+    integer :: ip, ic, a, nchunk
     real(wp) :: d, xq(2, 4), dq(4), gmin
     wk%npt = 0
     wk%gmin = 0.0_wp
@@ -126,16 +127,12 @@ contains
       allocate(wk%dmin(p%np))
     end if
     gmin = 0.0_wp
-    !$omp parallel do default(none) schedule(static) shared(p, basis, xw, normal, wk) &
-    !$omp   private(ip, xq, a) reduction(min: gmin) if(par)
-    do ip = 1, p%np
-      if (surely_clear(ip)) then           ! most particles: no corner near the plane
-        wk%dmin(ip) = 1.0_wp
-        cycle
-      end if
-      xq = particle_corners(p, ip, basis, deformed=.true.)
-      wk%dmin(ip) = minval([(dot_product(xq(:, a) - xw, normal), a = 1, 4)])
-      gmin = min(gmin, wk%dmin(ip))
+    nchunk = (p%np + scan_chunk - 1)/scan_chunk
+    !$omp parallel do default(none) schedule(static) shared(p, basis, xw, normal, wk, nchunk) &
+    !$omp   private(ic) reduction(min: gmin) if(par)
+    do ic = 1, nchunk
+      call corner_gaps(p, 1 + (ic - 1)*scan_chunk, min(ic*scan_chunk, p%np), basis, p%np, &
+                       p%x, p%F, p%half, p%r10, p%r20, xw, normal, wk%dmin, gmin)
     end do
     !$omp end parallel do
     wk%gmin = gmin
@@ -149,26 +146,6 @@ contains
       end do
     end do
   contains
-    ! The deepest corner x -+ r1 -+ r2 of particle ip lies at the gap d0 - |r1.n| - |r2.n|; true
-    ! when that is positive by far more than the rounding of the corners' own gaps (1e-12 of the
-    ! magnitudes against about 1e-15), so that skipping the particle changes no bit.
-    pure logical function surely_clear(ip)
-      integer, intent(in) :: ip
-      real(wp) :: r1(2), r2(2), d0, size
-      if (basis == BASIS_CPDI1) then
-        r1 = matmul(p%F(:, :, ip), p%r10(:, ip))
-        r2 = matmul(p%F(:, :, ip), p%r20(:, ip))
-      else
-        r1 = p%F(:, 1, ip)*p%half(1, ip)
-        r2 = p%F(:, 2, ip)*p%half(2, ip)
-      end if
-      d0 = (p%x(1, ip) - xw(1))*normal(1) + (p%x(2, ip) - xw(2))*normal(2)
-      size = abs(p%x(1, ip)) + abs(p%x(2, ip)) + abs(xw(1)) + abs(xw(2)) + abs(r1(1)) + &
-             abs(r1(2)) + abs(r2(1)) + abs(r2(2))
-      surely_clear = d0 - abs(r1(1)*normal(1) + r1(2)*normal(2)) - &
-                     abs(r2(1)*normal(1) + r2(2)*normal(2)) > 1.0e-12_wp*size
-    end function surely_clear
-
     subroutine push(owner, xp, force, energy)
       integer, intent(in) :: owner
       real(wp), intent(in) :: xp(2), force, energy
@@ -382,6 +359,44 @@ contains
       end do
     end do
   end subroutine corner_masses
+
+  !> The deepest corner gap of particles ip0..ip1 (linear, uGIMP, CPDI1: the deformed domain
+  !! of particle_corners) in dmin, merged into gmin; dmin = 1 for a particle whose corners are
+  !! surely clear of the plane, skipped: the deepest corner x -+ r1 -+ r2 lies at the gap
+  !! d0 - |r1.n| - |r2.n|, and a particle is skipped when that is positive by far more than the
+  !! rounding of the corners' own gaps (1e-12 of the magnitudes against about 1e-15), so that
+  !! no bit of the points or of gmin changes (tests/test_contact.f90). Explicit shapes: the
+  !! arrays are read without descriptors.
+  subroutine corner_gaps(p, ip0, ip1, basis, np, x, F, half, r10, r20, xw, normal, dmin, gmin)
+    type(particles_t), intent(in) :: p     !! particles (the corners of the others)
+    integer, intent(in) :: ip0, ip1, basis, np  !! range, BASIS_* code, particles
+    real(wp), intent(in) :: x(2, np), F(2, 2, np), half(2, np), r10(2, np), r20(2, np)
+    real(wp), intent(in) :: xw(2), normal(2)    !! the plane [m, -]
+    real(wp), intent(inout) :: dmin(np)    !! deepest corner gap of each particle [m]
+    real(wp), intent(inout) :: gmin        !! deepest of all (<= 0) [m]
+    real(wp) :: r1(2), r2(2), d0, mag, xq(2, 4)
+    integer :: ip, a
+    do ip = ip0, ip1
+      if (basis == BASIS_CPDI1) then
+        r1 = F(:, 1, ip)*r10(1, ip) + F(:, 2, ip)*r10(2, ip)
+        r2 = F(:, 1, ip)*r20(1, ip) + F(:, 2, ip)*r20(2, ip)
+      else
+        r1 = F(:, 1, ip)*half(1, ip)
+        r2 = F(:, 2, ip)*half(2, ip)
+      end if
+      d0 = (x(1, ip) - xw(1))*normal(1) + (x(2, ip) - xw(2))*normal(2)
+      mag = abs(x(1, ip)) + abs(x(2, ip)) + abs(xw(1)) + abs(xw(2)) + abs(r1(1)) + &
+             abs(r1(2)) + abs(r2(1)) + abs(r2(2))
+      if (d0 - abs(r1(1)*normal(1) + r1(2)*normal(2)) - abs(r2(1)*normal(1) + &
+          r2(2)*normal(2)) > 1.0e-12_wp*mag) then
+        dmin(ip) = 1.0_wp                  ! most particles: no corner near the plane
+        cycle
+      end if
+      xq = particle_corners(p, ip, basis, deformed=.true.)
+      dmin(ip) = minval([(dot_product(xq(:, a) - xw, normal), a = 1, 4)])
+      gmin = min(gmin, dmin(ip))
+    end do
+  end subroutine corner_gaps
 
   !> Make room for n points (at least; doubling), keeping the points gathered so far (and,
   !! for curve points, their corners).
