@@ -131,8 +131,10 @@ def stability_include(folder: Path) -> str:
 
 def bench_include(folder: Path) -> str:
     """Median particle-steps per second per basis and thread count (1, 2) of the newest
-    `make bench` table (not the `_before` ones), as a Fortran (4, 2) parameter."""
-    tables = sorted(p for p in folder.glob("bench_*.csv") if not p.stem.endswith("_before"))
+    `make bench` table (not the `_before` ones, nor the busy series), as a Fortran (4, 2)
+    parameter."""
+    tables = sorted(p for p in folder.glob("bench_*.csv")
+                    if not p.stem.endswith(("_before", "_busy")))
     if not tables:
         raise SystemExit(f"ERROR [advice_tables]: no bench_*.csv in {folder} (run make bench)")
     path = tables[-1]
