@@ -100,8 +100,7 @@ module mpm_config_table
     var_spec_t('run', 'gravity', n=2, allowed='2 finite real numbers [m/s^2] (default 0, 0)', &
       comment='body acceleration [m/s^2]'), &
     var_spec_t('run', 'threads', 'i', lo=0.0_wp, &
-      allowed='an integer >= 0 (0 = the OpenMP runtime default, without the cores that '// &
-      'other work keeps busy at the start)', &
+      allowed='an integer >= 0 (0 = one per core that other work does not keep busy)', &
       comment='OpenMP threads (0 = runtime default)'), &
     var_spec_t('run', 'mirror_images', 'l', l0=.true., allowed='.true. or .false. (default '// &
       '.true.)', comment='write the mirror images of a sector'), &

@@ -43,7 +43,8 @@
 ! summed into the wall's reaction exactly (impulse on the wall = momentum taken from the body).
 module mpm_surface_contact
   use mpm_kinds, only: wp
-  use mpm_constants, only: BASIS_CPDI1, BASIS_CPDI2, CONTACT_COULOMB, CONTACT_STICK
+  use mpm_constants, only: BASIS_LINEAR, BASIS_UGIMP, BASIS_CPDI1, BASIS_CPDI2, &
+                           CONTACT_COULOMB, CONTACT_STICK
   use mpm_particles, only: particles_t, particle_corners
   use mpm_basis, only: bilinear_at
   implicit none
@@ -376,21 +377,30 @@ contains
     real(wp), intent(inout) :: gmin        !! deepest of all (<= 0) [m]
     real(wp) :: r1(2), r2(2), d0, mag, xq(2, 4)
     integer :: ip, a
+    logical :: known
+    known = any(basis == [BASIS_LINEAR, BASIS_UGIMP, BASIS_CPDI1])
+    r1 = 0.0_wp
+    r2 = 0.0_wp
     do ip = ip0, ip1
-      if (basis == BASIS_CPDI1) then
+      ! the domain's half-vectors as particle_corners(deformed) makes them; a basis not
+      ! listed here is scanned in full (the test compares the two for every basis)
+      select case (basis)
+      case (BASIS_CPDI1)
         r1 = F(:, 1, ip)*r10(1, ip) + F(:, 2, ip)*r10(2, ip)
         r2 = F(:, 1, ip)*r20(1, ip) + F(:, 2, ip)*r20(2, ip)
-      else
+      case (BASIS_LINEAR, BASIS_UGIMP)
         r1 = F(:, 1, ip)*half(1, ip)
         r2 = F(:, 2, ip)*half(2, ip)
-      end if
-      d0 = (x(1, ip) - xw(1))*normal(1) + (x(2, ip) - xw(2))*normal(2)
-      mag = abs(x(1, ip)) + abs(x(2, ip)) + abs(xw(1)) + abs(xw(2)) + abs(r1(1)) + &
-             abs(r1(2)) + abs(r2(1)) + abs(r2(2))
-      if (d0 - abs(r1(1)*normal(1) + r1(2)*normal(2)) - abs(r2(1)*normal(1) + &
-          r2(2)*normal(2)) > 1.0e-12_wp*mag) then
-        dmin(ip) = 1.0_wp                  ! most particles: no corner near the plane
-        cycle
+      end select
+      if (known) then
+        d0 = (x(1, ip) - xw(1))*normal(1) + (x(2, ip) - xw(2))*normal(2)
+        mag = abs(x(1, ip)) + abs(x(2, ip)) + abs(xw(1)) + abs(xw(2)) + abs(r1(1)) + &
+              abs(r1(2)) + abs(r2(1)) + abs(r2(2))
+        if (d0 - abs(r1(1)*normal(1) + r1(2)*normal(2)) - abs(r2(1)*normal(1) + &
+            r2(2)*normal(2)) > 1.0e-12_wp*mag) then
+          dmin(ip) = 1.0_wp                ! most particles: no corner near the plane
+          cycle
+        end if
       end if
       xq = particle_corners(p, ip, basis, deformed=.true.)
       dmin(ip) = minval([(dot_product(xq(:, a) - xw, normal), a = 1, 4)])

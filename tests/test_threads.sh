@@ -19,7 +19,7 @@ unset OMP_NUM_THREADS
 ncpu=$(nproc)
 if [ "$ncpu" -lt 2 ]; then
   echo "one CPU: no thread count to choose"
-  echo "0 passed, 0 failed"
+  echo "threads: 0 passed, 0 failed"
   exit 0
 fi
 
@@ -76,5 +76,5 @@ spin_stop
 ! grep -q "^threads:" "$scratch/small.log" && ok || bad "a serial scene measured the cores"
 [ "$(threads_of small)" -ge 1 ] && ok || bad "small scene: no threads in summary.nml"
 
-echo "$pass passed, $fail failed"
+echo "threads: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
