@@ -15,7 +15,7 @@ program tubempm
   use mpm_setup, only: setup_sim, setup_report, sector_factor
   use mpm_advice, only: study_advice, advice_end_of_run, scene_of
   use mpm_solver, only: sim_t, solver_step
-  use mpm_particles, only: particles_t, particles_copy
+  use mpm_particles, only: particles_t, particles_copy, particle_corners
   use mpm_basis, only: cpdi2_geometry
   use mpm_output, only: history_t, history_open, history_write, history_close, write_summary, &
                         summary_t
@@ -403,7 +403,7 @@ contains
     real(wp) :: area, centroid(2), jmin
     if (s%prm%basis == BASIS_CPDI2 .and. allocated(r%good%x)) then
       do ip = 1, s%p%np
-        call cpdi2_geometry(s%p%xc(:, s%p%corner(:, ip)), area, centroid, jmin)
+        call cpdi2_geometry(particle_corners(s%p, ip, BASIS_CPDI2), area, centroid, jmin)
         if (.not. jmin > 0.0_wp) return
       end do
     end if
