@@ -12,13 +12,15 @@
 ! particle, 4 per corner) and the contact node map (4 per node); tiles_memory_bytes (44 bytes
 ! and the span sums per tile of 16 nodes); the snapshot writer's temporaries (corners, quads, F,
 ! columns: 128 per particle), with volumetric = 'fbar' or 'fbarwall' mpm_fbar's work arrays (80
-! bytes per particle, 16 per node; 'fbarwall' 8 more per particle), and a fixed 32 MiB for the
-! program and its libraries. Counts are reals, so that a length typed in the wrong unit cannot
-! overflow an integer.
+! bytes per particle, 16 per node; 'fbarwall' 8 more per particle), the wall contact's work (per
+! wall that is not a mirror plane: CPDI2 32 bytes per corner, the other bases 8 per particle),
+! and a fixed 32 MiB for the program and its libraries. Counts are reals, so that a length typed
+! in the wrong unit cannot overflow an integer.
 module mpm_budget
   use mpm_kinds, only: wp
   use mpm_constants, only: EXIT_INPUT, SHAPE_RING, SECTOR_FULL, SECTOR_HALF, &
-                           SECTOR_QUARTER, BASIS_LINEAR, VOLUMETRIC_FBAR, VOLUMETRIC_FBARWALL
+                           SECTOR_QUARTER, BASIS_LINEAR, BASIS_CPDI2, VOLUMETRIC_FBAR, &
+                           VOLUMETRIC_FBARWALL, CONTACT_SLIP
   use mpm_config, only: config_t
   use mpm_shapes, only: body_box, body_estimate
   use mpm_particles, only: basis_reach
@@ -56,7 +58,7 @@ contains
     integer, intent(in) :: threads         !! threads of the run (>= 1)
     type(budget_t) :: b
     integer :: ib, nmirror, sector
-    real(wp) :: lo(2), hi(2), blo(2), bhi(2), h, ext, ext_max, np, nc, margin, grow
+    real(wp) :: lo(2), hi(2), blo(2), bhi(2), h, ext, ext_max, np, nc, margin, grow, ncw
     h = cfg%grid%h
     ext_max = 0.0_wp
     lo = huge(1.0_wp)
@@ -115,6 +117,15 @@ contains
       b%grid_bytes = b%grid_bytes + 4.0_wp*b%nodes       ! the contact node of each node
       if (any(cfg%bodies%self_contact)) b%particle_bytes = b%particle_bytes + &
                                                    4.0_wp*b%particles  ! mpm_self_contact: bonds
+    end if
+    ! the wall contact's work per wall that is not a mirror plane (mpm_surface_contact,
+    ! mpm_surface_curve): CPDI2 each corner's gap, boundary neighbours and list, and mass share
+    ! (32 bytes), the other bases each particle's deepest corner gap (8)
+    ncw = real(count(cfg%walls%contact_id /= CONTACT_SLIP), wp)
+    if (cfg%solver%basis_id == BASIS_CPDI2) then
+      b%particle_bytes = b%particle_bytes + ncw*32.0_wp*b%corners
+    else
+      b%particle_bytes = b%particle_bytes + ncw*8.0_wp*b%particles
     end if
     b%total = b%particle_bytes + b%grid_bytes + base_bytes
   end function budget_estimate

@@ -14,7 +14,7 @@ module mpm_particles
   private
   public :: particles_t, particles_allocate, ring_counts, ring_fill, rect_counts, rect_fill, &
             quad_area_centroid, particles_memory_bytes, particles_write, particles_read, &
-            particle_corners, particles_copy, basis_reach
+            particle_corners, particles_copy, basis_reach, corner_gaps
 
   !> All particles of all bodies. Component index first.
   type :: particles_t
@@ -253,21 +253,76 @@ contains
       xq(:, 4) = p%xc(:, p%corner(4, ip))
       return
     end if
-    if (basis == BASIS_CPDI1) then
-      r1 = matmul(p%F(:, :, ip), p%r10(:, ip))
-      r2 = matmul(p%F(:, :, ip), p%r20(:, ip))
-    else if (carried) then
-      r1 = p%F(:, 1, ip)*p%half(1, ip)
-      r2 = p%F(:, 2, ip)*p%half(2, ip)
-    else
-      r1 = [p%half(1, ip), 0.0_wp]
-      r2 = [0.0_wp, p%half(2, ip)]
-    end if
+    call domain_vectors(basis, carried, p%F(:, :, ip), p%half(:, ip), p%r10(:, ip), &
+                        p%r20(:, ip), r1, r2)
     xq(:, 1) = p%x(:, ip) - r1 - r2
     xq(:, 2) = p%x(:, ip) + r1 - r2
     xq(:, 3) = p%x(:, ip) + r1 + r2
     xq(:, 4) = p%x(:, ip) - r1 + r2
   end function particle_corners
+
+  !> The half-vectors of the domain x -+ r1 -+ r2 of a particle of the bases linear, uGIMP and
+  !! CPDI1 (CPDI2's domain is its shared corners): CPDI1 F r10 and F r20; the others the half
+  !! sizes along x and y, carried by F when `carried`.
+  pure subroutine domain_vectors(basis, carried, F, half, r10, r20, r1, r2)
+    integer, intent(in) :: basis              !! BASIS_* code (not CPDI2)
+    logical, intent(in) :: carried            !! linear, uGIMP: the domain carried by F
+    real(wp), intent(in) :: F(2, 2)           !! deformation gradient [-]
+    real(wp), intent(in) :: half(2)           !! half sizes at t = 0 [m]
+    real(wp), intent(in) :: r10(2), r20(2)    !! CPDI1 half-vectors at t = 0 [m]
+    real(wp), intent(out) :: r1(2), r2(2)     !! half-vectors now [m]
+    if (basis == BASIS_CPDI1) then
+      r1 = F(:, 1)*r10(1) + F(:, 2)*r10(2)     ! F r10, as matmul sums it
+      r2 = F(:, 1)*r20(1) + F(:, 2)*r20(2)
+    else if (carried) then
+      r1 = F(:, 1)*half(1)
+      r2 = F(:, 2)*half(2)
+    else
+      r1 = [half(1), 0.0_wp]
+      r2 = [0.0_wp, half(2)]
+    end if
+  end subroutine domain_vectors
+
+  !> The deepest gap to the plane through xw (unit normal `normal`) of the corners of the
+  !! deformed domains (particle_corners, deformed) of particles ip0..ip1 of the bases linear,
+  !! uGIMP and CPDI1, in dmin, merged into gmin; dmin = 1 for a particle whose corners are surely
+  !! clear of the plane, which is skipped: the deepest corner x -+ r1 -+ r2 lies at the gap
+  !! d0 - |r1.n| - |r2.n|, and a particle is skipped when that is positive by more than 1e-12
+  !! of the magnitudes |x|, |xw|, |r1|, |r2| (the corners' own gaps round at about 1e-15 of
+  !! them; r1, r2 are the same numbers as particle_corners'), so that no bit of what the wall
+  !! contact gathers changes (tests/test_contact.f90). Explicit shapes: the scan reads the
+  !! arrays without descriptors.
+  subroutine corner_gaps(p, ip0, ip1, basis, np, x, F, half, r10, r20, xw, normal, dmin, gmin)
+    type(particles_t), intent(in) :: p     !! particles (the corners of those not skipped)
+    integer, intent(in) :: ip0, ip1        !! particle range [-]
+    integer, intent(in) :: basis           !! BASIS_* code (linear, uGIMP, CPDI1)
+    integer, intent(in) :: np              !! particles [-]
+    real(wp), intent(in) :: x(2, np)       !! positions [m]
+    real(wp), intent(in) :: F(2, 2, np)    !! deformation gradients [-]
+    real(wp), intent(in) :: half(2, np)    !! half sizes at t = 0 [m]
+    real(wp), intent(in) :: r10(2, np), r20(2, np)  !! CPDI1 half-vectors at t = 0 [m]
+    real(wp), intent(in) :: xw(2)          !! a point on the plane [m]
+    real(wp), intent(in) :: normal(2)      !! unit normal into the material [-]
+    real(wp), intent(inout) :: dmin(np)    !! deepest corner gap of each particle [m]
+    real(wp), intent(inout) :: gmin        !! deepest of all (<= 0) [m]
+    real(wp) :: r1(2), r2(2), d0, mag, xq(2, 4)
+    integer :: ip, a
+    do ip = ip0, ip1
+      call domain_vectors(basis, .true., F(:, :, ip), half(:, ip), r10(:, ip), r20(:, ip), &
+                          r1, r2)
+      d0 = (x(1, ip) - xw(1))*normal(1) + (x(2, ip) - xw(2))*normal(2)
+      mag = abs(x(1, ip)) + abs(x(2, ip)) + abs(xw(1)) + abs(xw(2)) + abs(r1(1)) + &
+            abs(r1(2)) + abs(r2(1)) + abs(r2(2))
+      if (d0 - abs(r1(1)*normal(1) + r1(2)*normal(2)) - abs(r2(1)*normal(1) + &
+          r2(2)*normal(2)) > 1.0e-12_wp*mag) then
+        dmin(ip) = 1.0_wp                  ! most particles: no corner near the plane
+        cycle
+      end if
+      xq = particle_corners(p, ip, basis, deformed=.true.)
+      dmin(ip) = minval([(dot_product(xq(:, a) - xw, normal), a = 1, 4)])
+      gmin = min(gmin, dmin(ip))
+    end do
+  end subroutine corner_gaps
 
   !> How far the basis reaches beyond the particles' domain corners, given their largest half
   !! size [m]: the fitted grid's margin beyond two cells (mpm_setup from the particles,

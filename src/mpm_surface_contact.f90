@@ -43,9 +43,8 @@
 ! summed into the wall's reaction exactly (impulse on the wall = momentum taken from the body).
 module mpm_surface_contact
   use mpm_kinds, only: wp
-  use mpm_constants, only: BASIS_LINEAR, BASIS_UGIMP, BASIS_CPDI1, BASIS_CPDI2, &
-                           CONTACT_COULOMB, CONTACT_STICK
-  use mpm_particles, only: particles_t, particle_corners
+  use mpm_constants, only: BASIS_CPDI2, CONTACT_COULOMB, CONTACT_STICK
+  use mpm_particles, only: particles_t, particle_corners, corner_gaps
   use mpm_basis, only: bilinear_at
   implicit none
   private
@@ -360,53 +359,6 @@ contains
       end do
     end do
   end subroutine corner_masses
-
-  !> The deepest corner gap of particles ip0..ip1 (linear, uGIMP, CPDI1: the deformed domain
-  !! of particle_corners) in dmin, merged into gmin; dmin = 1 for a particle whose corners are
-  !! surely clear of the plane, skipped: the deepest corner x -+ r1 -+ r2 lies at the gap
-  !! d0 - |r1.n| - |r2.n|, and a particle is skipped when that is positive by far more than the
-  !! rounding of the corners' own gaps (1e-12 of the magnitudes against about 1e-15), so that
-  !! no bit of the points or of gmin changes (tests/test_contact.f90). Explicit shapes: the
-  !! arrays are read without descriptors.
-  subroutine corner_gaps(p, ip0, ip1, basis, np, x, F, half, r10, r20, xw, normal, dmin, gmin)
-    type(particles_t), intent(in) :: p     !! particles (the corners of the others)
-    integer, intent(in) :: ip0, ip1, basis, np  !! range, BASIS_* code, particles
-    real(wp), intent(in) :: x(2, np), F(2, 2, np), half(2, np), r10(2, np), r20(2, np)
-    real(wp), intent(in) :: xw(2), normal(2)    !! the plane [m, -]
-    real(wp), intent(inout) :: dmin(np)    !! deepest corner gap of each particle [m]
-    real(wp), intent(inout) :: gmin        !! deepest of all (<= 0) [m]
-    real(wp) :: r1(2), r2(2), d0, mag, xq(2, 4)
-    integer :: ip, a
-    logical :: known
-    known = any(basis == [BASIS_LINEAR, BASIS_UGIMP, BASIS_CPDI1])
-    r1 = 0.0_wp
-    r2 = 0.0_wp
-    do ip = ip0, ip1
-      ! the domain's half-vectors as particle_corners(deformed) makes them; a basis not
-      ! listed here is scanned in full (the test compares the two for every basis)
-      select case (basis)
-      case (BASIS_CPDI1)
-        r1 = F(:, 1, ip)*r10(1, ip) + F(:, 2, ip)*r10(2, ip)
-        r2 = F(:, 1, ip)*r20(1, ip) + F(:, 2, ip)*r20(2, ip)
-      case (BASIS_LINEAR, BASIS_UGIMP)
-        r1 = F(:, 1, ip)*half(1, ip)
-        r2 = F(:, 2, ip)*half(2, ip)
-      end select
-      if (known) then
-        d0 = (x(1, ip) - xw(1))*normal(1) + (x(2, ip) - xw(2))*normal(2)
-        mag = abs(x(1, ip)) + abs(x(2, ip)) + abs(xw(1)) + abs(xw(2)) + abs(r1(1)) + &
-              abs(r1(2)) + abs(r2(1)) + abs(r2(2))
-        if (d0 - abs(r1(1)*normal(1) + r1(2)*normal(2)) - abs(r2(1)*normal(1) + &
-            r2(2)*normal(2)) > 1.0e-12_wp*mag) then
-          dmin(ip) = 1.0_wp                ! most particles: no corner near the plane
-          cycle
-        end if
-      end if
-      xq = particle_corners(p, ip, basis, deformed=.true.)
-      dmin(ip) = minval([(dot_product(xq(:, a) - xw, normal), a = 1, 4)])
-      gmin = min(gmin, dmin(ip))
-    end do
-  end subroutine corner_gaps
 
   !> Make room for n points (at least; doubling), keeping the points gathered so far (and,
   !! for curve points, their corners).

@@ -91,7 +91,7 @@ contains
       ic = wk%bnd(k)
       a = wk%prv(ic)
       b = wk%nxt(ic)
-      if (a <= 0 .and. b <= 0) cycle       ! isolated
+      if (a <= 0 .and. b <= 0) cycle       ! pinched both ways, or a pinch and a chain end
       ! a cut face on a mirror plane is no surface; where it ends at the surface, the piece
       ! of the corner is the whole one with the mirror image of its other neighbour (the
       ! full body's piece, whose image gap is the neighbour's when the wall is square to the

@@ -3,6 +3,7 @@
 module mpm_sys
   use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char, c_double
   use mpm_kinds, only: wp
+  use mpm_strings, only: itoa
   implicit none
   private
   public :: sys_mkdir_p, sys_install_signals, sys_signal_received, sys_stdout_isatty, &
@@ -60,28 +61,51 @@ contains
     ncpu = int(n)
   end subroutine sys_cores_busy
 
-  !> Of nmax threads, as many as there are cores that other work does not keep busy (at least
-  !! one), measured over 40 ms (sys_cores_busy): two threads on two cores of which other work
-  !! holds one ran at 0.55-0.72 times one thread (docs/performance.md, Threads). why says what
-  !! was measured; nmax when it cannot be measured.
+  !> Of nmax threads, as many as there are logical CPUs of this process's CPU set that other
+  !! work does not keep busy (at least one), measured over 40 ms (sys_cores_busy; a CPU counts
+  !! as busy from half its time on), and no more than a cgroup (v2) CPU quota allows
+  !! (cpu.max, rounded up): two threads on two cores of which other work holds one ran at
+  !! 0.55-0.72 times one thread (docs/performance.md, Threads). why says what was measured; nmax
+  !! when nothing can be measured.
   subroutine sys_free_threads(nmax, n, why)
     integer, intent(in) :: nmax            !! threads wanted [-]
     integer, intent(out) :: n              !! threads to use [-]
     character(len=:), allocatable, intent(out) :: why  !! 'other work keeps B of the C cores busy'
-    integer :: ncpu
+    integer :: ncpu, quota
     real(wp) :: busy
-    character(len=16) :: b, c
+    character(len=16) :: b
     n = nmax
     why = 'not measured'
     if (nmax < 2) return
+    quota = cgroup_cpus()
     call sys_cores_busy(40, ncpu, busy)
-    if (busy < 0.0_wp) return
-    n = max(1, min(nmax, ncpu - nint(busy)))
-    write(b, '(f0.1)') busy
-    write(c, '(i0)') ncpu
-    if (b(1:1) == '.') b = '0'//b
-    why = 'other work keeps '//trim(b)//' of the '//trim(c)//' cores busy'
+    if (busy >= 0.0_wp) then
+      n = max(1, min(nmax, ncpu - nint(busy)))
+      write(b, '(f6.1)') busy
+      why = 'other work keeps '//trim(adjustl(b))//' of the '//itoa(ncpu)//' cores busy'
+    end if
+    if (quota > 0 .and. quota < n) then
+      n = quota
+      why = 'the cgroup CPU quota (/sys/fs/cgroup/cpu.max) allows '//itoa(quota)//' cores'
+    end if
   end subroutine sys_free_threads
+
+  !> The CPUs a cgroup (v2) CPU quota allows, quota/period rounded up (cpu.max); 0 when there
+  !! is no quota or it cannot be read.
+  integer function cgroup_cpus() result(n)
+    character(len=64) :: word
+    real(wp) :: quota, period
+    integer :: u, ios
+    n = 0
+    open(newunit=u, file='/sys/fs/cgroup/cpu.max', status='old', action='read', iostat=ios)
+    if (ios /= 0) return
+    read(u, *, iostat=ios) word, period
+    close(u)
+    if (ios /= 0 .or. trim(word) == 'max' .or. .not. period > 0.0_wp) return
+    read(word, *, iostat=ios) quota
+    if (ios /= 0 .or. .not. quota > 0.0_wp) return
+    n = max(1, ceiling(quota/period))
+  end function cgroup_cpus
 
   !> End the program with exit status `code`, printing nothing (every unit is flushed first).
   subroutine sys_exit(code)

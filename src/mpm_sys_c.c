@@ -4,7 +4,9 @@
  * checkpoint and stops cleanly (issue 8). */
 #define _GNU_SOURCE
 #include <errno.h>
+#ifdef __linux__
 #include <sched.h>
+#endif
 #include <time.h>
 #include <signal.h>
 #include <stdio.h>
@@ -86,6 +88,7 @@ void tubempm_exit(int code) {
   exit(code);
 }
 
+#ifdef __linux__
 /* Jiffies of every CPU of the set: busy (all but idle and iowait) and total, from /proc/stat.
  * Returns the number of CPUs read, or -1. */
 static int cpu_times(const cpu_set_t *set, unsigned long long *busy, unsigned long long *total) {
@@ -111,21 +114,45 @@ static int cpu_times(const cpu_set_t *set, unsigned long long *busy, unsigned lo
   return n;
 }
 
+/* CPU seconds this process has used so far (all its threads). */
+static double own_seconds(void) {
+  struct timespec ts;
+  if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts) != 0) return -1.0;
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 /* Cores of this process's CPU set kept busy by other work, measured over `ms` milliseconds while
- * this process sleeps (so that none of it is this process's). *ncpu: the CPUs of the set.
- * Returns the busy cores (0 .. *ncpu), or -1 when /proc/stat or the CPU set cannot be read. */
+ * this process's main thread sleeps; what this process used meanwhile (OpenMP threads still
+ * spinning after a parallel region) is subtracted. *ncpu: the CPUs of the set. Returns the busy
+ * cores (0 .. *ncpu), or -1 when /proc/stat, the CPU set or the clocks cannot be read or the
+ * counters did not advance consistently (hot-plug, a counter reset). Linux only (-1 elsewhere). */
 double tubempm_cores_busy(int ms, int *ncpu) {
   cpu_set_t set;
   unsigned long long b0, t0, b1, t1;
-  struct timespec gap;
+  struct timespec gap, w0, w1;
+  double own0, own1, busy, wall;
   *ncpu = 0;
   if (sched_getaffinity(0, sizeof set, &set) != 0) return -1.0;
+  own0 = own_seconds();
+  if (own0 < 0.0 || clock_gettime(CLOCK_MONOTONIC, &w0) != 0) return -1.0;
   int n = cpu_times(&set, &b0, &t0);
   if (n <= 0) return -1.0;
   gap.tv_sec = ms / 1000;
   gap.tv_nsec = (long)(ms % 1000) * 1000000L;
   nanosleep(&gap, NULL);
-  if (cpu_times(&set, &b1, &t1) != n || t1 <= t0) return -1.0;
+  if (cpu_times(&set, &b1, &t1) != n || t1 <= t0 || b1 < b0 || b1 - b0 > t1 - t0) return -1.0;
+  own1 = own_seconds();
+  if (own1 < own0 || clock_gettime(CLOCK_MONOTONIC, &w1) != 0) return -1.0;
+  wall = (double)(w1.tv_sec - w0.tv_sec) + 1e-9 * (double)(w1.tv_nsec - w0.tv_nsec);
+  if (wall <= 0.0) return -1.0;
+  busy = (double)n * (double)(b1 - b0) / (double)(t1 - t0) - (own1 - own0) / wall;
   *ncpu = n;
-  return (double)n * (double)(b1 - b0) / (double)(t1 - t0);
+  return busy < 0.0 ? 0.0 : (busy > (double)n ? (double)n : busy);
 }
+#else
+double tubempm_cores_busy(int ms, int *ncpu) {
+  (void)ms;
+  *ncpu = 0;
+  return -1.0;
+}
+#endif

@@ -23,7 +23,7 @@ program test_contact
   real(wp) :: nrm(2), w4(4), fsum(2)
   integer :: nodes(4), k, blk(2, 1)
   real(wp) :: wdummy(4, 1), gwdummy(2, 4, 1)
-  type(surface_work_t) :: wk, wp2
+  type(surface_work_t) :: wk
   type(particles_t) :: p
 
   dt = 1.0e-4_wp
@@ -60,16 +60,6 @@ program test_contact
   call surface_points(p, BASIS_CPDI1, [0.0_wp, 0.06_wp], nrm, kf, .false., wk)
   call check(wk%npt == 4, 'CPDI1: the same corners x -+ F r10 -+ F r20')
   call random_cloud()
-  ! the scan in parallel (two threads, one particle each) gathers the same points in order
-  !$ call omp_set_num_threads(2)
-  call surface_points(p, BASIS_CPDI1, [0.0_wp, 0.06_wp], nrm, kf, .true., wp2)
-  !$ call omp_set_num_threads(1)
-  call check(wp2%npt == wk%npt, 'parallel scan: as many points as the serial one')
-  if (wp2%npt == wk%npt) then
-    call check(all(wp2%owner(1:wk%npt) == wk%owner(1:wk%npt)), 'parallel scan: same owners, in order')
-    call check(all(wp2%fn(1:wk%npt) == wk%fn(1:wk%npt)) .and. wp2%gmin == wk%gmin, &
-               'parallel scan: same forces and deepest gap, bit for bit')
-  end if
 
   ! ---- the force on the nodes and the exact impulse
   call begin_test('force spread with bilinear weights; impulse = momentum given')
@@ -119,55 +109,118 @@ contains
     q%half = 0.5_wp
   end subroutine two_squares
 
-  !> 400 particles of random size, shape (F) and place, half of them within reach of the plane
-  !! y = 0.3: the points that surface_points gathers (it skips the particles whose corners are
-  !! surely clear of the plane) are those of the plain scan of every corner of every particle,
-  !! bit for bit, in the same order, with the same deepest gap; linear, uGIMP and CPDI1.
+  !> The particles surface_points skips (their corners surely clear of the plane) change
+  !! nothing: against the plain scan of every corner of every particle (particle_corners,
+  !! deformed), the same points, forces and deepest gap, bit for bit and in order, for linear,
+  !! uGIMP and CPDI1: (1) 3000 particles of random size, shape (F) and place, half of them
+  !! within reach of the plane, scanned serially and in parallel on two threads (three chunks of
+  !! the scan); (2) single particles far from the origin (|x| up to 1000 m, domains of 1e-5 m,
+  !! so that the corners round at 1e-13 m) under planes tilted up to 0.5 rad through points
+  !! within 2 ulps of the deepest corner: the cases a margin too small gets wrong.
   subroutine random_cloud()
-    integer, parameter :: n = 400
-    type(particles_t) :: q
-    type(surface_work_t) :: ws
-    real(wp) :: u(8), xq(2, 4), d, gmin, fn(4*n)
-    integer :: ip, a, npt, ib, owner(4*n)
+    integer, parameter :: n = 3000, nfar = 700
     integer, parameter :: bases(3) = [BASIS_LINEAR, BASIS_UGIMP, BASIS_CPDI1]
+    type(particles_t) :: q, one
+    type(surface_work_t) :: ws, wpar
+    real(wp) :: u(8), gmin, xw(2), xq(2, 4), th, tilt(2)
+    real(wp), allocatable :: fn(:)
+    integer, allocatable :: owner(:)
+    integer :: ip, npt, ib, k, j, ic, bad
     call begin_test('surface points: the skipped particles are clear of the plane')
     call particles_allocate(q, n, 4*n)
     do ip = 1, n
       call random_number(u)
-      q%half(:, ip) = 0.01_wp + 0.04_wp*u(1:2)
-      q%F(:, :, ip) = reshape([1.0_wp + 0.6_wp*(u(3) - 0.5_wp), 0.6_wp*(u(4) - 0.5_wp), &
-                               0.6_wp*(u(5) - 0.5_wp), 1.0_wp + 0.6_wp*(u(6) - 0.5_wp)], [2, 2])
-      q%x(:, ip) = [2.0_wp*u(7), 0.3_wp + 0.2_wp*(u(8) - 0.5_wp)]
-      q%r10(:, ip) = [q%half(1, ip), 0.3_wp*q%half(2, ip)]
-      q%r20(:, ip) = [-0.2_wp*q%half(1, ip), q%half(2, ip)]
-      q%mass(ip) = 1.0_wp + u(1)
+      call random_particle(q, ip, u, [2.0_wp*u(7), 0.3_wp + 0.2_wp*(u(8) - 0.5_wp)], 1.0_wp)
     end do
     do ib = 1, 3
-      npt = 0
-      gmin = 0.0_wp
-      do ip = 1, n
-        xq = particle_corners(q, ip, bases(ib), deformed=.true.)
-        do a = 1, 4
-          d = dot_product(xq(:, a) - [0.0_wp, 0.3_wp], nrm)
-          gmin = min(gmin, d)
-          if (d < 0.0_wp) then
-            npt = npt + 1
-            owner(npt) = ip
-            fn(npt) = -kf*0.25_wp*q%mass(ip)*d
-          end if
+      call plain_scan(q, bases(ib), [0.0_wp, 0.3_wp], nrm, npt, owner, fn, gmin)
+      call surface_points(q, bases(ib), [0.0_wp, 0.3_wp], nrm, kf, .false., ws)
+      call check(npt > 100 .and. npt < 4*n - 100, 'the plane cuts the cloud ('//itoa(npt)// &
+                 ' points)')
+      call check(same(ws, npt, owner, fn, gmin), 'serial: the plain scan''s points, bit for '// &
+                 'bit, basis '//itoa(ib))
+      !$ call omp_set_num_threads(2)
+      call surface_points(q, bases(ib), [0.0_wp, 0.3_wp], nrm, kf, .true., wpar)
+      !$ call omp_set_num_threads(1)
+      call check(same(wpar, npt, owner, fn, gmin), 'two threads: the plain scan''s points, '// &
+                 'bit for bit, basis '//itoa(ib))
+    end do
+    call particles_allocate(one, 1, 4)
+    do ib = 1, 3
+      bad = 0
+      do ip = 1, nfar
+        call random_number(u)
+        call random_particle(one, 1, u, [1.0e3_wp*(u(7) - 0.5_wp), 1.0e3_wp*u(8)], 1.0e-3_wp)
+        call random_number(th)
+        tilt = [sin(th - 0.5_wp), cos(th - 0.5_wp)]     ! within 0.5 rad of +y
+        xq = particle_corners(one, 1, bases(ib), deformed=.true.)
+        ic = minloc(matmul(tilt, xq), dim=1)             ! the deepest corner along tilt
+        do k = -2, 2
+          do j = -2, 2
+            xw = xq(:, ic) + [real(k, wp), real(j, wp)]*spacing(xq(:, ic))
+            call plain_scan(one, bases(ib), xw, tilt, npt, owner, fn, gmin)
+            call surface_points(one, bases(ib), xw, tilt, kf, .false., ws)
+            if (.not. same(ws, npt, owner, fn, gmin)) bad = bad + 1
+          end do
         end do
       end do
-      call surface_points(q, bases(ib), [0.0_wp, 0.3_wp], nrm, kf, .false., ws)
-      call check(npt > 20 .and. npt < 4*n - 20, 'the plane cuts the cloud ('// &
-                 itoa(npt)//' points)')
-      call check(ws%npt == npt, 'as many points as the plain scan, basis '//itoa(ib))
-      if (ws%npt == npt) then
-        call check(all(ws%owner(1:npt) == owner(1:npt)) .and. all(ws%fn(1:npt) == fn(1:npt)), &
-                   'the same points and forces, bit for bit, in order')
-      end if
-      call check(ws%gmin == gmin, 'the same deepest gap, bit for bit')
+      call check(bad == 0, itoa(25*nfar)//' planes within 2 ulps of the deepest corner: '// &
+                 itoa(bad)//' differ from the plain scan, basis '//itoa(ib))
     end do
   end subroutine random_cloud
+
+  !> Particle ip of q: half sizes scale*(0.01 ... 0.05), F within 0.3 of the identity, at x.
+  subroutine random_particle(q, ip, u, x, scale)
+    type(particles_t), intent(inout) :: q
+    integer, intent(in) :: ip
+    real(wp), intent(in) :: u(8), x(2), scale
+    q%half(:, ip) = scale*(0.01_wp + 0.04_wp*u(1:2))
+    q%F(:, :, ip) = reshape([1.0_wp + 0.6_wp*(u(3) - 0.5_wp), 0.6_wp*(u(4) - 0.5_wp), &
+                             0.6_wp*(u(5) - 0.5_wp), 1.0_wp + 0.6_wp*(u(6) - 0.5_wp)], [2, 2])
+    q%x(:, ip) = x
+    q%r10(:, ip) = [q%half(1, ip), 0.3_wp*q%half(2, ip)]
+    q%r20(:, ip) = [-0.2_wp*q%half(1, ip), q%half(2, ip)]
+    q%mass(ip) = 1.0_wp + u(1)
+  end subroutine random_particle
+
+  !> Every corner of every particle of q against the plane through xw with unit normal n: the
+  !! points behind it (owner, force) in order and the deepest gap (<= 0).
+  subroutine plain_scan(q, basis, xw, n, npt, owner, fn, gmin)
+    type(particles_t), intent(in) :: q
+    integer, intent(in) :: basis
+    real(wp), intent(in) :: xw(2), n(2)
+    integer, intent(out) :: npt
+    integer, allocatable, intent(out) :: owner(:)
+    real(wp), allocatable, intent(out) :: fn(:)
+    real(wp), intent(out) :: gmin
+    real(wp) :: xq(2, 4), d
+    integer :: ip, a
+    allocate(owner(4*q%np), fn(4*q%np))
+    npt = 0
+    gmin = 0.0_wp
+    do ip = 1, q%np
+      xq = particle_corners(q, ip, basis, deformed=.true.)
+      do a = 1, 4
+        d = dot_product(xq(:, a) - xw, n)
+        gmin = min(gmin, d)
+        if (d < 0.0_wp) then
+          npt = npt + 1
+          owner(npt) = ip
+          fn(npt) = -kf*0.25_wp*q%mass(ip)*d
+        end if
+      end do
+    end do
+  end subroutine plain_scan
+
+  !> The points of ws are those given, bit for bit, in order, and so is the deepest gap.
+  logical function same(ws, npt, owner, fn, gmin)
+    type(surface_work_t), intent(in) :: ws
+    integer, intent(in) :: npt, owner(:)
+    real(wp), intent(in) :: fn(:), gmin
+    same = ws%npt == npt .and. ws%gmin == gmin
+    if (same .and. npt > 0) same = all(ws%owner(1:npt) == owner(1:npt)) .and. &
+                                   all(ws%fn(1:npt) == fn(1:npt))
+  end function same
 
   !> A 4 x 4 grid of unit cells, node masses 1 to 2, no force, velocities set.
   subroutine grid_setup()

@@ -12,18 +12,23 @@ program test_surface_curve
   use mpm_surface_contact, only: surface_work_t, surface_points, surface_energy
   use mpm_surface_curve, only: surface_curve_points
   use testing, only: begin_test, check, check_close, finish_tests
+  use mpm_strings, only: itoa
   implicit none
   real(wp), parameter :: kf = 1.0e6_wp         ! stiffness per unit point mass [1/s^2]
   real(wp), parameter :: ri = 0.024_wp, ro = 0.026_wp, cen(2) = [0.0_wp, 0.026_wp]
   integer, parameter :: nkf = 96               ! particles around the full ring
   real(wp) :: none(4, 0), mirror(4, 1), nrm(2), xw(2), d, eps, ep, em, f, fh, eh, ef
   real(wp) :: sag, theta, dth, phi_c, phi_prev, jump, jump_c, off, xc(2)
-  integer :: i, k
-  type(particles_t) :: full, half
+  real(wp) :: gall
+  integer :: i, k, j, bad
+  type(particles_t) :: full, half, sheared
   type(surface_work_t) :: wk
 
   call ring(full, SECTOR_FULL)
   call ring(half, SECTOR_HALF)
+  sheared = full                               ! an affine map of the ring: nothing folds
+  sheared%xc(1, :) = 1.2_wp*full%xc(1, :) + 0.3_wp*full%xc(2, :)
+  sheared%xc(2, :) = 0.8_wp*full%xc(2, :)
   nrm = [0.0_wp, 1.0_wp]
 
   ! the curve lies inside the corners' circle by about r dth^2 / 8 (14 um): the B-spline of
@@ -93,6 +98,35 @@ program test_surface_curve
     call check_close(eh, 0.5_wp*ef, 'energy of the half = half the full ring''s', rtol=1.0e-12_wp)
     call check_close(fh, 0.5_wp*f, 'force of the half = half the full ring''s', rtol=1.0e-12_wp)
   end do
+
+  ! the scan reads the boundary corners only: its deepest gap (the check that stops a run whose
+  ! material passed a wall) must be the deepest of all corners, on the full and the half ring
+  ! and on a sheared copy, for walls all round at depths from a wall thickness to beyond a
+  ! diameter
+  call begin_test('the deepest gap over the boundary corners is the deepest of all corners')
+  bad = 0
+  do k = 1, 3
+    do i = 0, 71
+      theta = 2.0_wp*pi*real(i, wp)/72.0_wp
+      nrm = [sin(theta), cos(theta)]
+      do j = 1, 4
+        xw = cen - (ro - 0.002_wp*3.0_wp**(j - 1))*nrm   ! 2, 6, 18, 54 mm into the ring
+        select case (k)
+        case (1)
+          call surface_curve_points(full, xw, nrm, kf, none, 1.0e-9_wp, wk)
+          gall = min(0.0_wp, minval(matmul(nrm, full%xc) - dot_product(xw, nrm)))
+        case (2)
+          call surface_curve_points(half, xw, nrm, kf, mirror, 1.0e-9_wp, wk)
+          gall = min(0.0_wp, minval(matmul(nrm, half%xc) - dot_product(xw, nrm)))
+        case default
+          call surface_curve_points(sheared, xw, nrm, kf, none, 1.0e-9_wp, wk)
+          gall = min(0.0_wp, minval(matmul(nrm, sheared%xc) - dot_product(xw, nrm)))
+        end select
+        if (abs(wk%gmin - gall) > 1.0e-15_wp) bad = bad + 1
+      end do
+    end do
+  end do
+  call check(bad == 0, '3 x 72 x 4 walls: '//itoa(bad)//' with another deepest gap (1e-15 m)')
 
   call finish_tests('test_surface_curve')
 

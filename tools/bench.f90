@@ -36,7 +36,7 @@ program bench
   character(len=:), allocatable :: errmsg, why
   type(config_t) :: cfg
   type(sim_t) :: s
-  integer :: nargs, k, basis, scheme, n_thick, threads, steps, reps, rep, stat, det
+  integer :: nargs, k, basis, scheme, n_thick, threads, steps, reps, rep, stat, det, nmax
   real(wp) :: t0, t1, t_sim0, cpu0, cpu1
   real(wp), allocatable :: rate(:), ratio(:), cpu_rate(:)
   real(wp) :: phase(n_phases)
@@ -83,9 +83,9 @@ contains
       error stop 2
     end if
     if (threads == 0) then                 ! as tubempm with &run threads = 0
-      threads = 1
-      !$ threads = omp_get_max_threads()
-      call sys_free_threads(threads, threads, why)
+      nmax = 1
+      !$ nmax = omp_get_max_threads()
+      call sys_free_threads(nmax, threads, why)
     end if
     !$ call omp_set_num_threads(threads)
 
