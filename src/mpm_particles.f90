@@ -242,7 +242,7 @@ contains
     integer, intent(in) :: basis              !! BASIS_* code
     logical, intent(in), optional :: deformed !! linear, uGIMP: the domain carried by F
     real(wp) :: xq(2, 4)
-    real(wp) :: r1(2), r2(2)
+    real(wp) :: r1(2), r2(2), r(2, 2, 1)
     logical :: carried
     carried = .false.
     if (present(deformed)) carried = deformed
@@ -253,33 +253,44 @@ contains
       xq(:, 4) = p%xc(:, p%corner(4, ip))
       return
     end if
-    call domain_vectors(basis, carried, p%F(:, :, ip), p%half(:, ip), p%r10(:, ip), &
-                        p%r20(:, ip), r1, r2)
+    call domain_vectors(ip, ip, p%np, basis, carried, p%F, p%half, p%r10, p%r20, r)
+    r1 = r(:, 1, 1)
+    r2 = r(:, 2, 1)
     xq(:, 1) = p%x(:, ip) - r1 - r2
     xq(:, 2) = p%x(:, ip) + r1 - r2
     xq(:, 3) = p%x(:, ip) + r1 + r2
     xq(:, 4) = p%x(:, ip) - r1 + r2
   end function particle_corners
 
-  !> The half-vectors of the domain x -+ r1 -+ r2 of a particle of the bases linear, uGIMP and
-  !! CPDI1 (CPDI2's domain is its shared corners): CPDI1 F r10 and F r20; the others the half
-  !! sizes along x and y, carried by F when `carried`.
-  pure subroutine domain_vectors(basis, carried, F, half, r10, r20, r1, r2)
+  !> The half-vectors of the domains x -+ r1 -+ r2 of particles ip0..ip1 of the bases linear,
+  !! uGIMP and CPDI1 (CPDI2's domain is its shared corners): CPDI1 F r10 and F r20; the others
+  !! the half sizes along x and y, carried by F when `carried`. A range, so that a scan pays one
+  !! call per chunk, not per particle.
+  pure subroutine domain_vectors(ip0, ip1, np, basis, carried, F, half, r10, r20, r)
+    integer, intent(in) :: ip0, ip1           !! particle range [-]
+    integer, intent(in) :: np                 !! particles [-]
     integer, intent(in) :: basis              !! BASIS_* code (not CPDI2)
     logical, intent(in) :: carried            !! linear, uGIMP: the domain carried by F
-    real(wp), intent(in) :: F(2, 2)           !! deformation gradient [-]
-    real(wp), intent(in) :: half(2)           !! half sizes at t = 0 [m]
-    real(wp), intent(in) :: r10(2), r20(2)    !! CPDI1 half-vectors at t = 0 [m]
-    real(wp), intent(out) :: r1(2), r2(2)     !! half-vectors now [m]
+    real(wp), intent(in) :: F(2, 2, np)       !! deformation gradients [-]
+    real(wp), intent(in) :: half(2, np)       !! half sizes at t = 0 [m]
+    real(wp), intent(in) :: r10(2, np), r20(2, np)  !! CPDI1 half-vectors at t = 0 [m]
+    real(wp), intent(out) :: r(2, 2, ip0:ip1) !! r1 = r(:, 1, ip), r2 = r(:, 2, ip) now [m]
+    integer :: ip
     if (basis == BASIS_CPDI1) then
-      r1 = F(:, 1)*r10(1) + F(:, 2)*r10(2)     ! F r10, as matmul sums it
-      r2 = F(:, 1)*r20(1) + F(:, 2)*r20(2)
+      do ip = ip0, ip1
+        r(:, 1, ip) = F(:, 1, ip)*r10(1, ip) + F(:, 2, ip)*r10(2, ip)   ! F r10, as matmul sums
+        r(:, 2, ip) = F(:, 1, ip)*r20(1, ip) + F(:, 2, ip)*r20(2, ip)
+      end do
     else if (carried) then
-      r1 = F(:, 1)*half(1)
-      r2 = F(:, 2)*half(2)
+      do ip = ip0, ip1
+        r(:, 1, ip) = F(:, 1, ip)*half(1, ip)
+        r(:, 2, ip) = F(:, 2, ip)*half(2, ip)
+      end do
     else
-      r1 = [half(1), 0.0_wp]
-      r2 = [0.0_wp, half(2)]
+      do ip = ip0, ip1
+        r(:, 1, ip) = [half(1, ip), 0.0_wp]
+        r(:, 2, ip) = [0.0_wp, half(2, ip)]
+      end do
     end if
   end subroutine domain_vectors
 
@@ -305,11 +316,12 @@ contains
     real(wp), intent(in) :: normal(2)      !! unit normal into the material [-]
     real(wp), intent(inout) :: dmin(np)    !! deepest corner gap of each particle [m]
     real(wp), intent(inout) :: gmin        !! deepest of all (<= 0) [m]
-    real(wp) :: r1(2), r2(2), d0, mag, xq(2, 4)
+    real(wp) :: r1(2), r2(2), d0, mag, xq(2, 4), r(2, 2, ip0:ip1)
     integer :: ip, a
+    call domain_vectors(ip0, ip1, np, basis, .true., F, half, r10, r20, r)
     do ip = ip0, ip1
-      call domain_vectors(basis, .true., F(:, :, ip), half(:, ip), r10(:, ip), r20(:, ip), &
-                          r1, r2)
+      r1 = r(:, 1, ip)
+      r2 = r(:, 2, ip)
       d0 = (x(1, ip) - xw(1))*normal(1) + (x(2, ip) - xw(2))*normal(2)
       mag = abs(x(1, ip)) + abs(x(2, ip)) + abs(xw(1)) + abs(xw(2)) + abs(r1(1)) + &
             abs(r1(2)) + abs(r2(1)) + abs(r2(2))
