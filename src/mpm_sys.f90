@@ -1,9 +1,10 @@
-!> Fortran side of the C shim src/mpm_sys_c.c: directories, signals, terminal, rename.
+!> Fortran side of the C shim src/mpm_sys_c.c: directories, signals, terminal, rename, the
+!! memory available and the cores other work keeps busy (the thread count of a run).
 ! SPDX-License-Identifier: MIT
 module mpm_sys
   use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char, c_double
   use mpm_kinds, only: wp
-  use mpm_strings, only: itoa
+  use mpm_strings, only: itoa, plural
   implicit none
   private
   public :: sys_mkdir_p, sys_install_signals, sys_signal_received, sys_stdout_isatty, &
@@ -86,18 +87,22 @@ contains
     end if
     if (quota > 0 .and. quota < n) then
       n = quota
-      why = 'the cgroup CPU quota (/sys/fs/cgroup/cpu.max) allows '//itoa(quota)//' cores'
+      why = 'the cgroup CPU quota (/sys/fs/cgroup/cpu.max) allows '//plural(quota, 'core')
     end if
   end subroutine sys_free_threads
 
-  !> The CPUs a cgroup (v2) CPU quota allows, quota/period rounded up (cpu.max); 0 when there
-  !! is no quota or it cannot be read.
+  !> The CPUs a cgroup (v2) CPU quota allows, quota/period rounded up (/sys/fs/cgroup/cpu.max,
+  !! or the file the environment variable TUBEMPM_CPU_MAX names: tests); 0 when there is no
+  !! quota or it cannot be read.
   integer function cgroup_cpus() result(n)
     character(len=64) :: word
+    character(len=512) :: path
     real(wp) :: quota, period
-    integer :: u, ios
+    integer :: u, ios, l
     n = 0
-    open(newunit=u, file='/sys/fs/cgroup/cpu.max', status='old', action='read', iostat=ios)
+    call get_environment_variable('TUBEMPM_CPU_MAX', path, l, ios)
+    if (ios /= 0 .or. l == 0) path = '/sys/fs/cgroup/cpu.max'
+    open(newunit=u, file=trim(path), status='old', action='read', iostat=ios)
     if (ios /= 0) return
     read(u, *, iostat=ios) word, period
     close(u)

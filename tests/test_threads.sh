@@ -4,8 +4,8 @@
 # one thread per core that no other work keeps busy. Two threads on two cores of which one is
 # busy ran at 0.55-0.7 times one thread (docs/performance.md, Threads). Oracles: with a spinning
 # process on every core but one, the run uses 1 thread and says why (the old code took every
-# core); OMP_NUM_THREADS and &run threads are obeyed as given, spinner or not; --check and
-# scenes below the parallel size do not measure (no line, no delay).
+# core); OMP_NUM_THREADS and &run threads are obeyed as given, spinner or not; a cgroup CPU
+# quota caps the count; --check and scenes below the parallel size do not measure.
 #   usage: TUBEMPM=build/debug/tubempm bash tests/test_threads.sh SCRATCH
 set -u
 bin=${TUBEMPM:-bin/tubempm}
@@ -66,6 +66,22 @@ awk -v b="${busy:-0}" -v n=$((ncpu - 1)) 'BEGIN { exit !(b >= n - 0.5) }' && ok 
 ! grep -q "^threads:" "$scratch/given.log" "$scratch/env.log" && ok \
   || bad "a 'threads:' line although the count was given"
 ! grep -q "^threads:" "$scratch/check.log" && ok || bad "--check measured the cores"
+
+# a cgroup CPU quota caps the count (cpu.max 'quota period'; the file given by TUBEMPM_CPU_MAX),
+# 'max' is no quota
+echo "100000 100000" > "$scratch/cpu.max"
+TUBEMPM_CPU_MAX="$scratch/cpu.max" "$bin" "$scratch/auto.nml" > "$scratch/quota.log" 2>&1 \
+  || bad "quota run failed"
+grep -q "^threads: 1 of $ncpu (the cgroup CPU quota (/sys/fs/cgroup/cpu.max) allows 1 core;" \
+  "$scratch/quota.log" && [ "$(threads_of auto)" = 1 ] && ok \
+  || bad "a quota of 1 CPU: $(grep -E '^threads' "$scratch/quota.log"), summary $(threads_of auto)"
+echo "max 100000" > "$scratch/cpu.max"            # no quota: the busy cores decide
+spin_start
+TUBEMPM_CPU_MAX="$scratch/cpu.max" "$bin" "$scratch/auto.nml" > "$scratch/noquota.log" 2>&1 \
+  || bad "no-quota run failed"
+spin_stop
+grep -q "^threads: 1 of $ncpu (other work keeps" "$scratch/noquota.log" && ok \
+  || bad "cpu.max 'max' read as a quota: $(grep -E '^threads' "$scratch/noquota.log")"
 
 # a small scene (serial loops) does not measure
 case_nml small ''
