@@ -129,17 +129,36 @@ def stability_include(folder: Path) -> str:
     return "".join(lines)
 
 
+MAX_SPREAD = 0.15   # a bench whose rows spread more (median of (max - min) / median) is noise
+
+
+def bench_rows(path: Path) -> list[dict]:
+    with open(path, newline="") as fh:
+        return list(csv.DictReader(line for line in fh if not line.startswith("#")))
+
+
+def bench_spread(rows: list[dict]) -> float:
+    """Median over the rows of (max - min) / median of a row's samples."""
+    s = sorted((float(r["mps_max"]) - float(r["mps_min"])) / float(r["mps_median"]) for r in rows)
+    return s[len(s) // 2] if s else float("inf")
+
+
 def bench_include(folder: Path) -> str:
     """Median particle-steps per second per basis and thread count (1, 2) of the newest
-    `make bench` table (not the `_before` ones, nor the busy series), as a Fortran (4, 2)
+    `make bench` table (not the `_before` ones, nor the busy series) whose rows spread at most
+    MAX_SPREAD (a bench on a noisy machine would mislead --check), as a Fortran (4, 2)
     parameter."""
     tables = sorted(p for p in folder.glob("bench_*.csv")
                     if not p.stem.endswith(("_before", "_busy")))
-    if not tables:
-        raise SystemExit(f"ERROR [advice_tables]: no bench_*.csv in {folder} (run make bench)")
-    path = tables[-1]
-    with open(path, newline="") as fh:
-        rows = list(csv.DictReader(line for line in fh if not line.startswith("#")))
+    quiet = [p for p in tables if bench_spread(bench_rows(p)) <= MAX_SPREAD]
+    if not quiet:
+        raise SystemExit(f"ERROR [advice_tables]: no bench_*.csv in {folder} with a row spread "
+                         f"of at most {MAX_SPREAD:.0%} (run make bench on a quiet machine)")
+    path = quiet[-1]
+    for p in tables[tables.index(path) + 1:]:
+        print(f"advice_tables: {p.name} not used for --check's estimate: its rows spread "
+              f"{bench_spread(bench_rows(p)):.0%} (more than {MAX_SPREAD:.0%})")
+    rows = bench_rows(path)
     vals = []
     for threads in ("1", "2"):
         for b in BASES:
