@@ -18,7 +18,7 @@ module mpm_advice
                            PLANE_STRESS, SCHEME_USL, SCHEME_MUSL, BASIS_LINEAR, BASIS_UGIMP, &
                            BASIS_CPDI1, BASIS_CPDI2, MODEL_J2, MODEL_NEOHOOKEAN, &
                            VOLUMETRIC_FBAR, VOLUMETRIC_STANDARD, VOLUMETRIC_FBARWALL, &
-                           volumetric_names
+                           volumetric_names, pi
   use mpm_particles, only: ring_counts
   use mpm_config_types, only: config_t
   use mpm_walls, only: wall_t, wall_travel
@@ -87,7 +87,7 @@ contains
     integer :: nfull, npb, ncb
     associate (b => cfg%bodies(ib))
       call ring_counts(b%r_inner, b%r_outer, b%n_thick, b%n_circ, SECTOR_FULL, nfull, npb, ncb)
-      aspect = (acos(-1.0_wp)*(b%r_inner + b%r_outer)/real(nfull, wp))/ &
+      aspect = (pi*(b%r_inner + b%r_outer)/real(nfull, wp))/ &
                ((b%r_outer - b%r_inner)/real(b%n_thick, wp))
     end associate
   end function ring_aspect
@@ -581,11 +581,6 @@ contains
     end do
   end function approach_speed
 
-  !> Whether --check's own warnings condemn study run i as advice for ring body ib of the
-  !! input: the body alone with the run's settings (h = h/t t, n_thick, basis, cfl; MUSL and
-  !! FLIP, as the study ran) would be warned of by ring_resolution or advice_stability. So the
-  !! advice never recommends what the warnings condemn (the wave scene's 5 % run at n_thick = 2
-  !! is not advised: at h = t/4 it has half a particle per cell through the wall).
   !> Whether the input could take volumetric = 'fbar' or 'fbarwall' at all (the rule is
   !! mpm_config_check's, which refuses them otherwise): one velocity field (one body, no
   !! self_contact), plane strain, no neohookean material, rings only for 'fbarwall' (both
@@ -599,6 +594,11 @@ contains
                   any(cfg%materials%model_id == MODEL_NEOHOOKEAN))
   end function volumetric_fits
 
+  !> Whether --check's own warnings condemn study run i as advice for ring body ib of the
+  !! input: the body alone with the run's settings (h = h/t t, n_thick, basis, cfl; MUSL and
+  !! FLIP, as the study ran) would be warned of by ring_resolution or advice_stability. So the
+  !! advice never recommends what the warnings condemn (the wave scene's 5 % run at n_thick = 2
+  !! is not advised: at h = t/4 it has half a particle per cell through the wall).
   logical function study_condemned(cfg, ib, i) result(condemned)
     type(config_t), intent(in) :: cfg     !! the case
     integer, intent(in) :: ib             !! its (first) ring body
@@ -614,7 +614,7 @@ contains
     c%grid%h = study_h_over_t(i)*t
     c%bodies(1)%n_thick = study_n_t(i)
     ! the study run's particles around the whole ring (its aspect), a multiple of 4
-    c%bodies(1)%n_circ = max(4, 4*nint(acos(-1.0_wp)*(cfg%bodies(ib)%r_inner + &
+    c%bodies(1)%n_circ = max(4, 4*nint(pi*(cfg%bodies(ib)%r_inner + &
       cfg%bodies(ib)%r_outer)*real(study_n_t(i), wp)/(study_aspect(i)*t)/4.0_wp))
     c%solver%basis_id = findloc(basis_names, study_basis(i), dim=1)
     c%solver%scheme_id = SCHEME_MUSL

@@ -242,7 +242,7 @@ contains
     integer, intent(in) :: basis              !! BASIS_* code
     logical, intent(in), optional :: deformed !! linear, uGIMP: the domain carried by F
     real(wp) :: xq(2, 4)
-    real(wp) :: r1(2), r2(2), r(2, 2, 1)
+    real(wp) :: r(2, 2, 1)
     logical :: carried
     carried = .false.
     if (present(deformed)) carried = deformed
@@ -254,12 +254,10 @@ contains
       return
     end if
     call domain_vectors(ip, ip, p%np, basis, carried, p%F, p%half, p%r10, p%r20, r)
-    r1 = r(:, 1, 1)
-    r2 = r(:, 2, 1)
-    xq(:, 1) = p%x(:, ip) - r1 - r2
-    xq(:, 2) = p%x(:, ip) + r1 - r2
-    xq(:, 3) = p%x(:, ip) + r1 + r2
-    xq(:, 4) = p%x(:, ip) - r1 + r2
+    xq(:, 1) = p%x(:, ip) - r(:, 1, 1) - r(:, 2, 1)
+    xq(:, 2) = p%x(:, ip) + r(:, 1, 1) - r(:, 2, 1)
+    xq(:, 3) = p%x(:, ip) + r(:, 1, 1) + r(:, 2, 1)
+    xq(:, 4) = p%x(:, ip) - r(:, 1, 1) + r(:, 2, 1)
   end function particle_corners
 
   !> The half-vectors of the domains x -+ r1 -+ r2 of particles ip0..ip1 of the bases linear,
