@@ -85,7 +85,7 @@ contains
       write(b, '(f6.1)') busy
       why = 'other work keeps '//trim(adjustl(b))//' of the '//itoa(ncpu)//' cores busy'
     end if
-    if (quota > 0 .and. quota < n) then
+    if (quota > 0 .and. quota <= n) then   ! the quota binds (named too when both give n)
       n = quota
       why = 'the cgroup CPU quota (/sys/fs/cgroup/cpu.max) allows '//plural(quota, 'core')
     end if
