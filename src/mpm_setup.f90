@@ -169,6 +169,7 @@ contains
     integer :: nb, ip, a, k, i, j
     integer :: first(size(cfg%bodies))
     real(wp) :: centers(2, size(cfg%bodies))
+    logical :: self(size(cfg%bodies))      ! the bodies with self-contact (contiguous)
     nb = size(cfg%bodies)
     s%prm%nbody = nb
     s%prm%nf = contact_fields(cfg)
@@ -185,10 +186,11 @@ contains
       s%prm%field_body(k) = i
     end do
     s%prm%field = first(s%p%body(1:s%p%np))
-    if (any(cfg%bodies%self_contact)) then
+    self = cfg%bodies%self_contact
+    if (any(self)) then
       allocate(s%prm%self_bond(s%p%np))
       call self_contact_split(s%p%x(:, 1:s%p%np), s%p%half(:, 1:s%p%np), s%p%body(1:s%p%np), &
-                              cfg%bodies%self_contact, centers, first, cfg%grid%h, &
+                              self, centers, first, cfg%grid%h, &
                               s%prm%field, s%prm%self_bond)
     end if
     s%prm%corner_field = 1
