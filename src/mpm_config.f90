@@ -13,7 +13,7 @@ module mpm_config
   use mpm_kinds, only: wp
   use mpm_constants, only: EXIT_INPUT, EXIT_IO, sector_names, BASIS_CPDI2, SCHEME_MUSL, &
                            PLANE_STRAIN, MODEL_J2, RATE_NONE, RATE_COWPER_SYMONDS, SHAPE_RING, &
-                           SHAPE_RECT, SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER, &
+                           SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER, &
                            CONTACT_FRICTIONLESS, CONTACT_COULOMB, FLOW_LINEAR, FLOW_JOHNSON_COOK
   use mpm_config_types, only: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, &
                               body_cfg_t, wall_cfg_t, probe_cfg_t, contact_cfg_t, unset_real, &
@@ -23,7 +23,7 @@ module mpm_config
   use mpm_config_lexer, only: reader_t, load_lines, has_content, scan_source, check_groups, &
                               join_msgs, open_occ
   use mpm_config_values, only: values_t, read_group, store_rows, vreal, vvec, vtab, vint, &
-                               vtext, chk_r, chk_v, table_count, err_var, warn_var, warn_group
+                               chk_r, chk_v, table_count, err_var, warn_var, warn_group
   use mpm_config_check, only: cross_checks, advice_checks
   use mpm_config_echo, only: write_config, write_config_unit, config_values
   implicit none
@@ -317,8 +317,8 @@ contains
     end if
   end subroutine check_material
 
-  !> &body: the sector (full when not given), the radii and n_circ of a ring, and the
-  !! variables of the other shape.
+  !> &body: the sector (full when not given), the radii and n_circ of a ring (the variables of
+  !! the other shapes are warned of by store_rows, from the table's `only`).
   subroutine check_body(rd, io, v, b)
     type(reader_t), intent(inout) :: rd
     integer, intent(in) :: io
@@ -350,14 +350,6 @@ contains
       if (b%self_contact .and. b%sector_id == SECTOR_QUARTER) call err_var(rd, io, &
         'self_contact', '.true.', 'not with sector = ''quarter'' (it meets its mirror image on '// &
         'the plane y = centre)')
-      if (count(vvec(v, 'size') /= unset_real) > 0 .or. vint(v, 'n_x') /= iunset .or. &
-          vint(v, 'n_y') /= iunset) call warn_group(rd, io, &
-        'size, n_x, n_y are ignored for shape = ''ring''')
-    else if (b%shape_id == SHAPE_RECT) then
-      if (vreal(v, 'r_inner') /= unset_real .or. vreal(v, 'r_outer') /= unset_real .or. &
-          vint(v, 'n_thick') /= iunset .or. vint(v, 'n_circ') /= iunset .or. &
-          len_trim(vtext(v, 'sector')) > 0 .or. b%self_contact) call warn_group(rd, io, &
-        'r_inner, r_outer, n_thick, n_circ, sector, self_contact are ignored for shape = ''rect''')
     end if
   end subroutine check_body
 

@@ -9,7 +9,7 @@
 ! grid, an empty motion table) become one comment line that names them.
 module mpm_config_echo
   use mpm_kinds, only: wp
-  use mpm_constants, only: EXIT_IO, max_table, SHAPE_RECT, FLOW_JOHNSON_COOK, VOLUMETRIC_FBAR
+  use mpm_constants, only: EXIT_IO, max_table, shape_names, shape_plural, FLOW_JOHNSON_COOK, VOLUMETRIC_FBAR
   use mpm_config_types, only: config_t, unset_real
   use mpm_config_text, only: itoa, quote, fmt_real, fmt_vec, fmt_logical, finite
   use mpm_config_table, only: specs, n_specs, n_groups, group_names, group_specs, echo_comment, &
@@ -31,7 +31,7 @@ module mpm_config_echo
     type(values_t) :: v
     logical :: hide(n_specs) = .false.
     logical :: silent(n_specs) = .false.   ! rows left out without a comment (their default)
-    character(len=64) :: why = ''
+    character(len=64) :: why(n_specs) = ''  ! why each row left out is (a comment, or none)
     integer :: n_motion = 0
   end type echo_t
 
@@ -143,7 +143,8 @@ contains
     type(echo_t), intent(inout) :: e
     type(field_t) :: f(n_specs)
     integer, allocatable :: idx(:)
-    integer :: j
+    integer :: j, r
+    character(len=len(shape_names)) :: shape
     e%v%group = group_names(ig)
     e%hide = .false.
     e%silent = .false.
@@ -166,14 +167,16 @@ contains
       e%hide(idx) = cfg%materials(k)%flow_stress_id /= FLOW_JOHNSON_COOK .and. &
         (specs(idx)%name == 'flow_stress' .or. specs(idx)%name(1:3) == 'jc_')
     case (5)
-      if (cfg%bodies(k)%shape_id == SHAPE_RECT) then
-        e%hide(idx) = specs(idx)%only == 'ring'
-        e%why = 'for rings only'
-      else
-        e%hide(idx) = specs(idx)%only == 'rect'
-        e%why = 'for rectangles only'
-        e%silent(idx) = specs(idx)%name == 'self_contact' .and. .not. cfg%bodies(k)%self_contact
-      end if
+      shape = shape_names(1)                 ! (a record not resolved: as a ring)
+      if (cfg%bodies(k)%shape_id > 0) shape = shape_names(cfg%bodies(k)%shape_id)
+      do j = 1, size(idx)                    ! the variables of the other shapes
+        r = idx(j)
+        if (len_trim(specs(r)%only) == 0 .or. specs(r)%only == shape) cycle
+        e%hide(r) = .true.
+        e%why(r) = 'for '//trim(shape_plural(findloc(shape_names, specs(r)%only, 1)))//' only'
+      end do
+      e%silent(idx) = specs(idx)%name == 'self_contact' .and. .not. e%hide(idx) .and. &
+                      .not. cfg%bodies(k)%self_contact
     case (6)
       e%n_motion = cfg%walls(k)%n_motion
       e%hide(idx) = e%n_motion == 0 .and. specs(idx)%n == max_table
@@ -194,6 +197,7 @@ contains
     integer, intent(in) :: k                  !! occurrence, 0 for a single group
     integer, allocatable :: idx(:)
     integer :: j, r
+    logical :: run_ends
     character(len=:), allocatable :: names
     call w_line(w, '')
     if (k == 0) then
@@ -206,15 +210,14 @@ contains
     do j = 1, size(idx)
       r = idx(j)
       if (e%silent(r)) cycle
-      if (e%hide(r)) then                      ! a run of rows left out: one comment line
-        if (len(names) > 0) names = names//', '
+      if (e%hide(r)) then                      ! a run of rows left out for one reason: one
+        if (len(names) > 0) names = names//', '  ! comment line (none when the reason is '')
         names = names//trim(specs(r)%name)
-        if (len_trim(e%why) == 0) then
-          continue
-        else if (j == size(idx)) then
-          call w_line(w, '  ! '//names//': '//trim(e%why))
-        else if (.not. e%hide(idx(j+1))) then
-          call w_line(w, '  ! '//names//': '//trim(e%why))
+        run_ends = j == size(idx)
+        if (.not. run_ends) run_ends = .not. e%hide(idx(j+1)) .or. e%why(idx(j+1)) /= e%why(r)
+        if (run_ends) then
+          if (len_trim(e%why(r)) > 0) call w_line(w, '  ! '//names//': '//trim(e%why(r)))
+          names = ''
         end if
         cycle
       end if

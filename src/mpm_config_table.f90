@@ -67,13 +67,12 @@ module mpm_config_table
     character(len=:), pointer :: c => null()
   end type field_t
 
-  integer, parameter :: n_specs = 66
   character(len=*), parameter :: s0 = 'a real number >= 0 [s] (default 0)'
   character(len=*), parameter :: v0 = '2 finite real numbers [m/s] (default 0, 0)'
   character(len=*), parameter :: lu = '2 real numbers [m] each for lower and upper, lower '// &
     '< upper in both components, both given or neither (then fitted)'
 
-  type(var_spec_t), parameter :: specs(n_specs) = [ &
+  type(var_spec_t), parameter :: specs(*) = [ &
     ! ---------------------------------------------------------------------------- &run
     var_spec_t('run', 'title', 'c', unset='emp', unset_note='default: the file name stem', &
       allowed='text of at most 64 characters (default: the file name stem)', &
@@ -229,17 +228,14 @@ module mpm_config_table
     var_spec_t('contact', 'law', 'e', c0='frictionless', comment='%'), &
     var_spec_t('contact', 'friction', lo=0.0_wp, allowed='a real number >= 0, and > 0 only '// &
       'with law = ''coulomb'' (default 0)', comment='Coulomb coefficient [-]')]
+  integer, parameter :: n_specs = size(specs)   !! rows (counted, not written)
 
 contains
 
   !> Index of a group name in group_names, 0 if unknown.
   pure integer function group_id(name)
     character(len=*), intent(in) :: name   !! group name, lower case
-    integer :: k
-    group_id = 0
-    do k = 1, n_groups
-      if (name == trim(group_names(k))) group_id = k
-    end do
+    group_id = findloc(group_names, name, 1)
   end function group_id
 
   !> Row of variable `name` (case-insensitive, as the file writes it) of a group, 0 if none.
@@ -281,29 +277,18 @@ contains
     character(len=*), intent(in) :: list   !! the variable's name
     character(len=name_len), allocatable :: names(:)
     select case (list)
-    case ('basis')
-      names = basis_names
-    case ('scheme')
-      names = scheme_names
-    case ('plane')
-      names = plane_names
+    case ('basis'); names = basis_names
+    case ('scheme'); names = scheme_names
+    case ('plane'); names = plane_names
     case ('volumetric'); names = volumetric_names
-    case ('model')
-      names = model_names
-    case ('rate_law')
-      names = rate_law_names
-    case ('flow_stress')
-      names = flow_stress_names
-    case ('shape')
-      names = shape_names
-    case ('sector')
-      names = sector_names
-    case ('contact')
-      names = contact_names
-    case ('law')
-      names = contact_names(1:3)             ! between bodies: no mirror plane ('slip')
-    case default
-      allocate(names(0))
+    case ('model'); names = model_names
+    case ('rate_law'); names = rate_law_names
+    case ('flow_stress'); names = flow_stress_names
+    case ('shape'); names = shape_names
+    case ('sector'); names = sector_names
+    case ('contact'); names = contact_names
+    case ('law'); names = contact_names(1:3)  ! between bodies: no mirror plane ('slip')
+    case default; allocate(names(0))
     end select
   end function enum_names
 

@@ -296,9 +296,7 @@ contains
     real(wp), intent(in) :: x
     character(len=:), allocatable :: s
     s = fmt_real(x)
-    if (finite(x)) then
-      if (x == unset_real) s = '(none)'
-    end if
+    if (x == unset_real) s = '(none)'   ! (false for NaN and the infinities)
   end function fmt_given
 
   function fmt_list(v) result(s)
@@ -315,11 +313,7 @@ contains
   pure function fmt_logical(l) result(s)
     logical, intent(in) :: l
     character(len=:), allocatable :: s
-    if (l) then
-      s = '.true.'
-    else
-      s = '.false.'
-    end if
+    s = trim(merge('.true. ', '.false.', l))
   end function fmt_logical
 
   !> The text of a quoted value without its quotes, doubled quotes made single.

@@ -10,7 +10,7 @@ module mpm_config_values
   use mpm_constants, only: max_table, name_len
   use mpm_config_types, only: unset_real, iunset
   use mpm_config_text, only: lower, itoa, quote, unquote, suggestion, fmt_real, fmt_vec, &
-                             fmt_list, finite
+                             fmt_list, finite, join_list
   use mpm_config_table, only: specs, n_specs, spec_index, var_list, var_names, allowed_text, &
                               enum_names, group_specs, field_t
   use mpm_config_lexer, only: reader_t, tk_string, add_err, add_warn, label, var_where
@@ -409,25 +409,34 @@ contains
   !> Check every row of occurrence io against the table and store each usable value given
   !! through its field: reals (chk_r, chk_v), integers given when required and >= lo, texts
   !! given when required and not too long, names of a list (case-insensitive; stored as the
-  !! list spells them, with their code). Left to the group's own rules: rows marked `own`, and
-  !! rows `only` for another body shape than the one given (the row `shape` comes first).
+  !! list spells them, with their code). Left to the group's own rules: rows marked `own`.
+  !! Rows `only` for another body shape than the one given (the row `shape` comes first) are not
+  !! stored, and a warning names them all when any of them was given.
   subroutine store_rows(rd, io, v, f)
     type(reader_t), intent(inout) :: rd
     integer, intent(in) :: io
     type(values_t), intent(in) :: v
     type(field_t), intent(in) :: f(n_specs)   !! bind_fields of the record to fill
-    integer, allocatable :: idx(:)
+    integer, allocatable :: idx(:), other(:)
     integer :: j, r, id, n
     character(len=4) :: shape
     character(len=:), allocatable :: name, t
     character(len=name_len), allocatable :: names(:)
+    logical :: given_other
     idx = group_specs(v%group)
     shape = ''
+    allocate(other(0))
+    given_other = .false.
     do j = 1, size(idx)
       r = idx(j)
       associate (sp => specs(r))
         name = trim(sp%name)
-        if (sp%own .or. (len_trim(sp%only) > 0 .and. sp%only /= shape)) cycle
+        if (len_trim(sp%only) > 0 .and. sp%only /= shape) then
+          other = [other, r]
+          given_other = given_other .or. row_given(v, r)
+          cycle
+        end if
+        if (sp%own) cycle
         t = trim(adjustl(v%c(r)))
         select case (sp%kind)
         case ('r')
@@ -473,7 +482,24 @@ contains
         end select
       end associate
     end do
+    if (given_other .and. len_trim(shape) > 0) then
+      names = specs(other)%name
+      call warn_group(rd, io, join_list(names, '')//' are ignored for shape = '''// &
+                      trim(shape)//'''')
+    end if
   end subroutine store_rows
+
+  !> Whether row r was given: its value differs from the value the reader starts from.
+  pure logical function row_given(v, r)
+    type(values_t), intent(in) :: v
+    integer, intent(in) :: r
+    character(len=1) :: kind
+    kind = specs(r)%kind
+    row_given = len_trim(v%c(r)) > 0 .and. (specs(r)%c_blank .or. v%c(r) /= specs(r)%c0)
+    if (kind == 'r') row_given = any(v%r(1:specs(r)%n, r) /= specs(r)%r0)
+    if (kind == 'i') row_given = v%i(r) /= specs(r)%i0
+    if (kind == 'l') row_given = v%l(r) .neqv. specs(r)%l0
+  end function row_given
 
   !> The values of a record through its fields, as the reader would store them (names of
   !! list variables from their codes; whole numbers as reals); idx: the group's rows.

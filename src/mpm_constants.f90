@@ -13,7 +13,7 @@ module mpm_constants
   public :: MODEL_ELASTIC, MODEL_NEOHOOKEAN, MODEL_J2, model_names
   public :: RATE_NONE, RATE_COWPER_SYMONDS, rate_law_names
   public :: FLOW_LINEAR, FLOW_JOHNSON_COOK, flow_stress_names
-  public :: SHAPE_RING, SHAPE_RECT, shape_names
+  public :: SHAPE_RING, SHAPE_RECT, shape_names, shape_plural
   public :: SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER, sector_names
   public :: CONTACT_FRICTIONLESS, CONTACT_COULOMB, CONTACT_STICK, CONTACT_SLIP, contact_names
 
@@ -53,6 +53,7 @@ module mpm_constants
     'linear', 'johnson_cook']
   integer, parameter :: SHAPE_RING = 1, SHAPE_RECT = 2
   character(len=*), parameter :: shape_names(2) = [character(len=4) :: 'ring', 'rect']
+  character(len=*), parameter :: shape_plural(2) = [character(len=10) :: 'rings', 'rectangles']
   integer, parameter :: SECTOR_FULL = 1, SECTOR_HALF = 2, SECTOR_QUARTER = 3
   character(len=*), parameter :: sector_names(3) = [character(len=7) :: &
     'full', 'half', 'quarter']

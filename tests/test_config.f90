@@ -300,7 +300,61 @@ contains
       > 0, 'h >= wall thickness is a warning: '//warn)
     call check(index(warn, 'warn.nml:5: &wall #1: ramp = 1e-4: ignored') > 0, &
       'ramp with a motion table is a warning')
+    call test_other_shape()
   end subroutine test_warnings
+
+  !> The variables of another body shape (the table's `only`): a warning that names them all
+  !! when any of them is given (whatever its value but the reader's start value), none
+  !! otherwise; the echo leaves them out with one comment line that names the shape they are
+  !! for.
+  subroutine test_other_shape()
+    type(config_t) :: c
+    integer :: stat
+    character(len=:), allocatable :: msg, warn, f, echo
+    character(len=*), parameter :: rect = '&body shape = ''rect'', size = 4e-3, 4e-3, n_x = 4, '// &
+      'n_y = 4'
+    character(len=*), parameter :: to_rings = 'r_inner, r_outer, n_thick, n_circ, sector, '// &
+      'self_contact are ignored for shape = ''rect'''
+    f = write_case('shape1', [character(len=160) :: run_ok, grid_ok, mat_ok, &
+      '&body r_inner = 24e-3, r_outer = 26e-3, n_y = 3 /', rect//', sector = ''half'' /', &
+      rect//', center = 0, 1e-2, self_contact = .false. /', rect//', center = 0, 2e-2 /', &
+      rect//', center = 0, 3e-2, self_contact = .true. /', &
+      '&body center = 0, 1, r_inner = 24e-3, r_outer = 26e-3, size = 0, 1 /'])
+    call read_config(f, c, stat, msg, warn)
+    call check(stat == 0, 'other shapes'' variables do not fail the read: '//msg)
+    call check(index(warn, 'shape1.nml:4: &body #1: size, n_x, n_y are ignored for shape = '// &
+      '''ring''') > 0, 'n_y of a ring is warned of: '//warn)
+    call check(index(warn, 'shape1.nml:5: &body #2: '//to_rings) > 0, 'sector of a rect')
+    call check(index(warn, 'shape1.nml:6:') == 0, 'self_contact = .false. (its default) of '// &
+      'a rect is not warned of')
+    call check(index(warn, 'shape1.nml:7:') == 0, 'a rect without ring variables')
+    call check(index(warn, 'shape1.nml:8: &body #5: '//to_rings) > 0, 'self_contact = .true. '// &
+      'of a rect')
+    call check(index(warn, 'shape1.nml:9: &body #6: size, n_x, n_y') > 0, 'size = 0, 1 of a '// &
+      'ring (one component given)')
+    call write_config(c, dir//'/shape1_echo.nml', stat, msg)
+    echo = file_text(dir//'/shape1_echo.nml')
+    call check(count_of(echo, '  ! size, n_x, n_y: for rectangles only') == 2, &
+      'the echo names the rectangles'' variables once per ring')
+    call check(count_of(echo, '  ! r_inner, r_outer, n_thick, n_circ, sector, self_contact: '// &
+      'for rings only') == 4, 'the echo names the rings'' variables once per rectangle')
+    call check(count_of(echo, 'self_contact =') == 0, 'no ring here has self-contact: '// &
+      'self_contact is left out without a line')
+  end subroutine test_other_shape
+
+  !> How often `part` occurs in `text`.
+  pure integer function count_of(text, part) result(n)
+    character(len=*), intent(in) :: text, part
+    integer :: i, k
+    n = 0
+    i = 1
+    do
+      k = index(text(i:), part)
+      if (k == 0) exit
+      n = n + 1
+      i = i + k + len(part) - 1
+    end do
+  end function count_of
 
   !> A case built in code (mpm_scene_builder) and resolved by config_resolve equals the same
   !! case read from a file (the echoes are the same text); a mistake in a built case gives the
