@@ -19,11 +19,11 @@
 module mpm_budget
   use mpm_kinds, only: wp
   use mpm_constants, only: EXIT_INPUT, SHAPE_RING, SECTOR_FULL, SECTOR_HALF, &
-                           SECTOR_QUARTER, BASIS_LINEAR, BASIS_CPDI2, VOLUMETRIC_FBAR, &
+                           SECTOR_QUARTER, BASIS_CPDI2, VOLUMETRIC_FBAR, &
                            VOLUMETRIC_FBARWALL, CONTACT_SLIP
   use mpm_config, only: config_t
   use mpm_shapes, only: body_box, body_estimate
-  use mpm_particles, only: basis_reach
+  use mpm_particles, only: basis_reach, basis_block
   use mpm_advice, only: advice_units
   implicit none
   private
@@ -74,9 +74,7 @@ contains
       hi = max(hi, bhi)
       if (cfg%bodies(ib)%shape_id == SHAPE_RING) sector = max(sector, cfg%bodies(ib)%sector_id)
     end do
-    ! the block: 2 nodes for linear weights, else the support (the domain plus a cell each side)
-    b%nb = 2
-    if (cfg%solver%basis_id /= BASIS_LINEAR) b%nb = 2 + max(1, ceiling(min(ext_max/h, 1.0e6_wp)))
+    b%nb = basis_block(cfg%solver%basis_id, ext_max, h)
     nmirror = 0
     if (sector == SECTOR_HALF) nmirror = 1
     if (sector == SECTOR_QUARTER) nmirror = 2

@@ -14,7 +14,7 @@ module mpm_particles
   private
   public :: particles_t, particles_allocate, ring_counts, ring_fill, rect_counts, rect_fill, &
             quad_area_centroid, particles_memory_bytes, particles_write, particles_read, &
-            particle_corners, particles_copy, basis_reach, corner_gaps
+            particle_corners, particles_copy, basis_reach, basis_block, corner_gaps
 
   !> All particles of all bodies. Component index first.
   type :: particles_t
@@ -344,6 +344,18 @@ contains
     reach = 0.0_wp
     if (basis /= BASIS_LINEAR) reach = half_max
   end function basis_reach
+
+  !> Nodes per direction of a particle's block of weights: 2 for the linear basis (its particle
+  !! is a point: the 4 nodes of its cell), else the support of a domain `ext` across (the
+  !! domain and a cell each side), at least 3. mpm_weights starts from the smallest (ext = 0)
+  !! and widens the blocks when domains grow; mpm_budget estimates it from the input.
+  pure integer function basis_block(basis, ext, h) result(nb)
+    integer, intent(in) :: basis              !! BASIS_* code
+    real(wp), intent(in) :: ext               !! largest domain extent [m]
+    real(wp), intent(in) :: h                 !! cell size [m]
+    nb = 2
+    if (basis /= BASIS_LINEAR) nb = 2 + max(1, ceiling(min(ext/h, 1.0e6_wp)))
+  end function basis_block
 
   !> dst = src, reusing dst's arrays when they have the sizes already (the driver copies the
   !! particles every few steps as the last good state: no allocation each time).

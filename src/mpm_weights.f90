@@ -6,6 +6,7 @@ module mpm_weights
   use mpm_constants, only: EXIT_NUMERIC, BASIS_LINEAR, BASIS_UGIMP, BASIS_CPDI1, BASIS_CPDI2
   use mpm_grid, only: grid_t, grid_grow
   use mpm_basis, only: weights_linear, weights_ugimp, weights_cpdi1, weights_cpdi2
+  use mpm_particles, only: basis_block
   use mpm_state, only: params_t, state_t, work_t, diag_t, chunk, state_context
   use mpm_strings, only: itoa, rtoa
   implicit none
@@ -28,10 +29,7 @@ contains
     real(wp) :: origin(2), h, jmin_all
     stat = 0
     if (wk%nb == 0) then
-      select case (prm%basis)
-      case (BASIS_LINEAR); wk%nb = 2
-      case default; wk%nb = 3
-      end select
+      wk%nb = basis_block(prm%basis, 0.0_wp, g%h)
       call allocate_cache(wk, st%p%np)
     end if
     do attempt = 1, 8

@@ -12,6 +12,8 @@ program test_basis
   use mpm_constants, only: pi
   use mpm_basis, only: weights_linear, weights_ugimp, weights_cpdi1, weights_cpdi2, cpdi2_geometry, &
                        bilinear_at
+  use mpm_constants, only: BASIS_LINEAR, BASIS_UGIMP, BASIS_CPDI1, BASIS_CPDI2
+  use mpm_particles, only: basis_block
   use testing, only: begin_test, check, check_close, finish_tests
   implicit none
 
@@ -58,10 +60,48 @@ program test_basis
   end do
   call run_set(K_CPDI2, 'scaled grid, cpdi2', pars, .true.)
   call gauss_set('scaled grid, cpdi2 vs Gauss', pars)
+  call test_block_width()
 
   call finish_tests('test_basis')
 
 contains
+
+  ! ---------------------------------------------------------------------------------------------
+  ! basis_block (mpm_particles): the block width that mpm_weights starts from and mpm_budget
+  ! estimates with holds what each basis routine says its particle needs, for domains up to
+  ! the extent given (the bounding box of the domain, up to 3 cells), and the linear basis
+  ! needs exactly its 2.
+  subroutine test_block_width()
+    integer, parameter :: basis_of(4) = [BASIS_LINEAR, BASIS_UGIMP, BASIS_CPDI1, BASIS_CPDI2]
+    real(wp) :: p(8), xc(2, 4), w(nbig*nbig), gw(2, nbig*nbig), ext
+    integer :: kind, k, i0, j0, need, nb, bad
+    call begin_test('block width (basis_block)')
+    call check(basis_block(BASIS_CPDI2, 0.0_wp, h) == 3, 'a domain basis starts at 3 nodes')
+    do kind = K_LINEAR, K_CPDI2
+      bad = 0
+      do k = 1, nrand
+        select case (kind)
+        case (K_LINEAR); call random_linear(p)
+        case (K_UGIMP); call random_ugimp(0.05_wp, 1.5_wp, p)
+        case (K_CPDI1); call random_parallelogram(0.05_wp, 0.75_wp, p)
+        case default; call random_convex_quad(0.1_wp, 1.5_wp, p)
+        end select
+        call eval_basis(kind, p, nbig, i0, j0, w, gw, need)
+        select case (kind)
+        case (K_LINEAR); ext = 0.0_wp
+        case (K_UGIMP); ext = 2.0_wp*maxval(p(3:4))
+        case (K_CPDI1); xc = corners_of(p)
+        case default; xc = reshape(p, [2, 4])
+        end select
+        if (kind >= K_CPDI1) ext = max(maxval(xc(1, :)) - minval(xc(1, :)), &
+                                       maxval(xc(2, :)) - minval(xc(2, :)))
+        nb = basis_block(basis_of(kind), ext, h)
+        if (need > nb .or. (kind == K_LINEAR .and. nb /= 2)) bad = bad + 1
+      end do
+      call check(bad == 0, 'kind '//achar(48 + kind)//': the block holds what the basis '// &
+                 'needs (failures: '//achar(48 + min(bad, 9))//')')
+    end do
+  end subroutine test_block_width
 
   ! ---------------------------------------------------------------------------------------------
   ! Set-ups
