@@ -129,17 +129,21 @@ contains
     type(tiles_t), intent(inout) :: tl    !! tiles
     type(grid_t), intent(inout) :: g      !! grid
     logical, intent(in) :: par            !! run in parallel
-    integer :: k, j, n0, n1, f
-    !$omp parallel do default(none) schedule(static) shared(tl, g) private(k, j, n0, n1, f) &
+    integer :: k, j, n0, n1, f, n
+    !$omp parallel do default(none) schedule(static) shared(tl, g) private(k, j, n0, n1, f, n) &
     !$omp   if(par)
     do k = 1, tl%nspan
       do f = 0, g%nf - 1
         do j = tl%span(3, k), tl%span(4, k)
           n0 = 1 + tl%span(1, k) + g%nx*j + f*g%nn
           n1 = 1 + tl%span(2, k) + g%nx*j + f*g%nn
-          g%mass(n0:n1) = 0.0_wp
-          g%mom(:, n0:n1) = 0.0_wp
-          g%force(:, n0:n1) = 0.0_wp
+          do n = n0, n1                      ! (element by element: `mom(:, n0:n1) = 0` was a
+            g%mass(n) = 0.0_wp               ! memset call per node)
+            g%mom(1, n) = 0.0_wp
+            g%mom(2, n) = 0.0_wp
+            g%force(1, n) = 0.0_wp
+            g%force(2, n) = 0.0_wp
+          end do
         end do
       end do
     end do
