@@ -181,14 +181,17 @@ contains
     integer, intent(out) :: tile(np)       !! tile id of each particle
     integer, intent(inout) :: occupied(:)  !! stamp of the last pass binning into each tile
     logical, intent(in) :: par             !! run in parallel
-    integer :: ip, t
-    !$omp parallel do default(none) schedule(static) shared(np, shift, ntx, stamp, blk, tile, &
-    !$omp   occupied) private(ip, t) if(par)
+    integer :: ip, t, down, nt, mark
+    down = shift                           ! (private copies: the loop keeps them in registers)
+    nt = ntx
+    mark = stamp
+    !$omp parallel do default(none) schedule(static) shared(np, blk, tile, occupied) &
+    !$omp   firstprivate(down, nt, mark) private(ip, t) if(par)
     do ip = 1, np
-      t = 1 + ishft(blk(1, ip), -shift) + ntx*ishft(blk(2, ip), -shift)
+      t = 1 + shiftr(blk(1, ip), down) + nt*shiftr(blk(2, ip), down)   ! = ishft(., -shift)
       tile(ip) = t
       !$omp atomic write
-      occupied(t) = stamp
+      occupied(t) = mark
     end do
     !$omp end parallel do
   end subroutine mark_tiles
