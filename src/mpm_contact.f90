@@ -66,26 +66,25 @@ contains
     type(tiles_t), intent(inout) :: tl     !! live spans (span sums untouched)
     type(work_t), intent(inout) :: wk      !! per-wall data of the step
     real(wp), intent(in) :: dt             !! time step [s]
-    integer :: k, i0, i1, j0, j1, i, j, n, f
+    integer :: k, i0, i1, j0, j1, i, j, n0, f, ib, ia
     real(wp) :: tol
-    logical :: near
     call wall_setup(st, g, wk, dt, tol)
     !$omp parallel do default(none) schedule(static) shared(st, g, tl, wk, dt, tol) &
-    !$omp   private(k, i0, i1, j0, j1, i, j, n, f, near) if(wk%par)
+    !$omp   private(k, i0, i1, j0, j1, i, j, n0, f, ib, ia) if(wk%par)
     do k = 1, tl%nspan
       call tiles_span(tl, k, i0, i1, j0, j1)
-      near = span_near_slip(st, wk, g, i0, i1, j0, j1)
+      call slip_columns(st, wk, g, i0, i1, j0, j1, ib, ia)
       do f = 0, g%nf - 1
         do j = j0, j1
-          do i = i0, i1
-            n = 1 + i + g%nx*j + f*g%nn
-            if (g%mass(n) > g%mass_cut) then
-              g%vel(:, n) = g%mom(:, n)/g%mass(n)
-              if (near) call node_walls(st, wk, g, tl, i, j, n, tol, 0, 0.0_wp)
-            else
-              g%vel(1, n) = 0.0_wp             ! (element by element: no memset call)
-              g%vel(2, n) = 0.0_wp
-            end if
+          n0 = g%nx*j + f*g%nn                 ! node (i, j) of field f is n0 + 1 + i
+          call velocity_row(i0, i1, n0, size(g%mass), g%mass, g%mom, g%mass_cut, g%vel)
+          do i = i0, min(ib, i1)               ! then the mirror planes, node by node
+            if (g%mass(n0 + 1 + i) > g%mass_cut) &
+              call node_walls(st, wk, g, tl, i, j, n0 + 1 + i, tol, 0, 0.0_wp)
+          end do
+          do i = max(ia, ib + 1, i0), i1
+            if (g%mass(n0 + 1 + i) > g%mass_cut) &
+              call node_walls(st, wk, g, tl, i, j, n0 + 1 + i, tol, 0, 0.0_wp)
           end do
         end do
       end do
@@ -104,9 +103,8 @@ contains
     type(tiles_t), intent(inout) :: tl     !! live spans, partial sums per span
     type(work_t), intent(inout) :: wk      !! per-wall data, surface points
     real(wp), intent(in) :: dt             !! time step [s]
-    integer :: k, i0, i1, j0, j1, i, j, n, nact, iw, f
-    real(wp) :: v0(2), v1(2), fac, edamp, damping, tol, flip
-    logical :: near
+    integer :: k, i0, i1, j0, j1, i, j, n0, nact, iw, f, ib, ia
+    real(wp) :: fac, edamp, damping, tol, flip
     call wall_setup(st, g, wk, dt, tol)
     call surface_forces(prm, st, g, wk, dt)
     flip = prm%flip
@@ -115,34 +113,25 @@ contains
     nact = 0
     !$omp parallel do default(none) schedule(static) &
     !$omp   shared(st, g, tl, wk, dt, fac, damping, tol, flip) &
-    !$omp   private(k, i0, i1, j0, j1, i, j, n, v0, v1, edamp, f, near) reduction(+: nact) &
+    !$omp   private(k, i0, i1, j0, j1, i, j, n0, edamp, f, ib, ia) reduction(+: nact) &
     !$omp   if(wk%par)
     do k = 1, tl%nspan
       call tiles_span(tl, k, i0, i1, j0, j1)
-      near = span_near_slip(st, wk, g, i0, i1, j0, j1)
+      call slip_columns(st, wk, g, i0, i1, j0, j1, ib, ia)
       edamp = 0.0_wp
       tl%span_sum(:, k) = 0.0_wp
       do f = 0, g%nf - 1
         do j = j0, j1
-          do i = i0, i1
-            n = 1 + i + g%nx*j + f*g%nn
-            if (.not. g%mass(n) > g%mass_cut) then
-              g%vel(1, n) = 0.0_wp             ! (element by element: no memset call)
-              g%vel(2, n) = 0.0_wp
-              g%dvel(1, n) = 0.0_wp
-              g%dvel(2, n) = 0.0_wp
-              cycle
-            end if
-            nact = nact + 1
-            v0 = g%mom(:, n)/g%mass(n)
-            v1 = v0 + dt*g%force(:, n)/g%mass(n)
-            if (damping > 0.0_wp) then
-              edamp = edamp + 0.5_wp*g%mass(n)*(1.0_wp - fac*fac)*dot_product(v1, v1)
-              v1 = fac*v1
-            end if
-            g%vel(:, n) = v1
-            g%dvel(:, n) = v1 - v0
-            if (near) call node_walls(st, wk, g, tl, i, j, n, tol, k, flip)
+          n0 = g%nx*j + f*g%nn                 ! node (i, j) of field f is n0 + 1 + i
+          call update_row(i0, i1, n0, size(g%mass), g%mass, g%mom, g%force, g%mass_cut, dt, &
+                          damping, fac, g%vel, g%dvel, edamp, nact)
+          do i = i0, min(ib, i1)               ! then the mirror planes, node by node
+            if (g%mass(n0 + 1 + i) > g%mass_cut) &
+              call node_walls(st, wk, g, tl, i, j, n0 + 1 + i, tol, k, flip)
+          end do
+          do i = max(ia, ib + 1, i0), i1
+            if (g%mass(n0 + 1 + i) > g%mass_cut) &
+              call node_walls(st, wk, g, tl, i, j, n0 + 1 + i, tol, k, flip)
           end do
         end do
       end do
@@ -341,19 +330,23 @@ contains
     tol = 1.0e-6_wp*g%h
   end subroutine wall_setup
 
-  !> Whether a 'slip' plane can act on a node of the span (nodes i0..i1 by j0..j1): some plane
-  !! is within a cell of one of its corner nodes or behind it. The distance to a plane is
-  !! linear over the span, so a span whose four corners all lie more than a cell in front of
-  !! every plane has no node that node_walls would change (its test is distance <= tol, a
-  !! millionth of a cell; the cell of margin covers every rounding).
-  pure logical function span_near_slip(st, wk, g, i0, i1, j0, j1) result(near)
+  !> The node columns of the span (nodes i0..i1 by j0..j1) on which a 'slip' plane can act:
+  !! i <= ib or i >= ia (none: ib < i0 and ia > i1). The distance to a plane is linear over the
+  !! span, so a span whose four corners all lie more than a cell in front of every plane has
+  !! no node that node_walls would change (its test is distance <= tol, a millionth of a cell;
+  !! the cell of margin covers every rounding); otherwise the columns whose two end nodes lie
+  !! more than a cell in front of the plane (the nearer span end's distance plus the column
+  !! slope h n_x, with a column more) are left out. NaN distances: every column.
+  pure subroutine slip_columns(st, wk, g, i0, i1, j0, j1, ib, ia)
     type(state_t), intent(in) :: st        !! state (walls)
     type(work_t), intent(in) :: wk         !! per wall: point, normal (wall_work)
     type(grid_t), intent(in) :: g          !! grid (origin, cell size)
     integer, intent(in) :: i0, i1, j0, j1  !! node columns and rows of the span
+    integer, intent(out) :: ib, ia         !! columns i <= ib and i >= ia may be acted on
     integer :: iw
-    real(wp) :: xlo(2), xhi(2), d(4)
-    near = .false.
+    real(wp) :: xlo(2), xhi(2), d(4), slope, b
+    ib = i0 - 1
+    ia = i1 + 1
     xlo = g%origin + g%h*real([i0, j0], wp)
     xhi = g%origin + g%h*real([i1, j1], wp)
     do iw = 1, st%nwall
@@ -363,13 +356,91 @@ contains
         d(2) = (xhi(1) - pw(1))*nw(1) + (xlo(2) - pw(2))*nw(2)
         d(3) = (xlo(1) - pw(1))*nw(1) + (xhi(2) - pw(2))*nw(2)
         d(4) = (xhi(1) - pw(1))*nw(1) + (xhi(2) - pw(2))*nw(2)
+        slope = g%h*nw(1)                    ! distance per column
       end associate
-      if (.not. all(d > g%h)) then          ! (NaN: near, as node_walls would test)
-        near = .true.
-        return
+      if (all(d > g%h)) cycle                ! (NaN: on, as node_walls would test)
+      if (slope > 0.0_wp) then               ! nearest at i0: columns up to i0 + b + 1
+        b = (g%h - min(d(1), d(3)))/slope
+        if (b < real(i1 - i0, wp)) then
+          ib = max(ib, i0 + int(max(b, 0.0_wp)) + 1)
+        else
+          ib = i1
+        end if
+      else if (slope < 0.0_wp) then          ! nearest at i1: columns from i1 - b - 1
+        b = (g%h - min(d(2), d(4)))/(-slope)
+        if (b < real(i1 - i0, wp)) then
+          ia = min(ia, i1 - int(max(b, 0.0_wp)) - 1)
+        else
+          ia = i0
+        end if
+      else                                   ! parallel to the columns, or NaN: every column
+        ib = i1
       end if
     end do
-  end function span_near_slip
+  end subroutine slip_columns
+
+  !> Node velocities of one span row (nodes n0 + 1 + i, i = i0..i1): momentum / mass on the
+  !! active nodes, zero on the others (steps 2 and 5). Plain arrays: the loop keeps its
+  !! scalars in registers.
+  pure subroutine velocity_row(i0, i1, n0, nt, mass, mom, mass_cut, vel)
+    integer, intent(in) :: i0, i1          !! columns of the row
+    integer, intent(in) :: n0              !! node of column i is n0 + 1 + i
+    integer, intent(in) :: nt              !! nodes of all fields
+    real(wp), intent(in) :: mass(nt)       !! node mass [kg/m]
+    real(wp), intent(in) :: mom(2, nt)     !! node momentum [kg/s]
+    real(wp), intent(in) :: mass_cut       !! active-node cut-off [kg/m]
+    real(wp), intent(inout) :: vel(2, nt)  !! node velocity [m/s]
+    integer :: n
+    do n = n0 + 1 + i0, n0 + 1 + i1
+      if (mass(n) > mass_cut) then
+        vel(:, n) = mom(:, n)/mass(n)
+      else
+        vel(1, n) = 0.0_wp
+        vel(2, n) = 0.0_wp
+      end if
+    end do
+  end subroutine velocity_row
+
+  !> Step 3 on one span row (nodes n0 + 1 + i, i = i0..i1): the momentum update with the
+  !! nodal force and the damping on the active nodes (their count into nact, the damped
+  !! energy into edamp, in node order), vel and dvel zero on the others.
+  pure subroutine update_row(i0, i1, n0, nt, mass, mom, force, mass_cut, dt, damping, fac, &
+                             vel, dvel, edamp, nact)
+    integer, intent(in) :: i0, i1          !! columns of the row
+    integer, intent(in) :: n0              !! node of column i is n0 + 1 + i
+    integer, intent(in) :: nt              !! nodes of all fields
+    real(wp), intent(in) :: mass(nt)       !! node mass [kg/m]
+    real(wp), intent(in) :: mom(2, nt)     !! node momentum [kg/s]
+    real(wp), intent(in) :: force(2, nt)   !! node force [N/m]
+    real(wp), intent(in) :: mass_cut       !! active-node cut-off [kg/m]
+    real(wp), intent(in) :: dt             !! time step [s]
+    real(wp), intent(in) :: damping        !! mass-proportional damping [1/s]
+    real(wp), intent(in) :: fac            !! its decay over the step [-]
+    real(wp), intent(inout) :: vel(2, nt)  !! node velocity [m/s]
+    real(wp), intent(inout) :: dvel(2, nt) !! its change over the step [m/s]
+    real(wp), intent(inout) :: edamp       !! damped energy [J/m]
+    integer, intent(inout) :: nact         !! active nodes
+    integer :: n
+    real(wp) :: v0(2), v1(2)
+    do n = n0 + 1 + i0, n0 + 1 + i1
+      if (.not. mass(n) > mass_cut) then
+        vel(1, n) = 0.0_wp                   ! (element by element: no memset call)
+        vel(2, n) = 0.0_wp
+        dvel(1, n) = 0.0_wp
+        dvel(2, n) = 0.0_wp
+        cycle
+      end if
+      nact = nact + 1
+      v0 = mom(:, n)/mass(n)
+      v1 = v0 + dt*force(:, n)/mass(n)
+      if (damping > 0.0_wp) then
+        edamp = edamp + 0.5_wp*mass(n)*(1.0_wp - fac*fac)*dot_product(v1, v1)
+        v1 = fac*v1
+      end if
+      vel(:, n) = v1
+      dvel(:, n) = v1 - v0
+    end do
+  end subroutine update_row
 
   !> The 'slip' mirror planes, in order, on active node n = (i, j): a node on or behind the
   !! plane moves with it along the normal. With k > 0 (step 3) the FLIP increment dvel is the

@@ -366,23 +366,39 @@ contains
       dst = src
       return
     end if
-    dst%x(:, :) = src%x
-    dst%v(:, :) = src%v
-    dst%mass(:) = src%mass
-    dst%vol0(:) = src%vol0
-    dst%vol(:) = src%vol
-    dst%F(:, :, :) = src%F
-    dst%stress(:, :) = src%stress
-    dst%eqps(:) = src%eqps
-    dst%wplastic(:) = src%wplastic
-    dst%r10(:, :) = src%r10
-    dst%r20(:, :) = src%r20
-    dst%half(:, :) = src%half
-    dst%corner(:, :) = src%corner
-    dst%xc(:, :) = src%xc
-    dst%mat(:) = src%mat
-    dst%body(:) = src%body
+    call copy_reals(size(src%x), src%x, dst%x)     ! (as flat arrays: `dst%x(:, :) = src%x`
+    call copy_reals(size(src%v), src%v, dst%v)     ! was an element loop per dimension)
+    call copy_reals(src%np, src%mass, dst%mass)
+    call copy_reals(src%np, src%vol0, dst%vol0)
+    call copy_reals(src%np, src%vol, dst%vol)
+    call copy_reals(size(src%F), src%F, dst%F)
+    call copy_reals(size(src%stress), src%stress, dst%stress)
+    call copy_reals(src%np, src%eqps, dst%eqps)
+    call copy_reals(src%np, src%wplastic, dst%wplastic)
+    call copy_reals(size(src%r10), src%r10, dst%r10)
+    call copy_reals(size(src%r20), src%r20, dst%r20)
+    call copy_reals(size(src%half), src%half, dst%half)
+    call copy_integers(size(src%corner), src%corner, dst%corner)
+    call copy_reals(size(src%xc), src%xc, dst%xc)
+    call copy_integers(src%np, src%mat, dst%mat)
+    call copy_integers(src%np, src%body, dst%body)
   end subroutine particles_copy
+
+  !> b = a for n reals (particles_copy: contiguous arrays of any rank as flat ones).
+  pure subroutine copy_reals(n, a, b)
+    integer, intent(in) :: n                  !! elements
+    real(wp), intent(in) :: a(n)              !! source
+    real(wp), intent(out) :: b(n)             !! copy
+    b = a
+  end subroutine copy_reals
+
+  !> b = a for n integers (particles_copy).
+  pure subroutine copy_integers(n, a, b)
+    integer, intent(in) :: n                  !! elements
+    integer, intent(in) :: a(n)               !! source
+    integer, intent(out) :: b(n)              !! copy
+    b = a
+  end subroutine copy_integers
 
   !> Write every particle array to the open unformatted stream unit u (a checkpoint record:
   !! the counts, then the arrays).

@@ -69,7 +69,7 @@ contains
     type(surface_work_t), intent(inout) :: wk  !! work arrays: the points
     integer :: ic, a, b, mc, q, k
     real(wp) :: e1(2), e2(2), l1, l2
-    logical :: sharp, ma, mb
+    logical :: sharp, ma, mb, clear
     wk%npt = 0
     wk%gmin = 0.0_wp
     wk%curve = .true.
@@ -92,6 +92,14 @@ contains
       a = wk%prv(ic)
       b = wk%nxt(ic)
       if (a <= 0 .and. b <= 0) cycle       ! pinched both ways, or a pinch and a chain end
+      ! every piece below needs a gap < 0 among c and its neighbours: none when all are >= 0
+      ! (a NaN gap goes on, as before)
+      if (wk%dc(ic) >= 0.0_wp) then
+        clear = .true.
+        if (a > 0) clear = wk%dc(a) >= 0.0_wp
+        if (b > 0 .and. clear) clear = wk%dc(b) >= 0.0_wp
+        if (clear) cycle
+      end if
       ! a cut face on a mirror plane is no surface; where it ends at the surface, the piece
       ! of the corner is the whole one with the mirror image of its other neighbour (the
       ! full body's piece, whose image gap is the neighbour's when the wall is square to the

@@ -129,17 +129,21 @@ contains
     type(tiles_t), intent(inout) :: tl    !! tiles
     type(grid_t), intent(inout) :: g      !! grid
     logical, intent(in) :: par            !! run in parallel
-    integer :: k, j, n0, n1, f
-    !$omp parallel do default(none) schedule(static) shared(tl, g) private(k, j, n0, n1, f) &
+    integer :: k, j, n0, n1, f, n
+    !$omp parallel do default(none) schedule(static) shared(tl, g) private(k, j, n0, n1, f, n) &
     !$omp   if(par)
     do k = 1, tl%nspan
       do f = 0, g%nf - 1
         do j = tl%span(3, k), tl%span(4, k)
           n0 = 1 + tl%span(1, k) + g%nx*j + f*g%nn
           n1 = 1 + tl%span(2, k) + g%nx*j + f*g%nn
-          g%mass(n0:n1) = 0.0_wp
-          g%mom(:, n0:n1) = 0.0_wp
-          g%force(:, n0:n1) = 0.0_wp
+          do n = n0, n1                      ! (element by element: `mom(:, n0:n1) = 0` was a
+            g%mass(n) = 0.0_wp               ! memset call per node)
+            g%mom(1, n) = 0.0_wp
+            g%mom(2, n) = 0.0_wp
+            g%force(1, n) = 0.0_wp
+            g%force(2, n) = 0.0_wp
+          end do
         end do
       end do
     end do
@@ -177,14 +181,17 @@ contains
     integer, intent(out) :: tile(np)       !! tile id of each particle
     integer, intent(inout) :: occupied(:)  !! stamp of the last pass binning into each tile
     logical, intent(in) :: par             !! run in parallel
-    integer :: ip, t
-    !$omp parallel do default(none) schedule(static) shared(np, shift, ntx, stamp, blk, tile, &
-    !$omp   occupied) private(ip, t) if(par)
+    integer :: ip, t, down, nt, mark
+    down = shift                           ! (private copies: the loop keeps them in registers)
+    nt = ntx
+    mark = stamp
+    !$omp parallel do default(none) schedule(static) shared(np, blk, tile, occupied) &
+    !$omp   firstprivate(down, nt, mark) private(ip, t) if(par)
     do ip = 1, np
-      t = 1 + ishft(blk(1, ip), -shift) + ntx*ishft(blk(2, ip), -shift)
+      t = 1 + shiftr(blk(1, ip), down) + nt*shiftr(blk(2, ip), down)   ! = ishft(., -shift)
       tile(ip) = t
       !$omp atomic write
-      occupied(t) = stamp
+      occupied(t) = mark
     end do
     !$omp end parallel do
   end subroutine mark_tiles

@@ -248,14 +248,17 @@ contains
     type(grid_t), intent(inout) :: g       !! grid
     type(tiles_t), intent(in) :: tl        !! live spans
     logical, intent(in) :: par             !! run in parallel
-    integer :: k, i0, i1, j0, j1, j, f
+    integer :: k, i0, i1, j0, j1, j, f, n
     !$omp parallel do default(none) schedule(static) shared(g, tl) &
-    !$omp   private(k, i0, i1, j0, j1, j, f) if(par)
+    !$omp   private(k, i0, i1, j0, j1, j, f, n) if(par)
     do k = 1, tl%nspan
       call tiles_span(tl, k, i0, i1, j0, j1)
       do f = 0, g%nf - 1
         do j = j0, j1
-          g%mom(:, 1 + i0 + g%nx*j + f*g%nn:1 + i1 + g%nx*j + f*g%nn) = 0.0_wp
+          do n = 1 + i0 + g%nx*j + f*g%nn, 1 + i1 + g%nx*j + f*g%nn
+            g%mom(1, n) = 0.0_wp             ! (element by element: no memset call per node)
+            g%mom(2, n) = 0.0_wp
+          end do
         end do
       end do
     end do

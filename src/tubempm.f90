@@ -15,8 +15,8 @@ program tubempm
   use mpm_setup, only: setup_sim, setup_report, sector_factor
   use mpm_advice, only: study_advice, advice_end_of_run, scene_of
   use mpm_solver, only: sim_t, solver_step
-  use mpm_particles, only: particles_t, particles_copy, particle_corners
-  use mpm_basis, only: cpdi2_geometry
+  use mpm_particles, only: particles_t, particles_copy
+  use mpm_basis, only: cpdi2_first_folded
   use mpm_output, only: history_t, history_open, history_write, history_close, write_summary, &
                         summary_t
   use mpm_images, only: images_of_walls
@@ -400,13 +400,8 @@ contains
   subroutine keep_good_state(s, r)
     type(sim_t), intent(in) :: s
     type(run_t), intent(inout) :: r
-    integer :: ip
-    real(wp) :: area, centroid(2), jmin
     if (s%prm%basis == BASIS_CPDI2 .and. allocated(r%good%x)) then
-      do ip = 1, s%p%np
-        call cpdi2_geometry(particle_corners(s%p, ip, BASIS_CPDI2), area, centroid, jmin)
-        if (.not. jmin > 0.0_wp) return
-      end do
+      if (cpdi2_first_folded(s%p%np, s%p%nc, s%p%corner, s%p%xc) > 0) return
     end if
     call particles_copy(r%good, s%p)
     r%t_good = s%t

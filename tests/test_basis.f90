@@ -7,11 +7,16 @@
 ! tolerance 1e-12 is absolute in units where h = 1 (sum_i x_i (x) gw_i = I is unchanged by the
 ! shift because sum_i gw_i = 0, which is checked on its own).
 program test_basis
-  use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_nan, ieee_value, ieee_quiet_nan, &
+                                           ieee_positive_inf, ieee_negative_inf
+  use, intrinsic :: ieee_exceptions, only: ieee_flag_type, ieee_invalid, ieee_overflow, &
+                                           ieee_divide_by_zero, ieee_underflow, &
+                                           ieee_get_halting_mode, ieee_set_halting_mode, &
+                                           ieee_set_flag
   use mpm_kinds, only: wp
   use mpm_constants, only: pi
   use mpm_basis, only: weights_linear, weights_ugimp, weights_cpdi1, weights_cpdi2, cpdi2_geometry, &
-                       bilinear_at
+                       bilinear_at, cpdi2_folded, cpdi2_first_folded
   use mpm_constants, only: BASIS_LINEAR, BASIS_UGIMP, BASIS_CPDI1, BASIS_CPDI2
   use mpm_particles, only: basis_block
   use testing, only: begin_test, check, check_close, finish_tests
@@ -37,6 +42,7 @@ program test_basis
   call test_cpdi1()
   call test_cpdi2()
   call test_geometry()
+  call test_folded()
 
   ! Scaled grid (h not a power of two, origin away from zero): the random sets again.
   origin = [1.7_wp, -3.3_wp]
@@ -971,4 +977,81 @@ contains
     call check(area < 0.0_wp .and. jmin <= 0.0_wp, 'clockwise square: area < 0, jmin <= 0')
     call check_close(area, -1.0_wp, 'clockwise square: area = -1', atol=tol)
   end subroutine test_geometry
+
+  ! The lean folding check (the driver's, before it keeps a good state) against
+  ! cpdi2_geometry's jmin: .not. jmin > 0, the same decision for every quad, also for NaN,
+  ! infinite, overflowing and underflowing corners (the traps are off for this test only).
+  subroutine test_folded()
+    type(ieee_flag_type), parameter :: traps(3) = [ieee_invalid, ieee_overflow, &
+                                                   ieee_divide_by_zero]
+    integer, parameter :: nq = 20000, nmesh = 40
+    logical :: halting(3), same
+    real(wp) :: xc(2, 4), area, cen(2), jmin, r(11), special(8), scale, mesh(2, 4*nmesh)
+    integer :: ip, m, nfold, ndiff, corner(4, nmesh), first
+    call begin_test('cpdi2_folded')
+    call ieee_get_halting_mode(traps, halting)
+    call ieee_set_halting_mode(traps, .false.)
+    special = [ieee_value(0.0_wp, ieee_quiet_nan), ieee_value(0.0_wp, ieee_positive_inf), &
+               ieee_value(0.0_wp, ieee_negative_inf), huge(0.0_wp), -huge(0.0_wp), &
+               0.9_wp*huge(0.0_wp), 5.0e-324_wp, 0.0_wp]
+    nfold = 0
+    ndiff = 0
+    do ip = 1, nq
+      call random_number(r)
+      select case (mod(ip, 4))
+      case (0)                               ! convex, counter-clockwise
+        call random_convex_quad(0.1_wp, 1.6_wp, r(1:8))
+      case (1)                               ! parallelograms, either orientation
+        call random_parallelogram(0.05_wp, 1.0_wp, r(1:8))
+        r(1:8) = reshape(corners_of(r(1:8)), [8])
+        if (r(9) < 0.5_wp) r(1:8) = [r(1:2), r(7:8), r(5:6), r(3:4)]
+      case default                           ! anything: folded, bow-ties, degenerate
+        r(1:8) = 2.0_wp*r(1:8) - 1.0_wp
+        if (r(9) < 0.3_wp) r(5:6) = r(3:4) + 1.0e-17_wp*r(7:8)
+      end select
+      scale = 10.0_wp**nint(-160.0_wp + 310.0_wp*r(10))
+      if (r(11) < 0.5_wp) scale = 1.0_wp
+      xc = reshape(r(1:8), [2, 4])*scale
+      if (mod(ip, 7) == 0) then              ! one or two special coordinates
+        call random_number(r)
+        xc(1 + int(2.0_wp*r(1)), 1 + int(4.0_wp*r(2))) = special(1 + int(8.0_wp*r(3)))
+        if (r(4) < 0.5_wp) xc(1 + int(2.0_wp*r(5)), 1 + int(4.0_wp*r(6))) = &
+          special(1 + int(8.0_wp*r(7)))
+      end if
+      call cpdi2_geometry(xc, area, cen, jmin)
+      if (.not. jmin > 0.0_wp) nfold = nfold + 1
+      if (cpdi2_folded(xc) .neqv. .not. jmin > 0.0_wp) ndiff = ndiff + 1
+    end do
+    call check(ndiff == 0, 'cpdi2_folded = .not. jmin > 0 of cpdi2_geometry on '// &
+               'random, degenerate, scaled and non-finite quads')
+    call check(nfold > nq/4 .and. nfold < 3*nq/4, 'the random quads hold folded and '// &
+               'unfolded ones')
+    ! A corner Jacobian of the smallest subnormal over an area of 100: jmin underflows to 0.
+    xc = reshape([0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, 2.0_wp, 5.0e-324_wp, 0.0_wp, 100.0_wp], &
+                 [2, 4])
+    call cpdi2_geometry(xc, area, cen, jmin)
+    call check(cpdi2_folded(xc) .and. .not. jmin > 0.0_wp, 'underflowing jmin: folded')
+    ! The first folded particle of a mesh of separate quads.
+    do ip = 1, nmesh
+      call random_convex_quad(0.1_wp, 1.6_wp, r(1:8))
+      mesh(:, 4*ip - 3:4*ip) = reshape(r(1:8), [2, 4])
+      corner(:, ip) = 4*(ip - 1) + [1, 2, 3, 4]
+    end do
+    call check(cpdi2_first_folded(nmesh, 4*nmesh, corner, mesh) == 0, 'no folded particle: 0')
+    same = .true.
+    do m = 1, 3
+      call random_number(r)
+      ip = 1 + int(real(nmesh, wp)*r(1))
+      corner(:, ip) = corner([1, 4, 3, 2], ip)  ! clockwise: inverted
+      first = 0
+      do nfold = nmesh, 1, -1
+        call cpdi2_geometry(mesh(:, corner(:, nfold)), area, cen, jmin)
+        if (.not. jmin > 0.0_wp) first = nfold
+      end do
+      same = same .and. first > 0 .and. cpdi2_first_folded(nmesh, 4*nmesh, corner, mesh) == first
+    end do
+    call check(same, 'cpdi2_first_folded: the first particle that cpdi2_geometry finds folded')
+    call ieee_set_flag([traps, ieee_underflow], .false.)
+    call ieee_set_halting_mode(traps, halting)
+  end subroutine test_folded
 end program test_basis
