@@ -9,7 +9,8 @@
 ! grid, an empty motion table) become one comment line that names them.
 module mpm_config_echo
   use mpm_kinds, only: wp
-  use mpm_constants, only: EXIT_IO, max_table, shape_names, shape_plural, FLOW_JOHNSON_COOK, VOLUMETRIC_FBAR
+  use mpm_constants, only: EXIT_IO, max_table, shape_names, shape_plural, FLOW_JOHNSON_COOK, &
+                           VOLUMETRIC_FBAR
   use mpm_config_types, only: config_t, unset_real
   use mpm_config_text, only: itoa, quote, fmt_real, fmt_vec, fmt_logical, finite
   use mpm_config_table, only: specs, n_specs, n_groups, group_names, group_specs, echo_comment, &
@@ -31,7 +32,7 @@ module mpm_config_echo
     type(values_t) :: v
     logical :: hide(n_specs) = .false.
     logical :: silent(n_specs) = .false.   ! rows left out without a comment (their default)
-    character(len=64) :: why(n_specs) = ''  ! why each row left out is (a comment, or none)
+    character(len=64) :: why(n_specs) = ''  ! the reason a row is left out ('': no comment)
     integer :: n_motion = 0
   end type echo_t
 
@@ -168,7 +169,8 @@ contains
         (specs(idx)%name == 'flow_stress' .or. specs(idx)%name(1:3) == 'jc_')
     case (5)
       shape = shape_names(1)                 ! (a record not resolved: as a ring)
-      if (cfg%bodies(k)%shape_id > 0) shape = shape_names(cfg%bodies(k)%shape_id)
+      j = cfg%bodies(k)%shape_id
+      if (j >= 1 .and. j <= size(shape_names)) shape = shape_names(j)
       do j = 1, size(idx)                    ! the variables of the other shapes
         r = idx(j)
         if (len_trim(specs(r)%only) == 0 .or. specs(r)%only == shape) cycle

@@ -491,14 +491,12 @@ contains
 
   !> Whether row r was given: its value differs from the value the reader starts from.
   pure logical function row_given(v, r)
-    type(values_t), intent(in) :: v
-    integer, intent(in) :: r
-    character(len=1) :: kind
-    kind = specs(r)%kind
+    type(values_t), intent(in) :: v          !! the values of an occurrence
+    integer, intent(in) :: r                 !! a row of the table
     row_given = len_trim(v%c(r)) > 0 .and. (specs(r)%c_blank .or. v%c(r) /= specs(r)%c0)
-    if (kind == 'r') row_given = any(v%r(1:specs(r)%n, r) /= specs(r)%r0)
-    if (kind == 'i') row_given = v%i(r) /= specs(r)%i0
-    if (kind == 'l') row_given = v%l(r) .neqv. specs(r)%l0
+    if (specs(r)%kind == 'r') row_given = any(v%r(1:specs(r)%n, r) /= specs(r)%r0)
+    if (specs(r)%kind == 'i') row_given = v%i(r) /= specs(r)%i0
+    if (specs(r)%kind == 'l') row_given = v%l(r) .neqv. specs(r)%l0
   end function row_given
 
   !> The values of a record through its fields, as the reader would store them (names of

@@ -26,7 +26,7 @@ module mpm_contact
   implicit none
   private
   public :: grid_velocity_walls, grid_update_walls, contact_begin_step, contact_reactions, &
-            contact_energy, contact_check
+            contact_energy, contact_check, slip_span_columns
 
 contains
 
@@ -331,12 +331,7 @@ contains
   end subroutine wall_setup
 
   !> The node columns of the span (nodes i0..i1 by j0..j1) on which a 'slip' plane can act:
-  !! i <= ib or i >= ia (none: ib < i0 and ia > i1). The distance to a plane is linear over the
-  !! span, so a span whose four corners all lie more than a cell in front of every plane has
-  !! no node that node_walls would change (its test is distance <= tol, a millionth of a cell;
-  !! the cell of margin covers every rounding); otherwise the columns whose two end nodes lie
-  !! more than a cell in front of the plane (the nearer span end's distance plus the column
-  !! slope h n_x, with a column more) are left out. NaN distances: every column.
+  !! i <= ib or i >= ia (none: ib < i0 and ia > i1), over the slip walls (slip_span_columns).
   pure subroutine slip_columns(st, wk, g, i0, i1, j0, j1, ib, ia)
     type(state_t), intent(in) :: st        !! state (walls)
     type(work_t), intent(in) :: wk         !! per wall: point, normal (wall_work)
@@ -344,40 +339,56 @@ contains
     integer, intent(in) :: i0, i1, j0, j1  !! node columns and rows of the span
     integer, intent(out) :: ib, ia         !! columns i <= ib and i >= ia may be acted on
     integer :: iw
-    real(wp) :: xlo(2), xhi(2), d(4), slope, b
     ib = i0 - 1
     ia = i1 + 1
-    xlo = g%origin + g%h*real([i0, j0], wp)
-    xhi = g%origin + g%h*real([i1, j1], wp)
     do iw = 1, st%nwall
       if (st%walls(iw)%contact /= CONTACT_SLIP) cycle
-      associate (pw => wk%wall_work(3:4, iw), nw => wk%wall_work(5:6, iw))
-        d(1) = (xlo(1) - pw(1))*nw(1) + (xlo(2) - pw(2))*nw(2)
-        d(2) = (xhi(1) - pw(1))*nw(1) + (xlo(2) - pw(2))*nw(2)
-        d(3) = (xlo(1) - pw(1))*nw(1) + (xhi(2) - pw(2))*nw(2)
-        d(4) = (xhi(1) - pw(1))*nw(1) + (xhi(2) - pw(2))*nw(2)
-        slope = g%h*nw(1)                    ! distance per column
-      end associate
-      if (all(d > g%h)) cycle                ! (NaN: on, as node_walls would test)
-      if (slope > 0.0_wp) then               ! nearest at i0: columns up to i0 + b + 1
-        b = (g%h - min(d(1), d(3)))/slope
-        if (b < real(i1 - i0, wp)) then
-          ib = max(ib, i0 + int(max(b, 0.0_wp)) + 1)
-        else
-          ib = i1
-        end if
-      else if (slope < 0.0_wp) then          ! nearest at i1: columns from i1 - b - 1
-        b = (g%h - min(d(2), d(4)))/(-slope)
-        if (b < real(i1 - i0, wp)) then
-          ia = min(ia, i1 - int(max(b, 0.0_wp)) - 1)
-        else
-          ia = i0
-        end if
-      else                                   ! parallel to the columns, or NaN: every column
-        ib = i1
-      end if
+      call slip_span_columns(g%origin, g%h, i0, i1, j0, j1, wk%wall_work(3:4, iw), &
+                             wk%wall_work(5:6, iw), ib, ia)
     end do
   end subroutine slip_columns
+
+  !> Widen the columns i <= ib and i >= ia of a span (nodes i0..i1 by j0..j1 of the grid with
+  !! node (0, 0) at `origin`) to every column on which the plane through pw with unit normal nw
+  !! can act (node_walls: a node at most tol, a millionth of a cell, in front of it). The
+  !! distance to the plane is linear over the span, so a span whose four corners all lie more
+  !! than a cell in front of it has none; otherwise the columns whose two end nodes lie more
+  !! than a cell in front are left out (the nearer end's distance plus the column slope
+  !! h n_x, with a column more; the cell of margin covers every rounding). A normal along the
+  !! columns (n_x = 0) or NaN distances: every column.
+  pure subroutine slip_span_columns(origin, h, i0, i1, j0, j1, pw, nw, ib, ia)
+    real(wp), intent(in) :: origin(2)      !! position of node (0, 0) [m]
+    real(wp), intent(in) :: h              !! cell size [m]
+    integer, intent(in) :: i0, i1, j0, j1  !! node columns and rows of the span
+    real(wp), intent(in) :: pw(2), nw(2)   !! a point of the plane [m], its unit normal [-]
+    integer, intent(inout) :: ib, ia       !! columns i <= ib and i >= ia may be acted on
+    real(wp) :: xlo(2), xhi(2), d(4), slope, b
+    xlo = origin + h*real([i0, j0], wp)
+    xhi = origin + h*real([i1, j1], wp)
+    d(1) = (xlo(1) - pw(1))*nw(1) + (xlo(2) - pw(2))*nw(2)
+    d(2) = (xhi(1) - pw(1))*nw(1) + (xlo(2) - pw(2))*nw(2)
+    d(3) = (xlo(1) - pw(1))*nw(1) + (xhi(2) - pw(2))*nw(2)
+    d(4) = (xhi(1) - pw(1))*nw(1) + (xhi(2) - pw(2))*nw(2)
+    slope = h*nw(1)                        ! distance per column
+    if (all(d > h)) return                 ! (NaN: on, as node_walls would test)
+    if (slope > 0.0_wp) then               ! nearest at i0: columns up to i0 + b + 1
+      b = (h - min(d(1), d(3)))/slope
+      if (b < real(i1 - i0, wp)) then
+        ib = max(ib, i0 + int(max(b, 0.0_wp)) + 1)
+      else
+        ib = i1
+      end if
+    else if (slope < 0.0_wp) then          ! nearest at i1: columns from i1 - b - 1
+      b = (h - min(d(2), d(4)))/(-slope)
+      if (b < real(i1 - i0, wp)) then
+        ia = min(ia, i1 - int(max(b, 0.0_wp)) - 1)
+      else
+        ia = i0
+      end if
+    else                                   ! parallel to the columns, or NaN: every column
+      ib = i1
+    end if
+  end subroutine slip_span_columns
 
   !> Node velocities of one span row (nodes n0 + 1 + i, i = i0..i1): momentum / mass on the
   !! active nodes, zero on the others (steps 2 and 5). Plain arrays: the loop keeps its

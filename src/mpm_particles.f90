@@ -354,7 +354,9 @@ contains
     real(wp), intent(in) :: ext               !! largest domain extent [m]
     real(wp), intent(in) :: h                 !! cell size [m]
     nb = 2
-    if (basis /= BASIS_LINEAR) nb = 2 + max(1, ceiling(min(ext/h, 1.0e6_wp)))
+    if (basis == BASIS_LINEAR) return
+    nb = 3                                    ! (ext = 0, or not a number: no division)
+    if (ext > 0.0_wp) nb = 2 + max(1, ceiling(min(ext/h, 1.0e6_wp)))
   end function basis_block
 
   !> dst = src, reusing dst's arrays when they have the sizes already (the driver copies the

@@ -14,10 +14,9 @@ program test_basis
                                            ieee_get_halting_mode, ieee_set_halting_mode, &
                                            ieee_set_flag
   use mpm_kinds, only: wp
-  use mpm_constants, only: pi
+  use mpm_constants, only: pi, BASIS_LINEAR, BASIS_UGIMP, BASIS_CPDI1, BASIS_CPDI2
   use mpm_basis, only: weights_linear, weights_ugimp, weights_cpdi1, weights_cpdi2, cpdi2_geometry, &
                        bilinear_at, cpdi2_folded, cpdi2_first_folded
-  use mpm_constants, only: BASIS_LINEAR, BASIS_UGIMP, BASIS_CPDI1, BASIS_CPDI2
   use mpm_particles, only: basis_block
   use testing, only: begin_test, check, check_close, finish_tests
   implicit none

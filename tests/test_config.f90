@@ -12,7 +12,8 @@ program test_config
   use mpm_constants, only: EXIT_INPUT, EXIT_IO, max_table, BASIS_CPDI1, BASIS_CPDI2, &
                            SCHEME_MUSL, SCHEME_USF, PLANE_STRAIN, PLANE_STRESS, MODEL_J2, &
                            MODEL_ELASTIC, RATE_NONE, RATE_COWPER_SYMONDS, SHAPE_RING, SHAPE_RECT, &
-                           SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER, CONTACT_COULOMB
+                           SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER, CONTACT_COULOMB, shape_names
+  use mpm_config_table, only: specs
   use mpm_config, only: config_t, read_config, write_config, write_config_unit, default_config, &
                         config_resolve
   use mpm_scene_builder, only: scene_new, scene_add_material, scene_add_ring, scene_add_wall
@@ -311,6 +312,7 @@ contains
     type(config_t) :: c
     integer :: stat
     character(len=:), allocatable :: msg, warn, f, echo
+    integer :: k
     character(len=*), parameter :: rect = '&body shape = ''rect'', size = 4e-3, 4e-3, n_x = 4, '// &
       'n_y = 4'
     character(len=*), parameter :: to_rings = 'r_inner, r_outer, n_thick, n_circ, sector, '// &
@@ -340,6 +342,10 @@ contains
       'for rings only') == 4, 'the echo names the rings'' variables once per rectangle')
     call check(count_of(echo, 'self_contact =') == 0, 'no ring here has self-contact: '// &
       'self_contact is left out without a line')
+    do k = 1, size(specs)                    ! the echo names the shape from the row's `only`
+      if (len_trim(specs(k)%only) > 0) call check(any(shape_names == specs(k)%only), &
+        'the row '//trim(specs(k)%name)//' is only for a shape of shape_names: '//specs(k)%only)
+    end do
   end subroutine test_other_shape
 
   !> How often `part` occurs in `text`.

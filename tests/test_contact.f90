@@ -15,6 +15,7 @@ program test_contact
   use mpm_strings, only: itoa
   use mpm_surface_contact, only: surface_work_t, surface_points, surface_push, surface_friction, &
                                  surface_energy
+  use mpm_contact, only: slip_span_columns
   use testing, only: begin_test, check, check_close, finish_tests
   implicit none
   integer, parameter :: nx = 4, ny = 4, nn = nx*ny
@@ -89,9 +90,61 @@ program test_contact
 
   call test_bounce()
   call test_friction()
+  call test_slip_columns()
   call finish_tests('test_contact')
 
 contains
+
+  !> slip_span_columns against every node of random spans: the columns it keeps (i <= ib or
+  !! i >= ia) hold every node that a slip plane acts on (node_walls' test: the node at most a
+  !! millionth of a cell in front of it) and every node within a cell of it, for normals along +x, -x, +y, -y, oblique ones and
+  !! ones with a tiny x component, over spans near, across and far from the plane; and it
+  !! leaves columns out where the plane is oblique and far from part of the span (else
+  !! the test could not tell it from keeping everything).
+  subroutine test_slip_columns()
+    real(wp), parameter :: h = 0.37_wp, tol = 1.0e-6_wp*h
+    real(wp) :: origin(2), pw(2), nw(2), r(6), th, xn(2), d
+    integer :: trial, i0, i1, j0, j1, ib, ia, i, j, missed, near, cut, kind
+    call begin_test('slip planes: the columns a span keeps hold every node the plane acts on')
+    origin = [-1.3_wp, 0.7_wp]
+    missed = 0
+    near = 0
+    cut = 0
+    do trial = 1, 20000
+      call random_number(r)
+      i0 = int(40.0_wp*r(1))
+      i1 = i0 + int(30.0_wp*r(2))
+      j0 = int(40.0_wp*r(3))
+      j1 = j0 + int(4.0_wp*r(4))
+      kind = mod(trial, 6)
+      select case (kind)
+      case (0); th = 0.0_wp                              ! +x
+      case (1); th = pi                                  ! -x
+      case (2); th = 0.5_wp*pi                           ! +y: along the columns
+      case (3); th = 1.5_wp*pi                           ! -y
+      case (4); th = 0.5_wp*pi + 1.0e-9_wp*(r(5) - 0.5_wp)  ! a tiny x component
+      case default; th = 2.0_wp*pi*r(5)                  ! oblique
+      end select
+      nw = [cos(th), sin(th)]
+      pw = origin + h*[80.0_wp*r(6) - 10.0_wp, 50.0_wp*r(5) - 5.0_wp]
+      ib = i0 - 1
+      ia = i1 + 1
+      call slip_span_columns(origin, h, i0, i1, j0, j1, pw, nw, ib, ia)
+      if (ib < i1 .and. ia > ib + 1 .and. ia > i0) cut = cut + 1
+      do j = j0, j1
+        do i = i0, i1
+          xn = origin + h*real([i, j], wp)
+          d = dot_product(xn - pw, nw)
+          if (d - tol <= 0.0_wp .and. i > ib .and. i < ia) missed = missed + 1
+          if (d <= 0.999_wp*h .and. i > ib .and. i < ia) near = near + 1
+        end do
+      end do
+    end do
+    call check(missed == 0, 'no node acted on is left out ('//itoa(missed)//' missed)')
+    call check(near == 0, 'no node within a cell of the plane is left out, as the routine '// &
+               'promises ('//itoa(near)//' left out)')
+    call check(cut > 1000, 'columns are left out of '//itoa(cut)//' of 20000 spans')
+  end subroutine test_slip_columns
 
   !> Two unit squares side by side (CPDI2 tiling: 6 corners), mass 2 each, bottom at -0.01.
   subroutine two_squares(q)
