@@ -253,7 +253,8 @@ contains
     real(wp) :: cj(4), area
 
     call quad_jacobians(xc, cj, area)
-    folded = folded_quad(cj, area)
+    folded = .true.                         ! (area <= 0 or NaN: jmin <= 0 there)
+    if (area > 0.0_wp) folded = .not. minval(cj)/area > 0.0_wp
   end function cpdi2_folded
 
   !> The first of particles 1..np whose CPDI2 domain, the corners xc(:, corner(:, ip)), is
@@ -263,7 +264,7 @@ contains
     integer, intent(in) :: nc               !! corners [-]
     integer, intent(in) :: corner(4, np)    !! corner ids of each particle, counter-clockwise
     real(wp), intent(in) :: xc(2, nc)       !! corner positions [m]
-    real(wp) :: xq(2, 4), cj(4), area
+    real(wp) :: xq(2, 4)
     integer :: ip
 
     first = 0
@@ -272,8 +273,7 @@ contains
       xq(:, 2) = xc(:, corner(2, ip))
       xq(:, 3) = xc(:, corner(3, ip))
       xq(:, 4) = xc(:, corner(4, ip))
-      call quad_jacobians(xq, cj, area)
-      if (folded_quad(cj, area)) then
+      if (cpdi2_folded(xq)) then
         first = ip
         return
       end if
@@ -443,23 +443,6 @@ contains
     cj(4) = d34(1)*d41(2) - d34(2)*d41(1)
     area = 0.5_wp*(d31(1)*d42(2) - d31(2)*d42(1))   ! shoelace area, diagonal form
   end subroutine quad_jacobians
-
-  ! The folding decision of cpdi2_geometry from the corner Jacobians and the signed area:
-  ! .not. jmin > 0. Outside area > 0 its jmin is never positive (a minimum with 0 over a
-  ! positive scale, or 0); inside, jmin = minval(cj)/area, which is min(...)/area when every cj
-  ! is positive (no NaN for minval to skip).
-  pure logical function folded_quad(cj, area) result(folded)
-    real(wp), intent(in) :: cj(4)           !! Jacobian at corners 1..4 [m^2]
-    real(wp), intent(in) :: area            !! signed area [m^2]
-
-    folded = .true.
-    if (.not. area > 0.0_wp) return
-    if (cj(1) > 0.0_wp .and. cj(2) > 0.0_wp .and. cj(3) > 0.0_wp .and. cj(4) > 0.0_wp) then
-      folded = .not. min(cj(1), cj(2), cj(3), cj(4))/area > 0.0_wp
-    else
-      folded = .not. minval(cj)/area > 0.0_wp
-    end if
-  end function folded_quad
 
   ! CPDI2 corner weights (1/V) int M_a dA from the corner Jacobians (cj in corner order).
   pure subroutine corner_weights(cj, area, wc)

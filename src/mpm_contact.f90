@@ -66,11 +66,11 @@ contains
     type(tiles_t), intent(inout) :: tl     !! live spans (span sums untouched)
     type(work_t), intent(inout) :: wk      !! per-wall data of the step
     real(wp), intent(in) :: dt             !! time step [s]
-    integer :: k, i0, i1, j0, j1, i, j, n0, f, ib, ia
+    integer :: k, i0, i1, j0, j1, j, n0, f, ib, ia
     real(wp) :: tol
     call wall_setup(st, g, wk, dt, tol)
     !$omp parallel do default(none) schedule(static) shared(st, g, tl, wk, dt, tol) &
-    !$omp   private(k, i0, i1, j0, j1, i, j, n0, f, ib, ia) if(wk%par)
+    !$omp   private(k, i0, i1, j0, j1, j, n0, f, ib, ia) if(wk%par)
     do k = 1, tl%nspan
       call tiles_span(tl, k, i0, i1, j0, j1)
       call slip_columns(st, wk, g, i0, i1, j0, j1, ib, ia)
@@ -78,14 +78,7 @@ contains
         do j = j0, j1
           n0 = g%nx*j + f*g%nn                 ! node (i, j) of field f is n0 + 1 + i
           call velocity_row(i0, i1, n0, size(g%mass), g%mass, g%mom, g%mass_cut, g%vel)
-          do i = i0, min(ib, i1)               ! then the mirror planes, node by node
-            if (g%mass(n0 + 1 + i) > g%mass_cut) &
-              call node_walls(st, wk, g, tl, i, j, n0 + 1 + i, tol, 0, 0.0_wp)
-          end do
-          do i = max(ia, ib + 1, i0), i1
-            if (g%mass(n0 + 1 + i) > g%mass_cut) &
-              call node_walls(st, wk, g, tl, i, j, n0 + 1 + i, tol, 0, 0.0_wp)
-          end do
+          call row_walls(st, wk, g, tl, i0, i1, ib, ia, j, n0, tol, 0, 0.0_wp)
         end do
       end do
     end do
@@ -103,7 +96,7 @@ contains
     type(tiles_t), intent(inout) :: tl     !! live spans, partial sums per span
     type(work_t), intent(inout) :: wk      !! per-wall data, surface points
     real(wp), intent(in) :: dt             !! time step [s]
-    integer :: k, i0, i1, j0, j1, i, j, n0, nact, iw, f, ib, ia
+    integer :: k, i0, i1, j0, j1, j, n0, nact, iw, f, ib, ia
     real(wp) :: fac, edamp, damping, tol, flip
     call wall_setup(st, g, wk, dt, tol)
     call surface_forces(prm, st, g, wk, dt)
@@ -113,7 +106,7 @@ contains
     nact = 0
     !$omp parallel do default(none) schedule(static) &
     !$omp   shared(st, g, tl, wk, dt, fac, damping, tol, flip) &
-    !$omp   private(k, i0, i1, j0, j1, i, j, n0, edamp, f, ib, ia) reduction(+: nact) &
+    !$omp   private(k, i0, i1, j0, j1, j, n0, edamp, f, ib, ia) reduction(+: nact) &
     !$omp   if(wk%par)
     do k = 1, tl%nspan
       call tiles_span(tl, k, i0, i1, j0, j1)
@@ -125,14 +118,7 @@ contains
           n0 = g%nx*j + f*g%nn                 ! node (i, j) of field f is n0 + 1 + i
           call update_row(i0, i1, n0, size(g%mass), g%mass, g%mom, g%force, g%mass_cut, dt, &
                           damping, fac, g%vel, g%dvel, edamp, nact)
-          do i = i0, min(ib, i1)               ! then the mirror planes, node by node
-            if (g%mass(n0 + 1 + i) > g%mass_cut) &
-              call node_walls(st, wk, g, tl, i, j, n0 + 1 + i, tol, k, flip)
-          end do
-          do i = max(ia, ib + 1, i0), i1
-            if (g%mass(n0 + 1 + i) > g%mass_cut) &
-              call node_walls(st, wk, g, tl, i, j, n0 + 1 + i, tol, k, flip)
-          end do
+          call row_walls(st, wk, g, tl, i0, i1, ib, ia, j, n0, tol, k, flip)
         end do
       end do
       tl%span_sum(1, k) = edamp
@@ -452,6 +438,29 @@ contains
       dvel(:, n) = v1 - v0
     end do
   end subroutine update_row
+
+  !> The 'slip' mirror planes on the active nodes of a span row (node (i, j) is n0 + 1 + i,
+  !! i = i0..i1) in the columns they can reach (i <= ib or i >= ia, slip_columns), in order.
+  subroutine row_walls(st, wk, g, tl, i0, i1, ib, ia, j, n0, tol, k, flip)
+    type(state_t), intent(in) :: st        !! state (walls)
+    type(work_t), intent(in) :: wk         !! per wall: velocity, point, normal (wall_work)
+    type(grid_t), intent(inout) :: g       !! grid: node velocity (and change) updated
+    type(tiles_t), intent(inout) :: tl     !! partial sums per span (written with k > 0)
+    integer, intent(in) :: i0, i1, ib, ia  !! columns of the row; those the planes can reach
+    integer, intent(in) :: j, n0           !! row; node of column i is n0 + 1 + i
+    real(wp), intent(in) :: tol            !! tolerance on the node distance [m]
+    integer, intent(in) :: k               !! span of the row, or 0: no reactions recorded
+    real(wp), intent(in) :: flip           !! FLIP fraction (step 3) [-]
+    integer :: i
+    do i = i0, min(ib, i1)
+      if (g%mass(n0 + 1 + i) > g%mass_cut) call node_walls(st, wk, g, tl, i, j, n0 + 1 + i, &
+                                                           tol, k, flip)
+    end do
+    do i = max(ia, ib + 1, i0), i1
+      if (g%mass(n0 + 1 + i) > g%mass_cut) call node_walls(st, wk, g, tl, i, j, n0 + 1 + i, &
+                                                           tol, k, flip)
+    end do
+  end subroutine row_walls
 
   !> The 'slip' mirror planes, in order, on active node n = (i, j): a node on or behind the
   !! plane moves with it along the normal. With k > 0 (step 3) the FLIP increment dvel is the
