@@ -417,6 +417,8 @@ contains
     write(line, '(a,i0,a,es9.2,a)') 'wall-time estimate: about '//hms(seconds)// &
       ' (h:mm:ss, release build, ', min(nthreads, 2), ' thread(s), at the ', rate, &
       ' particle-steps/s of make bench, docs/performance.md)'
+    if (cfg%run%threads == 0 .and. nthreads > 1) line = trim(line)//'; for free cores: a '// &
+      'run takes one thread per core that other work does not keep busy'
     call append_msg(report, line)
     if (sector_factor(cfg) > 1.0_wp) then
       write(line, '(a,f3.0,a)') 'outputs: energies and masses x ', sector_factor(cfg), &

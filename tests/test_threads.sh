@@ -5,7 +5,8 @@
 # busy ran at 0.55-0.7 times one thread (docs/performance.md, Threads). Oracles: with a spinning
 # process on every core but one, the run uses 1 thread and says why (the old code took every
 # core); OMP_NUM_THREADS and &run threads are obeyed as given, spinner or not; a cgroup CPU
-# quota caps the count; --check and scenes below the parallel size do not measure.
+# quota caps the count; --check and scenes below the parallel size do not measure (--check's
+# wall-time estimate says it is for free cores).
 #   usage: TUBEMPM=build/debug/tubempm bash tests/test_threads.sh SCRATCH
 set -u
 bin=${TUBEMPM:-bin/tubempm}
@@ -66,6 +67,12 @@ awk -v b="${busy:-0}" -v n=$((ncpu - 1)) 'BEGIN { exit !(b >= n - 0.5) }' && ok 
 ! grep -q "^threads:" "$scratch/given.log" "$scratch/env.log" && ok \
   || bad "a 'threads:' line although the count was given"
 ! grep -q "^threads:" "$scratch/check.log" && ok || bad "--check measured the cores"
+# so its wall-time estimate says that it is for free cores (and not when the count is given)
+grep -q "^wall-time estimate: .* 2 thread(s), .*; for free cores: a run takes one thread per core" \
+  "$scratch/check.log" && ok || bad "--check: $(grep '^wall-time' "$scratch/check.log")"
+"$bin" --check "$scratch/given.nml" > "$scratch/check_given.log" 2>&1 || bad "--check given failed"
+grep "^wall-time estimate: .* 2 thread(s)" "$scratch/check_given.log" | grep -vq "for free cores" \
+  && ok || bad "--check, threads = 2: $(grep '^wall-time' "$scratch/check_given.log")"
 
 # a cgroup CPU quota caps the count (cpu.max 'quota period'; the file given by TUBEMPM_CPU_MAX),
 # 'max' is no quota
