@@ -34,6 +34,13 @@ module mpm_advice
   include 'mpm_advice_table.inc'
   include 'mpm_stability_table.inc'
   include 'mpm_bench_table.inc'
+  ! The generated tables have a column per basis and a row per scheme of mpm_constants: a
+  ! basis or scheme added there without regenerating them (tools/advice_tables.py, with the
+  ! new name in its BASES or SCHEMES) stops the compilation here (division by zero).
+  integer, parameter, private :: tables_fit = 1/merge(1, 0, &
+    size(cfl_ppc2, 1) == size(scheme_names) .and. size(cfl_ppc2, 2) == size(basis_names) .and. &
+    all(shape(cfl_ppc1) == shape(cfl_ppc2)) .and. all(shape(cfl_stable_ppc1) == shape(cfl_ppc2)) &
+    .and. all(shape(cfl_stable_ppc2) == shape(cfl_ppc2)) .and. size(bench_rate, 1) == size(basis_names))
 
   real(wp), parameter :: flip_trusted = 0.999_wp   !! flip below this dissipates visibly [-]
   real(wp), parameter :: delta_fold = 0.8_wp       !! delta/D from which CPDI domains fold [-]
@@ -357,7 +364,7 @@ contains
     type(config_t), intent(in) :: cfg
     real(wp), intent(in) :: cfl              !! the cfl in use [-]
     character(len=:), allocatable, intent(inout) :: warnings
-    real(wp) :: cfl_stable(3, 4), ppc, flip, cfl_auto
+    real(wp) :: cfl_stable(size(cfl_ppc2, 1), size(cfl_ppc2, 2)), ppc, flip, cfl_auto
     integer :: scheme, basis
     character(len=512) :: line
     character(len=32) :: flip_text

@@ -13,7 +13,7 @@ module mpm_config
   use mpm_kinds, only: wp
   use mpm_constants, only: EXIT_INPUT, EXIT_IO, sector_names, BASIS_CPDI2, SCHEME_MUSL, &
                            PLANE_STRAIN, MODEL_J2, RATE_NONE, RATE_COWPER_SYMONDS, SHAPE_RING, &
-                           SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER, &
+                           SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER, max_table, &
                            CONTACT_FRICTIONLESS, CONTACT_COULOMB, FLOW_LINEAR, FLOW_JOHNSON_COOK
   use mpm_config_types, only: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, &
                               body_cfg_t, wall_cfg_t, probe_cfg_t, contact_cfg_t, unset_real, &
@@ -395,7 +395,7 @@ contains
     integer, intent(in) :: io
     type(values_t), intent(in) :: v
     type(wall_cfg_t), intent(inout) :: w
-    real(wp), allocatable :: motion_t(:), motion_f(:)
+    real(wp) :: motion_t(max_table), motion_f(max_table)
     integer :: nt, nf, k
     logical :: table_ok
     motion_t = vtab(v, 'motion_t')
