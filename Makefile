@@ -13,7 +13,7 @@ PYTHON ?= python3
 CASE ?= namelists/default.nml
 
 FFLAGS_common  := -std=f2008 -fimplicit-none -Wall -Wextra -Wimplicit-interface \
-                  -Wconversion-extra -Wno-compare-reals -fopenmp
+                  -Wno-compare-reals -fopenmp
 FFLAGS_release := -O2 -g
 # native: this machine's instruction set (AVX2, FMA); results differ at round-off (tests/test_native.py)
 FFLAGS_native  := -O2 -g -march=native

@@ -17,7 +17,7 @@ module mpm_config_lexer
   private
   public :: reader_t, occ_t, token_t, assign_t, tk_word, tk_string, tk_equals
   public :: load_lines, read_record, has_content, scan_source, check_groups, open_occ
-  public :: add_err, add_warn, join_msgs, label, var_where
+  public :: add_err, add_warn, join_msgs, label, var_where, occurrence
 
   integer, parameter :: tk_word = 1, tk_string = 2, tk_equals = 3
 
@@ -533,4 +533,19 @@ contains
       if (group_repeatable(ig)) s = s//' #'//itoa(rd%occ(io)%index)
     end if
   end function label
+
+  !> The occurrence of the k-th group `group` (0 when there is none).
+  pure integer function occurrence(rd, group, k) result(io)
+    type(reader_t), intent(in) :: rd       !! the input's occurrences
+    character(len=*), intent(in) :: group  !! group name, lower case
+    integer, intent(in) :: k               !! k-th occurrence of that group
+    integer :: i
+    io = 0
+    do i = 1, rd%n_occ
+      if (rd%occ(i)%group == group .and. rd%occ(i)%index == k) then
+        io = i
+        return
+      end if
+    end do
+  end function occurrence
 end module mpm_config_lexer

@@ -65,6 +65,7 @@ contains
       return
     end if
     call parse_values(rd, io, v)
+    call warn_repeated(rd, io)
     rd%occ(io)%read_ok = .true.
     ok = .true.
   end subroutine read_group
@@ -116,6 +117,27 @@ contains
       end do
     end associate
   end subroutine parse_values
+
+  !> A variable given twice in one group without a subscript (namelist input keeps the last
+  !! value, which an edit of the first would not change): a warning at the later line.
+  subroutine warn_repeated(rd, io)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io
+    integer :: ia, ib
+    associate (o => rd%occ(io))
+      do ia = 2, o%n_asg
+        if (o%asg(ia)%stray .or. len(o%asg(ia)%sub) > 0) cycle
+        do ib = 1, ia - 1
+          if (o%asg(ib)%stray .or. len(o%asg(ib)%sub) > 0) cycle
+          if (o%asg(ib)%base /= o%asg(ia)%base) cycle
+          call add_warn(rd, o%asg(ia)%line, label(rd, io)//': '//o%asg(ia)%base// &
+            ' is given again (first on line '//itoa(o%asg(ib)%line)//'): the last value, '// &
+            o%asg(ia)%value//', is used')
+          exit
+        end do
+      end do
+    end associate
+  end subroutine warn_repeated
 
   !> Check names, subscripts, value types and value counts of every assignment in a group.
   !! Like gfortran's namelist reader, a text value without quotes that starts with a digit
@@ -423,7 +445,7 @@ contains
     character(len=:), allocatable :: name, t
     character(len=name_len), allocatable :: names(:)
     logical :: given_other
-    idx = group_specs(v%group)
+    allocate(idx, source=group_specs(v%group))
     shape = ''
     allocate(other(0))
     given_other = .false.
@@ -477,7 +499,7 @@ contains
           else
             f(r)%c = names(id)
             f(r)%i = id
-            if (name == 'shape') shape = names(id)
+            if (name == 'shape') shape = names(id)(1:len(shape))  ! shape names have 4 letters
           end if
         end select
       end associate

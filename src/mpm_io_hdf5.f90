@@ -9,7 +9,8 @@
 ! (Fortran writes x(2,np); h5py reads it as (np, 2).) Every dataset carries `units` and
 ! `long_name`. The file is flushed after every snapshot, so a killed run keeps them all.
 module mpm_io_hdf5
-  use hdf5, only: hid_t, hsize_t, size_t, h5open_f, h5fcreate_f, h5fopen_f, h5fclose_f, &
+  use hdf5, only: hid_t, hsize_t, size_t, h5open_f, h5eset_auto_f, h5fcreate_f, h5fopen_f, &
+                  h5fclose_f, &
                   h5fflush_f, h5gcreate_f, h5gclose_f, h5screate_simple_f, h5sclose_f, &
                   h5screate_f, h5dcreate_f, h5dwrite_f, h5dclose_f, h5acreate_f, h5awrite_f, &
                   h5aclose_f, h5tcopy_f, h5tset_size_f, h5tclose_f, h5lexists_f, h5ldelete_f, &
@@ -58,7 +59,12 @@ contains
     if (library_open) return
     call h5open_f(ierr)
     call h5_check(ierr, 'h5open_f', stat, errmsg)
-    if (stat == 0) library_open = .true.
+    if (stat /= 0) return
+    library_open = .true.
+    ! the library's own error stack printing off: a failure is reported once, as the project's
+    ! ERROR line with the call and the file (h5_check)
+    call h5eset_auto_f(0, ierr)
+    call h5_check(ierr, 'h5eset_auto_f', stat, errmsg)
   end subroutine ensure_library
 
   !> Create the file, with /meta holding the code version and the resolved input text.

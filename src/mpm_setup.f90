@@ -338,7 +338,7 @@ contains
     character(len=:), allocatable, intent(out) :: warnings  !! warnings, one per line ('' none)
     integer :: ib, nthreads
     real(wp) :: dt_stable, dt, cfl_auto
-    integer(i8) :: steps
+    real(wp) :: steps                      ! to t_end at the initial speeds [-]
     real(wp) :: seconds, rate, avail
     type(budget_t) :: bud
     character(len=:), allocatable :: long_run, source, why
@@ -383,7 +383,8 @@ contains
     dt_stable = solver_stable_dt(s)
     dt = dt_stable
     if (s%prm%dt_fixed > 0.0_wp) dt = s%prm%dt_fixed
-    steps = ceiling(s%prm%t_end/dt, i8)
+    steps = s%prm%t_end/dt                 ! a real: t_end = 1e12 s must not overflow a count
+    if (steps < 1.0e15_wp) steps = aint(steps) + merge(1.0_wp, 0.0_wp, steps > aint(steps))
     write(line, '(a,es11.4,a,es11.4,a,f5.3,a,es10.3,a)') 'time step: stable limit ', &
       s%g%h/(s%prm%c_max + s%vmax), ' s (cfl = 1), used ', dt, ' s (cfl ', &
       dt*(s%prm%c_max + s%vmax)/s%g%h, '), wave speed ', s%prm%c_max, ' m/s'
@@ -396,8 +397,12 @@ contains
       call cfl_automatic(cfg, cfl_auto, why)
       call append_msg(report, 'cfl: '//why)
     end if
-    write(line, '(a,es11.4,a,i0,a)') 'steps: about ', real(steps, wp), ' to t_end (', steps, &
-      ' at the initial speeds)'
+    if (steps < 1.0e15_wp) then
+      write(line, '(a,es11.4,a,i0,a)') 'steps: about ', steps, ' to t_end (', nint(steps, i8), &
+        ' at the initial speeds)'
+    else
+      write(line, '(a,es11.4,a)') 'steps: about ', steps, ' to t_end at the initial speeds'
+    end if
     call append_msg(report, line)
     bud = budget_estimate(cfg, budget_threads(cfg))
     call sys_memory_available(avail, source, known)
@@ -407,12 +412,12 @@ contains
     line = trim(line)//')'
     if (known) line = trim(line)//' of '//bytes_text(avail)//' available'
     call append_msg(report, line)
-    write(line, '(a,es11.4,a)') 'work estimate: ', real(steps, wp)*real(s%p%np, wp), &
+    write(line, '(a,es11.4,a)') 'work estimate: ', steps*real(s%p%np, wp), &
       ' particle-steps'
     call append_msg(report, line)
     nthreads = bud%threads                 ! below parallel_min particles loops run serially
     if (s%p%np < s%prm%parallel_min) nthreads = 1
-    call advice_wall_time(real(steps, wp)*real(s%p%np, wp), s%prm%basis, nthreads, &
+    call advice_wall_time(steps*real(s%p%np, wp), s%prm%basis, nthreads, &
                           seconds, rate, long_run)
     write(line, '(a,i0,a,es9.2,a)') 'wall-time estimate: about '//hms(seconds)// &
       ' (h:mm:ss, release build, ', min(nthreads, 2), ' thread(s), at the ', rate, &

@@ -14,7 +14,7 @@ module mpm_shapes
   use mpm_particles, only: particles_t, ring_counts, ring_fill, rect_counts, rect_fill
   implicit none
   private
-  public :: body_cfg_t, body_counts, body_fill, body_box, body_estimate, body_report
+  public :: body_cfg_t, body_counts, body_fill, body_box, body_low, body_estimate, body_report
 
   !> &body (repeatable): one component per row of the input table (mpm_config_table), with its
   !! default; the rows of one shape only carry `only = '<shape>'`.
@@ -85,6 +85,36 @@ contains
       if (b%sector_id == SECTOR_QUARTER) lo(2) = b%center(2)
     end select
   end subroutine body_box
+
+  !> The least x . n over the body's material (the part a sector models) at t = 0 [m]: how far
+  !! it reaches along -n (a wall of normal n at point p has it all in front when this is >= p . n).
+  pure real(wp) function body_low(b, n) result(low)
+    type(body_cfg_t), intent(in) :: b      !! the body
+    real(wp), intent(in) :: n(2)           !! unit direction [-]
+    real(wp) :: a0, a1, a, c
+    integer :: k
+    select case (b%shape_id)
+    case (SHAPE_RECT)
+      low = dot_product(b%center, n) - 0.5_wp*(b%size(1)*abs(n(1)) + b%size(2)*abs(n(2)))
+    case default                           ! a ring's angles from a0 to a1; x . n is least at
+      a0 = 0.0_wp                          ! an end of the range or where u(a) = -n
+      a1 = 2.0_wp*pi
+      if (b%sector_id == SECTOR_HALF) a0 = -0.5_wp*pi
+      if (b%sector_id == SECTOR_HALF) a1 = 0.5_wp*pi
+      if (b%sector_id == SECTOR_QUARTER) a1 = 0.5_wp*pi
+      low = huge(1.0_wp)
+      do k = 1, 3
+        a = a0
+        if (k == 2) a = a1
+        if (k == 3) a = atan2(-n(2), -n(1))
+        if (k == 3 .and. a < a0) a = a + 2.0_wp*pi
+        if (k == 3 .and. a > a1) cycle
+        c = cos(a)*n(1) + sin(a)*n(2)      ! radius r_inner where c > 0, r_outer where c < 0
+        low = min(low, merge(b%r_inner, b%r_outer, c > 0.0_wp)*c)
+      end do
+      low = low + dot_product(b%center, n)
+    end select
+  end function body_low
 
   !> Particles, corners and the largest particle extent of a body as body_counts makes them,
   !! in reals (the memory budget: a length in the wrong unit must not overflow an integer).

@@ -21,7 +21,7 @@ module mpm_symmetry
   use mpm_constants, only: SHAPE_RING, SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER
   use mpm_config_types, only: config_t
   use mpm_config_text, only: itoa, fmt_short, fmt_vec
-  use mpm_config_lexer, only: reader_t
+  use mpm_config_lexer, only: reader_t, occurrence
   use mpm_config_values, only: err_var
   implicit none
   private
@@ -35,7 +35,8 @@ contains
     type(config_t), intent(in) :: cfg      !! the case, group checks done
     integer :: k, m, nm, first, io
     real(wp) :: normals(2, 2), center(2)
-    character(len=:), allocatable :: plane(:), model
+    character(len=40) :: plane(2)
+    character(len=:), allocatable :: model
     first = 0
     do k = 1, size(cfg%bodies)
       io = occurrence(rd, 'body', k)
@@ -121,19 +122,4 @@ contains
     real(wp), intent(in) :: n(2)           !! unit normal of a mirror plane
     normal_part = dot_product(v, n) /= 0.0_wp
   end function normal_part
-
-  !> The occurrence of the k-th group `group` (0 when there is none).
-  pure integer function occurrence(rd, group, k) result(io)
-    type(reader_t), intent(in) :: rd       !! the input's occurrences
-    character(len=*), intent(in) :: group  !! group name, lower case
-    integer, intent(in) :: k               !! k-th occurrence of that group
-    integer :: i
-    io = 0
-    do i = 1, rd%n_occ
-      if (rd%occ(i)%group == group .and. rd%occ(i)%index == k) then
-        io = i
-        return
-      end if
-    end do
-  end function occurrence
 end module mpm_symmetry

@@ -1,5 +1,5 @@
-!> Fortran side of the C shim src/mpm_sys_c.c: directories, signals, terminal, rename, the
-!! memory available and the cores other work keeps busy (the thread count of a run).
+!> Fortran side of the C shim src/mpm_sys_c.c: directories and their locks, signals, terminal,
+!! rename, the memory available and the cores other work keeps busy (the thread count of a run).
 ! SPDX-License-Identifier: MIT
 module mpm_sys
   use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char, c_double
@@ -7,7 +7,7 @@ module mpm_sys
   use mpm_strings, only: itoa, plural
   implicit none
   private
-  public :: sys_mkdir_p, sys_install_signals, sys_signal_received, sys_stdout_isatty, &
+  public :: sys_mkdir_p, sys_lock_dir, sys_install_signals, sys_signal_received, sys_stdout_isatty, &
             sys_rename, sys_exit, sys_memory_available, sys_cores_busy, sys_free_threads
 
   interface
@@ -30,6 +30,13 @@ module mpm_sys
       integer(c_int), value :: n
       integer(c_int) :: r
     end function c_mkdir_p
+    function c_lock_dir(path, msg, n) result(r) bind(C, name='tubempm_lock_dir')
+      import :: c_int, c_char
+      character(kind=c_char), intent(in) :: path(*)
+      character(kind=c_char), intent(out) :: msg(*)
+      integer(c_int), value :: n
+      integer(c_int) :: r
+    end function c_lock_dir
     function c_rename(from, to, msg, n) result(r) bind(C, name='tubempm_rename')
       import :: c_int, c_char
       character(kind=c_char), intent(in) :: from(*), to(*)
@@ -210,6 +217,18 @@ contains
     stat = int(c_mkdir_p(to_c(path), msg, 512_c_int))
     errmsg = from_c(msg)
   end subroutine sys_mkdir_p
+
+  !> Lock a folder for this process until it ends (flock on the folder): stat 0, -1 when
+  !! another process holds it, else errno.
+  subroutine sys_lock_dir(path, stat, errmsg)
+    character(len=*), intent(in) :: path   !! directory
+    integer, intent(out) :: stat           !! 0, -1 (held by another process) or errno (> 0)
+    character(len=:), allocatable, intent(out) :: errmsg  !! reason
+    character(kind=c_char) :: msg(512)
+    stat = int(c_lock_dir(to_c(path), msg, 512_c_int))
+    errmsg = from_c(msg)
+    if (stat == -2) stat = -1
+  end subroutine sys_lock_dir
 
   !> Rename a file atomically; stat = errno (0 ok).
   subroutine sys_rename(from, to, stat, errmsg)

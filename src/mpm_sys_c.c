@@ -1,4 +1,5 @@
-/* System calls Fortran lacks: mkdir -p, signal flags, isatty, atomic rename, busy cores.
+/* System calls Fortran lacks: mkdir -p, signal flags, isatty, atomic rename, busy cores,
+ * the lock of an output folder.
  * SPDX-License-Identifier: MIT
  * SIGINT/SIGTERM only set a flag; the time loop polls it, finishes the step, writes a
  * checkpoint and stops cleanly (issue 8). */
@@ -12,6 +13,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <sys/types.h>
 #include <unistd.h>
@@ -67,6 +70,26 @@ int tubempm_mkdir_p(const char *path, char *msg, int len) {
   }
   msg[0] = '\0';
   return 0;
+}
+
+/* Lock the folder `path` for this process (an exclusive flock on the folder itself, held
+ * until the process ends: no file is added, and a killed run leaves no stale lock). Returns 0,
+ * -2 when another process holds it, or errno; msg gets the reason. */
+int tubempm_lock_dir(const char *path, char *msg, int len) {
+  int fd = open(path, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) {
+    int e = errno;
+    snprintf(msg, (size_t)len, "%s: %s", path, strerror(e));
+    return e;
+  }
+  if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    int e = errno;
+    close(fd);
+    snprintf(msg, (size_t)len, "%s: %s", path, strerror(e));
+    return e == EWOULDBLOCK ? -2 : e;
+  }
+  msg[0] = '\0';
+  return 0;                                   /* fd stays open: the lock lasts the process */
 }
 
 /* Atomic rename (same file system). Returns 0 or errno. */

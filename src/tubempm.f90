@@ -25,7 +25,7 @@ program tubempm
   use mpm_release, only: release_t, release_observe, release_due, in_contact
   use mpm_walls, only: wall_t
   use mpm_sys, only: sys_mkdir_p, sys_install_signals, sys_signal_received, sys_stdout_isatty, &
-                     sys_free_threads
+                     sys_free_threads, sys_lock_dir
   use mpm_strings, only: itoa, rtoa, hms
   implicit none
 
@@ -57,6 +57,8 @@ program tubempm
     type(release_t) :: rel                 !! the contact seen so far (end_at_release)
     logical :: done = .false.              !! the step just taken is the last
   end type run_t
+  character(len=*), parameter :: usage = 'tubempm [--check | --scene] [--quiet] CASE.nml | '// &
+    '--restart DIR | --defaults | --help | --version'
   integer, parameter :: backup_every = 10  !! steps between copies of the last good state:
                                            !! crash_<step>.h5 is 1 to 10 steps before a failure
 
@@ -99,23 +101,28 @@ program tubempm
       call get_command_argument(i, restart_dir)
     case default
       if (arg(1:1) == '-') then
-        call fatal('command line', 'unknown option '''//trim(arg)//'''. Usage: tubempm '// &
-          '[--check] [--quiet] CASE.nml | --restart DIR | --defaults | --help | --version', &
+        call fatal('command line', 'unknown option '''//trim(arg)//'''. Usage: '//usage, &
           EXIT_INPUT)
       end if
       if (len_trim(case_file) > 0) call fatal('command line', 'more than one case file ('// &
-        trim(case_file)//', '//trim(arg)//'). Usage: tubempm [--check] [--quiet] CASE.nml', &
-        EXIT_INPUT)
+        trim(case_file)//', '//trim(arg)//'). Usage: '//usage, EXIT_INPUT)
       case_file = arg
     end select
   end do
+  if (count([check_only, scene_only, restart]) > 1) call fatal('command line', &
+    '--check, --scene and --restart exclude each other (one task per call). Usage: '//usage, &
+    EXIT_INPUT)
   if (restart) then
     if (len_trim(case_file) > 0) call fatal('command line', '--restart DIR takes no case '// &
       'file: the case is DIR/input.nml. Usage: tubempm --restart DIR', EXIT_INPUT)
     case_file = trim(restart_dir)//'/input.nml'
   end if
   if (len_trim(case_file) == 0) call fatal('command line', 'no case file given. Usage: '// &
-    'tubempm [--check] [--quiet] CASE.nml | --restart DIR | --help', EXIT_INPUT)
+    usage, EXIT_INPUT)
+  ! Ctrl-C or a TERM from here on is a flag (not the default kill): before the outputs exist
+  ! the run stops at stop_if_signalled with nothing written, after it at the end of the step
+  ! with a checkpoint
+  if (.not. sys_install_signals()) call warn('run', 'could not install signal handlers')
 
   ! input, set-up, report
   call read_config(case_file, cfg, stat, errmsg, input_warnings, advice)   ! advice: once, below
@@ -140,6 +147,7 @@ program tubempm
   if (len(input_warnings) > 0) call print_warnings(input_warnings)
   call setup_sim(cfg, s, stat, errmsg)
   if (stat /= 0) call fatal('input', errmsg, stat)
+  call stop_if_signalled('the set-up')
   call choose_threads(cfg%run%threads, check_only .or. s%p%np < s%prm%parallel_min, quiet)
   call setup_report(cfg, s, report, warnings)
   if (check_only .or. .not. quiet) then
@@ -156,6 +164,16 @@ program tubempm
   call run_case(cfg, s, quiet, restart)
 
 contains
+
+  !> A signal received before the outputs are opened: stop (exit 128 + signal, as shells
+  !! report it) with nothing written.
+  subroutine stop_if_signalled(stage)
+    character(len=*), intent(in) :: stage  !! what was being done
+    integer :: sig
+    sig = sys_signal_received()
+    if (sig /= 0) call fatal('run', 'stopped by signal '//itoa(sig)//' during '//stage// &
+      ', before the run started: nothing was written', 128 + sig)
+  end subroutine stop_if_signalled
 
   !> The threads of the run: `&run threads` when given; with 0 and no OMP_NUM_THREADS, the
   !! runtime default without the cores other work keeps busy (sys_free_threads), said when it
@@ -250,10 +268,11 @@ contains
     integer :: st, sig
     character(len=:), allocatable :: msg
     r%quiet = quiet
-    ! 1. outputs: new, or continued from the checkpoint
+    ! 1. outputs: new, or continued from the checkpoint (a signal from here on stops the loop
+    ! after its first step, with a checkpoint)
+    call stop_if_signalled('the report')
     call open_outputs(cfg, s, restart, r)
     r%sm%scene = scene_of(cfg)             ! the scene rule --check advises by
-    if (.not. sys_install_signals()) call warn('run', 'could not install signal handlers')
     call keep_good_state(s, r)
     call system_clock(r%c0, r%crate)
     ! 2. the time loop
@@ -305,6 +324,7 @@ contains
     !$ r%sm%threads = omp_get_max_threads()
     probes = probe_particles(cfg, s)         ! nearest particles at t = 0 (before a restart)
     if (restart) then
+      call lock_folder(r%dir)
       r%input_text = read_text(r%dir//'/input.nml')
       call checkpoint_read(r%dir, r%input_text, s, ex, st, msg)
       if (st == 2) call fatal('restart', msg, EXIT_INPUT)
@@ -330,6 +350,8 @@ contains
       call sys_mkdir_p(r%dir, st, msg)
       if (st /= 0) call fatal('output', 'cannot create the output folder '//r%dir//': '//msg// &
         '. Choose a writable &run output_dir', EXIT_IO)
+      call lock_folder(r%dir)
+      call replace_finished_run(r%dir)
       call write_config(cfg, r%dir//'/input.nml', st, msg)
       if (st /= 0) call fatal('output', msg, EXIT_IO)
       r%input_text = read_text(r%dir//'/input.nml')
@@ -345,6 +367,51 @@ contains
       r%next_snap = cfg%run%snapshot_every
     end if
   end subroutine open_outputs
+
+  !> Hold the output folder for this run: a second run writing into it would corrupt both
+  !! (a run started while another writes there is refused, before it writes anything).
+  subroutine lock_folder(dir)
+    character(len=*), intent(in) :: dir
+    integer :: st
+    character(len=:), allocatable :: msg
+    call sys_lock_dir(dir, st, msg)
+    if (st < 0) call fatal('output', 'another tubempm run is writing into '//dir// &
+      ' (it holds the folder''s lock): wait until it ends, or choose another &run output_dir', &
+      EXIT_IO)
+    if (st > 0) call fatal('output', 'cannot lock the output folder '//msg, EXIT_IO)
+  end subroutine lock_folder
+
+  !> A new run in a folder that holds an earlier run: refused when that run was stopped before
+  !! its end and can be continued (a checkpoint, and no summary.nml saying it completed or
+  !! failed): its work would be lost. Otherwise its checkpoint and summary are removed, so that
+  !! they cannot pass for this run's.
+  subroutine replace_finished_run(dir)
+    character(len=*), intent(in) :: dir
+    character(len=:), allocatable :: summary, why
+    logical :: ckpt
+    integer :: u, ios
+    inquire(file=dir//'/checkpoint.bin', exist=ckpt)
+    if (.not. ckpt) return
+    summary = read_text(dir//'/summary.nml')
+    if (index(summary, "status = 'completed'") == 0 .and. &
+        index(summary, "status = 'unstable'") == 0) then
+      if (len(summary) == 0) then
+        why = 'no summary.nml'
+      else if (index(summary, "status = 'interrupted'") > 0) then
+        why = "summary.nml: status = 'interrupted'"
+      else
+        why = 'a summary.nml without an end status'
+      end if
+      call fatal('output', dir//' holds a run that stopped before its end and can be '// &
+        'continued ('//why//', and a checkpoint.bin): continue it with tubempm --restart '// &
+        dir//', or remove the folder (or choose another &run output_dir) to start afresh', &
+        EXIT_IO)
+    end if
+    open(newunit=u, file=dir//'/checkpoint.bin', status='old', iostat=ios)
+    if (ios == 0) close(u, status='delete', iostat=ios)
+    open(newunit=u, file=dir//'/summary.nml', status='old', iostat=ios)
+    if (ios == 0) close(u, status='delete', iostat=ios)
+  end subroutine replace_finished_run
 
   !> With `&run end_at_release`: record whether the step just taken had a contact force, and
   !! whether the contact is over (mpm_release).

@@ -83,6 +83,30 @@ check_case "$scratch/does_not_exist.nml" 3 "does_not_exist.nml: cannot open the 
 : > "$scratch/empty.nml"
 check_case "$scratch/empty.nml" 2 "empty.nml: the file is empty"
 
+# a quarter ring in front of a wall that its whole circle would reach behind: no error (the
+# wall check takes the modelled part, x >= 0.1, y >= 0.0265); the same wall 0.01 m to the
+# right has the quarter ring 0.011 m behind it
+wall_case() {  # NAME WALL_X
+  cat > "$scratch/$1.nml" <<NML
+&run t_end = 1.0e-4 /
+&grid h = 0.5e-3 /
+&material name = 'al', E = 70.0e9, nu = 0.33, rho = 2700.0, sigma_y = 150.0e6 /
+&body center = 0.1, 0.0265, sector = 'quarter', r_inner = 0.024, r_outer = 0.026, n_thick = 4 /
+&wall point = $2, 0.0, normal = 1.0, 0.0 /
+NML
+}
+wall_case quarter_front 0.099
+"$bin" --check "$scratch/quarter_front.nml" > /dev/null 2> "$scratch/quarter_front.err" \
+  && pass=$((pass + 1)) || failed quarter_front "exit $?: $(grep ERROR "$scratch/quarter_front.err" | head -2)"
+wall_case quarter_behind 0.111
+check_case "$scratch/quarter_behind.nml" 2 "&wall #1: normal = 1.0, 0.0: &body #1 lies up to 0.011 m behind"
+# a variable given twice in a group: a warning at the later line that names the first and the
+# value used (namelist input keeps the last one)
+sed -e 's/^&material name/\&material nu = 0.25, name/' "$scratch/quarter_front.nml" > "$scratch/twice.nml"
+"$bin" --check "$scratch/twice.nml" > /dev/null 2> "$scratch/twice.err"
+grep -q "^WARNING \[check\]: .*twice.nml:3: &material #1: nu is given again (first on line 3): the last value, 0.33, is used" \
+  "$scratch/twice.err" && pass=$((pass + 1)) || failed twice "no repeated-variable warning: $(cat "$scratch/twice.err")"
+
 # the set-up report counts mirror planes in good English (was "1 mirror planes")
 out=$("$bin" --check "$here/../namelists/default.nml" 2> "$scratch/default.err")
 echo "$out" | grep -q "walls: 2 (1 mirror plane added by the sector)" && pass=$((pass + 1)) || {

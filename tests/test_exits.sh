@@ -4,7 +4,9 @@
 # that cannot be written (3), a numerical failure (4) and SIGTERM (143) each give their exit
 # status and, on standard error, nothing but `ERROR [...]` / `WARNING [...]` lines: no
 # "ERROR STOP n" and no backtrace (before the fix gfortran printed both after the project's
-# lines). Also: --help states the exit status that SIGTERM actually gives.
+# lines). Also: --help states the exit status that SIGTERM actually gives; a new run into the
+# folder of an interrupted one, or into a folder another run writes, is refused; SIGTERM during
+# the set-up; a t_end far beyond any run; --check with --scene.
 #   usage: TUBEMPM=build/debug/tubempm bash tests/test_exits.sh SCRATCH
 set -u
 bin=${TUBEMPM:-bin/tubempm}
@@ -61,6 +63,54 @@ sleep 2
 kill -TERM $pid 2>/dev/null
 wait $pid
 expect 'SIGTERM' 143 $? "$scratch/sig.err"
+# a new run into the folder of the interrupted one: refused (exit 3), its outputs and checkpoint
+# untouched, the message names --restart (before: it ran over them and lost that work)
+sum0=$(cksum "$scratch/sig/history.csv" "$scratch/sig/checkpoint.bin" 2>/dev/null)
+"$bin" --quiet "$scratch/sig.nml" > /dev/null 2> "$scratch/again.err"
+expect 'run over an interrupted run' 3 $? "$scratch/again.err"
+grep -q "tubempm --restart $scratch/sig" "$scratch/again.err" && ok \
+  || bad "the refusal does not name --restart: $(head -c 300 "$scratch/again.err")"
+[ "$(cksum "$scratch/sig/history.csv" "$scratch/sig/checkpoint.bin" 2>/dev/null)" = "$sum0" ] \
+  && ok || bad "the refused run changed the interrupted run's outputs"
+# two runs into one folder: the second is refused while the first writes (exit 3, before it
+# writes anything), the first goes on (before: both wrote, and the first's files were corrupt)
+ring lock ""
+sed -i 's/t_end = 2.0e-4/t_end = 5.0e-2/' "$scratch/lock.nml"
+"$bin" --quiet "$scratch/lock.nml" > /dev/null 2> "$scratch/lock1.err" &
+pid=$!
+for _ in $(seq 1 100); do [ -s "$scratch/lock/history.csv" ] && break; sleep 0.1; done
+"$bin" --quiet "$scratch/lock.nml" > /dev/null 2> "$scratch/lock2.err"
+expect 'second run into a busy folder' 3 $? "$scratch/lock2.err"
+grep -q "another tubempm run is writing into $scratch/lock" "$scratch/lock2.err" && ok \
+  || bad "the second run does not say the folder is busy: $(head -c 300 "$scratch/lock2.err")"
+kill -0 $pid 2>/dev/null && ok || bad "the first run did not go on"
+kill -TERM $pid 2>/dev/null
+wait $pid
+expect 'SIGTERM of the first run' 143 $? "$scratch/lock1.err"
+# SIGTERM while the case is being set up (a large one): the project's line and 143, nothing
+# written (before: the handlers came after the outputs, and the signal killed it silently)
+ring early ", snapshot_every = 1.0"
+sed -i 's/n_thick = 4/n_thick = 160/; s/h = 1.0e-3/h = 1.0e-4/' "$scratch/early.nml"
+"$bin" --quiet "$scratch/early.nml" > /dev/null 2> "$scratch/early.err" &
+pid=$!
+sleep 0.3
+kill -TERM $pid 2>/dev/null
+wait $pid
+expect 'SIGTERM during the set-up' 143 $? "$scratch/early.err"
+# t_end far beyond any run: --check counts the steps as a real (before: the count overflowed,
+# and the debug build stopped with SIGFPE) and warns of the run's length
+ring long ""
+sed -i 's/t_end = 2.0e-4/t_end = 1.0e12/' "$scratch/long.nml"
+"$bin" --check "$scratch/long.nml" > "$scratch/long.out" 2> "$scratch/long.err"
+[ $? -eq 0 ] && ok || bad "--check of t_end = 1e12: exit not 0: $(head -c 300 "$scratch/long.err")"
+grep -q -E '^steps: about +[1-9]\.[0-9]+E\+(1[5-9]|2[0-9]) to t_end' "$scratch/long.out" && ok \
+  || bad "t_end = 1e12: $(grep '^steps' "$scratch/long.out")"
+grep -q 'will take about' "$scratch/long.err" && ok || bad "t_end = 1e12: no long-run warning"
+! grep -q -v -E '^(ERROR|WARNING) \[|^\s*$' "$scratch/long.err" && ok \
+  || bad "t_end = 1e12: standard error holds more than the project's lines: $(head -3 "$scratch/long.err")"
+# one task per call
+"$bin" --check --scene "$scratch/long.nml" > /dev/null 2> "$scratch/two.err"
+expect '--check with --scene' 2 $? "$scratch/two.err"
 # --restart of a completed run: exit 0, says so, touches nothing (before: it ran again from a
 # leftover checkpoint)
 ring done ", checkpoint_every = 1.0e-9"
