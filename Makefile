@@ -104,7 +104,8 @@ test-programs: $(TESTS)
 
 ## test-slurm: as root, install Slurm and munge where missing (tools/install-deps.sh --slurm),
 ##             start a one-node cluster in a temporary folder, run a small sweep through it and
-##             locally, compare, cancel a task and re-submit (tests/slurm/; about 2 min)
+##             locally, compare, cancel a task and re-submit (tests/slurm/; about a minute:
+##             63 s with the packages' install, docs/batch.md)
 test-slurm: all
 	@bash tools/install-deps.sh --slurm
 	@bash tests/slurm/run.sh bin/tubempm
@@ -126,10 +127,10 @@ bench: deps
 $(BLD)/bench: tools/bench.f90 $(LIBOBJ) | $(BLD) $(BLD)/tmod_bench
 	$(FC_ALL) $(HDF5_FFLAGS) -I$(BLD) -J$(BLD)/tmod_bench -o $@ $< $(LIBOBJ) $(HDF5_LIBS)
 
-## study: the refinement study (LEVEL=quick: under 10 min on 2 cores; LEVEL=full: about 1 h;
-##        LEVEL=all: more); runs in out/study/ (resumable), table and figures in
-##        docs/study/ (quick: out/study-quick/); BACKEND=slurm runs them as a Slurm job
-##        array, BATCH_FLAGS="--partition P --time T --account A" (docs/batch.md)
+## study: the refinement study (LEVEL=quick: under 10 min on 2 cores; LEVEL=full: 1.5 CPU h,
+##        about 45 min on 2 free cores; LEVEL=all: more); runs in out/study/ (resumable),
+##        table and figures in docs/study/ (quick: out/study-quick/); BACKEND=slurm runs them
+##        as a Slurm job array, BATCH_FLAGS="--partition P --time T --account A" (docs/batch.md)
 LEVEL ?= quick
 BACKEND ?= local
 study: all

@@ -4,7 +4,9 @@
 
 The plot is chosen by the kind of scene (the ``scene`` of summary.nml through
 mpmplot.scene.scene_kind, which asks ``tubempm --scene`` for an output without it, or --kind; a
-wave scene without probes gets the generic plot):
+wave scene without probes gets the generic plot, and so does a detected impact without a wall
+to hit, such as two rings thrown at each other, with a note that names plot_bodies.py when
+there are several bodies):
 
 * crush:   platen force vs platen displacement with the DeRuntz-Hodge curve and the elastic
            diametral stiffness; energies vs displacement with kinetic / plastic.
@@ -28,6 +30,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 import subprocess
 import sys
 from typing import Any
@@ -90,6 +93,10 @@ def _experiment(path: str | None, kind: str) -> tuple[np.ndarray, np.ndarray] | 
         return None
     a, b = readers.read_experiment(path, EXPERIMENT_COLUMNS[kind])
     return a, b
+
+
+class NoWallError(ValueError):
+    """The scene's own plot needs a wall that the case does not have."""
 
 
 def _ring(inputs: Inputs) -> dict[str, Any] | None:
@@ -221,7 +228,7 @@ def plot_impact(history: History, inputs: Inputs, outdir: str, experiment: str |
     """Target force and centre-of-mass velocity vs time, contact phases, rebound, COR."""
     walls = [w for w in _walls(inputs, history) if not w["mirror"]]
     if not walls:
-        raise ValueError("impact plot: no target wall in the case")
+        raise NoWallError("impact plot: no target wall in the case")
     static = [w for w in walls if not w["moving"]] or walls
     target = max(static, key=lambda w: float(np.nanmax(history[f"wall{w['index']}_force"])))
     k = target["index"]
@@ -479,14 +486,24 @@ def main(argv: list[str] | None = None) -> int:
     failure = readers.run_failure(outdir)
     run = (inputs.get("run") or [{}])[0]
     title = str(run.get("title") or os.path.basename(os.path.normpath(outdir)))
-    out = args.out or os.path.join(outdir, f"{kind}.png")
     plotter = PLOTTERS[kind]
     kwargs = {"threshold": args.threshold} if kind == "wave" else {}
     try:
-        fig, numbers = plotter(history, inputs, outdir, args.experiment, title, **kwargs)
+        try:
+            fig, numbers = plotter(history, inputs, outdir, args.experiment, title, **kwargs)
+        except NoWallError as exc:
+            if args.kind:                      # --kind asked for this plot: the error stands
+                raise
+            nbody = len([c for c in history if re.fullmatch(r"body\d+_x", c)])
+            print(f"note: {exc}; the generic plot instead"
+                  + (f" (forces and energies per body: plots/plot_bodies.py --dir {outdir})"
+                     if nbody > 1 else ""))
+            kind = "generic"
+            fig, numbers = plot_generic(history, inputs, outdir, args.experiment, title)
     except (OSError, ValueError, KeyError) as exc:
         print(f"ERROR [plot_case]: {kind} plot of {outdir}: {exc}", file=sys.stderr)
         return 2
+    out = args.out or os.path.join(outdir, f"{kind}.png")
     if failure:
         style.mark_failed(fig, failure)
     fig.savefig(out, dpi=style.DPI)

@@ -50,3 +50,17 @@ def apply() -> None:
 
 
 apply()
+
+
+if __name__ == "__main__":
+    import argparse
+
+    _parser = argparse.ArgumentParser(
+        prog="style.py",
+        description="The shared matplotlib style of the tubempm plotting scripts: a module, "
+        "not a plot. plot_case.py, plot_shapes.py, plot_bodies.py and the other plots/ scripts "
+        "import it before matplotlib.pyplot; it selects the non-interactive Agg backend and "
+        "sets the common rcParams (viridis, 150 dpi, font sizes, no LaTeX), and mark_failed() "
+        "writes a run's failure in red above a figure. Run as a script it draws nothing.")
+    _parser.parse_args()
+    _parser.print_help()

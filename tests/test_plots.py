@@ -12,6 +12,9 @@ their command line in this process; the figure they save is caught and its artis
   name the quantities and units, and no MPM-fit stiffness is printed;
 * impact: the force and velocity curves are the history's columns, and the printed coefficient
   of restitution is the one built into the history (0.75);
+* an impact without a wall to hit (two half rings thrown at each other, as
+  namelists/contact/two_rings.nml): the generic plot instead, exit 0, with a one-line note that
+  names plots/plot_bodies.py; asked for with --kind impact it is still an error (exit 2);
 * shapes: the drawn polygons are the snapshot's corners (in mm) and their colours its eqps, or
   with --colour body one discrete colour per body id;
 * a run whose summary.nml says 'unstable', or that has no summary.nml, is marked in red above
@@ -217,6 +220,46 @@ def test_impact(scratch: Path) -> None:
     check(abs(value - 0.75) < 1e-3, f"impact: printed COR {value} = 0.75 built into the history")
 
 
+def test_impact_no_wall(scratch: Path) -> None:
+    folder = scratch / "impact_no_wall"
+    folder.mkdir(parents=True, exist_ok=True)
+    rings = "".join(f"""&body shape = 'ring', center = 0.0, {y!r}, r_inner = {R_IN!r},
+  r_outer = {R_OUT!r}, sector = 'half', velocity = 0.0, {v!r} /
+""" for y, v in ((0.0265, -30.0), (-0.0265, 30.0)))
+    (folder / "input.nml").write_text("""&run title = 'two rings', depth = 1.0, t_end = 2.0e-4 /
+&grid h = 0.5e-3 /
+&material name = 'al', model = 'elastic', E = 70.0e9, nu = 0.3, rho = 2700.0 /
+""" + rings)
+    t = np.linspace(0.0, 2.0e-4, 101)
+    zero = np.zeros_like(t)
+    kinetic = np.where(t < 5e-5, 760.0, 760.0 - 2.0e6 * (t - 5e-5))
+    cols = {"time": t, "wall1_disp": zero, "wall1_force": zero, "wall1_fx": zero,
+            "wall1_fy": zero, "kinetic": kinetic, "strain": zero, "plastic": 760.0 - kinetic,
+            "external": zero}
+    for b in (1, 2):
+        cols.update({f"body{b}_x": zero, f"body{b}_y": zero, f"body{b}_kinetic": kinetic / 2})
+    cols["contact1_2_force"] = zero
+    write_history(folder / "history.csv", cols)   # wall 1: the mirror plane x = 0
+    write_summary(folder, scene="impact")
+    argv = ["--dir", str(folder), "--out", str(scratch / "impact_no_wall.png")]
+    rc, out, fig = run_main(plot_case, argv)
+    notes = [ln for ln in out.splitlines() if ln.startswith("note:")]
+    check(rc == 0 and fig is not None, f"impact without a wall: exit 0 and a figure (rc {rc}: "
+          f"{out.strip()[:300]})")
+    check(len(notes) == 1 and "no target wall" in notes[0] and "generic" in notes[0]
+          and "plot_bodies.py" in notes[0], f"impact without a wall: one note line naming the "
+          f"generic plot and plot_bodies.py (got {notes})")
+    if fig is not None:
+        ax = fig.axes[0]
+        ln = line(ax, "kinetic")
+        check(ln is not None and np.allclose(ln.get_ydata(), kinetic, rtol=1e-12, atol=0)
+              and ax.get_xlabel().startswith("time"),
+              "impact without a wall: the generic plot (history's kinetic energy against time)")
+    rc, out, fig = run_main(plot_case, argv + ["--kind", "impact"])
+    check(rc == 2 and "no target wall" in out, f"impact without a wall, --kind impact: exit 2 "
+          f"naming the missing wall (rc {rc})")
+
+
 def check_body_colours(scratch: Path, folder: Path) -> None:
     """--colour body: one colour per body id (tab10's first two for bodies 1 and 2), and a
     colour bar with exactly the ids as ticks (a discrete scale, not a continuous one)."""
@@ -309,7 +352,7 @@ def main() -> int:
     if scratch.exists():
         shutil.rmtree(scratch)
     scratch.mkdir(parents=True)
-    for test in (test_crush, test_impact, test_shapes):
+    for test in (test_crush, test_impact, test_impact_no_wall, test_shapes):
         try:
             test(scratch)
         except Exception as exc:  # noqa: BLE001 - a crash is a failed check, the others go on

@@ -34,7 +34,7 @@ sleep 1.1                                  # a file written now is strictly newe
 status0=$(git_state)
 scenes_sum0=$(cksum docs/figures/scenes.txt 2>/dev/null)
 
-tools=$(ls tools/*.py tools/*.sh plots/plot_*.py)
+tools=$(ls tools/*.py tools/*.sh plots/plot_*.py plots/style.py)
 for t in $tools; do
   case $t in
     *.py) cmd=("$py" "$t") ;;
