@@ -28,7 +28,7 @@ module mpm_advice
   private
 
   public :: study_advice, scene_of, advice_check, advice_end_of_run, wall_too_thin
-  public :: advice_units, advice_wall_time
+  public :: advice_units, advice_unit_issues, unit_issue_t, advice_wall_time
   public :: cfl_in_use, cfl_automatic, cfl_text, wall_particles_per_cell, cfl_margin
 
   include 'mpm_advice_table.inc'
@@ -48,6 +48,16 @@ module mpm_advice
   real(wp), parameter :: e_min = 1.0e6_wp, e_max = 1.0e13_wp  !! plausible E [Pa]
   real(wp), parameter :: rho_min = 10.0_wp, rho_max = 30000.0_wp  !! plausible rho [kg/m^3]
   real(wp), parameter :: yield_strain_max = 1.0_wp/50.0_wp  !! sigma_y / E above this is suspect
+
+  !> A value that is usually a number in the wrong unit (advice_unit_issues).
+  type :: unit_issue_t
+    character(len=8) :: group = ''         !! its namelist group
+    integer :: k = 0                       !! occurrence of a repeatable group (0: given once)
+    character(len=16) :: var = ''          !! the variable
+    character(len=:), allocatable :: value   !! its value, with the unit
+    character(len=:), allocatable :: why     !! why it is suspect, and the likely slip
+    character(len=:), allocatable :: allowed !! the plausible range
+  end type unit_issue_t
   real(wp), parameter :: long_run = 3600.0_wp       !! runs longer than this are warned of [s]
   !> The automatic cfl is this fraction of the largest cfl at which the stability study found
   !! the basis and scheme stable (docs/stability.md, "The automatic cfl") [-]
@@ -193,7 +203,7 @@ contains
     character(len=:), allocatable, intent(out) :: warnings  !! warnings, one per line ('' none)
     character(len=512) :: line
     warnings = ''
-    call advice_units(cfg, warnings)
+    if (.not. cfg%run%check_units) call advice_units(cfg, warnings)  ! (else refused at input)
     call advice_walls(cfg, warnings)
     if (cfg%run%dt > 0.0_wp .and. cfg%run%dt > 0.3_wp*h/(c_max + vmax)) then
       write(line, '(a,es10.3,a,f5.2,a)') 'dt = ', cfg%run%dt, ' s is cfl ', &
@@ -206,53 +216,85 @@ contains
 
   !> Values that are possible but implausible for a tube, usually a number in the wrong unit
   !! (the input is SI): lengths over 1 m, E outside 1 MPa .. 1e13 Pa, sigma_y above E/50,
-  !! density outside 10 .. 30 000 kg/m^3. Appends one line per value to `text`.
-  pure subroutine advice_units(cfg, text)
+  !! density outside 10 .. 30 000 kg/m^3. The reader refuses them (`&run check_units`,
+  !! mpm_config_check) with its file, line and allowed range; advice_units words them as lines.
+  pure subroutine advice_unit_issues(cfg, issues)
     type(config_t), intent(in) :: cfg      !! the case
-    character(len=:), allocatable, intent(inout) :: text  !! lines so far (may be unallocated)
+    type(unit_issue_t), allocatable, intent(out) :: issues(:)  !! one per suspect value
     integer :: k
-    character(len=*), parameter :: mm = ' m is over 1 m: the input is in metres '// &
-      '(millimetres typed as metres?)'
-    if (.not. allocated(text)) text = ''
-    if (cfg%grid%h > length_max) call append_msg(text, '&grid h = '//rtoa(cfg%grid%h)//mm)
+    character(len=*), parameter :: mm = 'over 1 m: the input is in metres (millimetres '// &
+      'typed as metres?)', metres = 'a length in metres, at most 1 m'
+    allocate(issues(0))
+    if (cfg%grid%h > length_max) call push(issues, 'grid', 0, 'h', rtoa(cfg%grid%h)//' m', mm, &
+                                           metres)
     if (.not. cfg%grid%fitted) then
-      if (maxval(abs([cfg%grid%lower, cfg%grid%upper])) > length_max) call append_msg(text, &
-        '&grid lower, upper reach '//rtoa(maxval(abs([cfg%grid%lower, cfg%grid%upper])))//mm)
+      if (maxval(abs(cfg%grid%lower)) > length_max) call push(issues, 'grid', 0, 'lower', &
+        rtoa(maxval(abs(cfg%grid%lower)))//' m', mm, metres)
+      if (maxval(abs(cfg%grid%upper)) > length_max) call push(issues, 'grid', 0, 'upper', &
+        rtoa(maxval(abs(cfg%grid%upper)))//' m', mm, metres)
     end if
     do k = 1, size(cfg%bodies)
       associate (b => cfg%bodies(k))
         if (b%shape_id == SHAPE_RING) then
-          if (b%r_outer > length_max) call append_msg(text, '&body #'//itoa(k)// &
-            ': r_outer = '//rtoa(b%r_outer)//mm)
-          if (b%r_inner > length_max) call append_msg(text, '&body #'//itoa(k)// &
-            ': r_inner = '//rtoa(b%r_inner)//mm)
+          if (b%r_outer > length_max) call push(issues, 'body', k, 'r_outer', &
+                                                rtoa(b%r_outer)//' m', mm, metres)
+          if (b%r_inner > length_max) call push(issues, 'body', k, 'r_inner', &
+                                                rtoa(b%r_inner)//' m', mm, metres)
         else if (maxval(b%size) > length_max) then
-          call append_msg(text, '&body #'//itoa(k)//': size = '//rtoa(maxval(b%size))//mm)
+          call push(issues, 'body', k, 'size', rtoa(maxval(b%size))//' m', mm, metres)
         end if
-        if (maxval(abs(b%center)) > length_max) call append_msg(text, '&body #'//itoa(k)// &
-          ': center = '//rtoa(maxval(abs(b%center)))//mm)
+        if (maxval(abs(b%center)) > length_max) call push(issues, 'body', k, 'center', &
+          rtoa(maxval(abs(b%center)))//' m', mm, metres)
       end associate
     end do
     do k = 1, size(cfg%walls)
       if (cfg%walls(k)%mirror) cycle
-      if (maxval(abs(cfg%walls(k)%point)) > length_max) call append_msg(text, '&wall #'// &
-        itoa(k)//': point = '//rtoa(maxval(abs(cfg%walls(k)%point)))//mm)
+      if (maxval(abs(cfg%walls(k)%point)) > length_max) call push(issues, 'wall', k, 'point', &
+        rtoa(maxval(abs(cfg%walls(k)%point)))//' m', mm, metres)
     end do
     do k = 1, size(cfg%materials)
       associate (m => cfg%materials(k))
-        if (m%E < e_min .or. m%E > e_max) call append_msg(text, '&material #'//itoa(k)// &
-          ' ('''//trim(m%name)//'''): E = '//rtoa(m%E)//' Pa is outside 1e6 .. 1e13 Pa: '// &
-          'E is in Pa (steel 2.1e11, aluminium 7e10, rubber about 1e6 to 1e7)')
-        if (m%model_id == MODEL_J2 .and. m%sigma_y > yield_strain_max*m%E) call append_msg( &
-          text, '&material #'//itoa(k)//' ('''//trim(m%name)//'''): sigma_y = '// &
-          rtoa(m%sigma_y)//' Pa is above E/50 = '//rtoa(yield_strain_max*m%E)//' Pa: both '// &
-          'are in Pa (steel sigma_y about 2e8 to 1e9 against E = 2.1e11)')
-        if (m%rho < rho_min .or. m%rho > rho_max) call append_msg(text, '&material #'// &
-          itoa(k)//' ('''//trim(m%name)//'''): rho = '//rtoa(m%rho)//' kg/m^3 is outside '// &
-          '10 .. 30000 kg/m^3: rho is in kg/m^3 (steel 7800, aluminium 2700; g/cm^3 times 1000)')
+        if (m%E < e_min .or. m%E > e_max) call push(issues, 'material', k, 'E', &
+          rtoa(m%E)//' Pa', 'outside 1e6 .. 1e13 Pa: E is in Pa (steel 2.1e11, aluminium '// &
+          '7e10, rubber about 1e6 to 1e7)', 'a real number from 1e6 to 1e13 [Pa]')
+        if (m%model_id == MODEL_J2 .and. m%sigma_y > yield_strain_max*m%E) call push(issues, &
+          'material', k, 'sigma_y', rtoa(m%sigma_y)//' Pa', 'above E/50 = '// &
+          rtoa(yield_strain_max*m%E)//' Pa: both are in Pa (steel sigma_y about 2e8 to 1e9 '// &
+          'against E = 2.1e11)', 'a real number of at most E/50 [Pa]')
+        if (m%rho < rho_min .or. m%rho > rho_max) call push(issues, 'material', k, 'rho', &
+          rtoa(m%rho)//' kg/m^3', 'outside 10 .. 30000 kg/m^3: rho is in kg/m^3 (steel 7800, '// &
+          'aluminium 2700; g/cm^3 times 1000)', 'a real number from 10 to 30000 [kg/m^3]')
+      end associate
+    end do
+  end subroutine advice_unit_issues
+
+  !> The values in a likely wrong unit as lines ('&body #1: r_outer = 2.6000E+001 m is over
+  !! 1 m: ...'), appended to `text`: the warnings of a case with `check_units = .false.` and the
+  !! hints of a refused memory budget.
+  pure subroutine advice_units(cfg, text)
+    type(config_t), intent(in) :: cfg      !! the case
+    character(len=:), allocatable, intent(inout) :: text  !! lines so far (may be unallocated)
+    type(unit_issue_t), allocatable :: issues(:)
+    integer :: j
+    character(len=:), allocatable :: where
+    if (.not. allocated(text)) text = ''
+    call advice_unit_issues(cfg, issues)
+    do j = 1, size(issues)
+      associate (u => issues(j))
+        where = '&'//trim(u%group)
+        if (u%k > 0) where = where//' #'//itoa(u%k)
+        call append_msg(text, where//': '//trim(u%var)//' = '//u%value//' is '//u%why)
       end associate
     end do
   end subroutine advice_units
+
+  !> Append one issue.
+  pure subroutine push(issues, group, k, var, value, why, allowed)
+    type(unit_issue_t), allocatable, intent(inout) :: issues(:)
+    character(len=*), intent(in) :: group, var, value, why, allowed
+    integer, intent(in) :: k               !! occurrence (0: a group given once)
+    issues = [issues, unit_issue_t(group, k, var, value, why, allowed)]
+  end subroutine push
 
   !> The wall time of a run of `work` particle-steps on `threads` threads of the release build
   !! at the throughput `make bench` measured (src/mpm_bench_table.inc, docs/performance.md)
@@ -418,14 +460,10 @@ contains
       end if
       call fbarwall_aspect(cfg, warnings)
     end if
-    if (ppc < ppc_low .and. scheme /= SCHEME_USL .and. basis /= BASIS_UGIMP .and. &
-        flip > 0.99_wp) then
-      write(line, '(a,f5.2,a)') 'with ', ppc, ' particle(s) per cell through the wall, '// &
-        'FLIP with this basis and scheme gained energy slowly on the impact scene (5 % '// &
-        'within 0.1-0.4 ms, exit 4) at cfl above 0.34 (cpdi2/musl), and at every cfl with '// &
-        'cpdi2/usf (docs/stability.md). Use n_thick >= 2 t/h'
-      call append_msg(warnings, line)
-    end if
+    ! (FLIP's slow energy gain at one particle per cell, once warned of here for CPDI above
+    ! cfl 0.34, was the half ring's mirror plane's: the re-run study finds CPDI1 and CPDI2 with
+    ! MUSL stable to 1.94-1.97 there; what is left, e.g. CPDI2 with USF failing at every cfl,
+    ! is in the 1-per-cell table below)
     write(flip_text, '(f6.4)') flip
     if (cfl_stable(scheme, basis) <= 0.0_wp) then
       call append_msg(warnings, 'basis '''//trim(basis_names(basis))//''' with scheme '''// &

@@ -12,7 +12,7 @@ module mpm_config_check
   use mpm_config_table, only: n_groups
   use mpm_config_lexer, only: reader_t, occurrence
   use mpm_config_values, only: err_var, warn_var
-  use mpm_advice, only: wall_too_thin
+  use mpm_advice, only: wall_too_thin, advice_unit_issues, unit_issue_t
   use mpm_symmetry, only: symmetry_checks
   implicit none
   private
@@ -25,7 +25,7 @@ contains
     type(reader_t), intent(inout) :: rd
     type(config_t), intent(inout) :: cfg
     integer, intent(in) :: first_of(n_groups), occ_mat(:), occ_body(:), occ_con(:)
-    integer :: k, j, id, io_run, io_solver, io_grid
+    integer :: k, j, id, io_run, io_solver, io_grid, n0
     logical :: all_named, all_ok, fbar
     character(len=:), allocatable :: names_txt, want, vname
     real(wp) :: lo(2), hi(2)
@@ -135,12 +135,35 @@ contains
 
     ! a half or quarter model: nothing may move across its mirror planes (mpm_symmetry)
     call symmetry_checks(rd, cfg)
-    if (io_grid > 0) then
+    n0 = rd%n_err
+    if (cfg%run%check_units) call unit_checks(rd, cfg)
+    if (io_grid > 0 .and. rd%n_err == n0) then   ! (a length in mm puts bodies behind walls)
       if (rd%occ(io_grid)%ok) call wall_side_checks(rd, cfg, occ_body)
     end if
 
     call contact_checks(rd, cfg, occ_con)
   end subroutine cross_checks
+
+  !> Values that are usually a number in the wrong unit (mpm_advice's rule), refused at their
+  !! variable unless `&run check_units = .false.` (then the set-up warns of them).
+  subroutine unit_checks(rd, cfg)
+    type(reader_t), intent(inout) :: rd
+    type(config_t), intent(in) :: cfg
+    type(unit_issue_t), allocatable :: issues(:)
+    integer :: j, io
+    logical :: ok(rd%n_occ)
+    call advice_unit_issues(cfg, issues)
+    ok = rd%occ(1:rd%n_occ)%ok             ! (before this check's errors mark them)
+    do j = 1, size(issues)
+      associate (u => issues(j))
+        io = occurrence(rd, trim(u%group), max(u%k, 1))
+        if (io == 0) cycle
+        if (.not. ok(io)) cycle             ! its values may be unset
+        call err_var(rd, io, trim(u%var), u%value, u%why, u%allowed// &
+          ' (or &run check_units = .false. when the value is meant)')
+      end associate
+    end do
+  end subroutine unit_checks
 
   !> Every body in front of every wall at t = 0: a body more than half a cell behind a wall
   !! (its normal pointing away from the material, or its point inside the body) would be

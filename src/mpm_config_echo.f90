@@ -155,9 +155,6 @@ contains
     call bind_fields(cfg, ig, k, f)
     call fields_values(f, idx, e%v)
     select case (ig)
-    case (1)
-      e%hide(idx) = (cfg%run%mirror_images .and. specs(idx)%name == 'mirror_images') .or. &
-                    (.not. cfg%run%end_at_release .and. specs(idx)%name == 'end_at_release')
     case (2)
       e%hide(idx) = cfg%solver%volumetric_id < VOLUMETRIC_FBAR .and. &
                     specs(idx)%name == 'volumetric'
@@ -185,8 +182,13 @@ contains
       e%why = 'no motion table'
     end select
     do j = 1, size(idx)          ! quiet rows: left out while at their default
-      if (specs(idx(j))%quiet) e%hide(idx(j)) = e%hide(idx(j)) .or. &
-        e%v%r(1, idx(j)) == specs(idx(j))%r0
+      r = idx(j)
+      if (.not. specs(r)%quiet) cycle
+      if (specs(r)%kind == 'l') then
+        e%hide(r) = e%hide(r) .or. (e%v%l(r) .eqv. specs(r)%l0)
+      else
+        e%hide(r) = e%hide(r) .or. e%v%r(1, r) == specs(r)%r0
+      end if
     end do
   end subroutine group_echo
 

@@ -55,7 +55,7 @@ module mpm_config_table
     character(len=160) :: allowed = ''      !! "allowed:" text of messages ('' for kind e)
     character(len=48) :: comment = ''       !! echo comment: meaning [unit]; % = the names
     logical :: own = .false.                !! checked and stored by the group's own rules
-    logical :: quiet = .false.              !! left out of the echo while at its default r0
+    logical :: quiet = .false.              !! left out of the echo while at its default (r0, l0)
   end type var_spec_t
 
   !> Where the value of a row lives in a config_t record (bind_fields): the pointer of the
@@ -102,9 +102,12 @@ module mpm_config_table
       allowed='an integer >= 0 (0 = one per core that other work does not keep busy)', &
       comment='OpenMP threads (0 = runtime default)'), &
     var_spec_t('run', 'mirror_images', 'l', l0=.true., allowed='.true. or .false. (default '// &
-      '.true.)', comment='write the mirror images of a sector'), &
+      '.true.)', comment='write the mirror images of a sector', quiet=.true.), &
     var_spec_t('run', 'end_at_release', 'l', allowed='.true. or .false. '// &
-      '(default .false.)', comment='end the run when its contact is over'), &
+      '(default .false.)', comment='end the run when its contact is over', quiet=.true.), &
+    var_spec_t('run', 'check_units', 'l', l0=.true., allowed='.true. or .false. (default '// &
+      '.true.: refuse values that are usually a wrong unit)', &
+      comment='refuse values in a likely wrong unit', quiet=.true.), &
     ! ---------------------------------------------------------------------------- &solver
     var_spec_t('solver', 'basis', 'e', c0='cpdi2', comment='% [-]'), &
     var_spec_t('solver', 'scheme', 'e', c0='musl', comment='% [-]'), &
@@ -347,6 +350,7 @@ contains
         call bind(f, 'run', 'threads', i=g%threads)
         call bind(f, 'run', 'mirror_images', l=g%mirror_images)
         call bind(f, 'run', 'end_at_release', l=g%end_at_release)
+        call bind(f, 'run', 'check_units', l=g%check_units)
       end associate
     case (2)
       associate (g => cfg%solver)

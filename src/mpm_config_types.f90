@@ -28,6 +28,7 @@ module mpm_config_types
     integer :: threads = 0                         !! OpenMP threads (0 = runtime default)
     logical :: mirror_images = .true.              !! snapshots of a sector show the whole tube
     logical :: end_at_release = .false.            !! end the run when its contact is over
+    logical :: check_units = .true.                !! refuse values in a likely wrong unit
   end type run_cfg_t
 
   !> &solver

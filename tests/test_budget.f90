@@ -153,7 +153,11 @@ contains
     cfg%bodies(1)%center = [0.0_wp, 26.0_wp]
     cfg%walls(1)%point = [0.0_wp, 52.0_wp]
     call config_resolve(cfg, stat, msg, warnings)
-    call check(stat == 0, 'r_outer = 26 passes the range checks')
+    call check(stat == EXIT_INPUT .and. index(msg, 'r_outer = ') > 0, &
+               'r_outer = 26 is refused by the reader (a likely wrong unit): '//msg)
+    cfg%run%check_units = .false.          ! meant: then the budget is what refuses it
+    call config_resolve(cfg, stat, msg, warnings)
+    call check(stat == 0, 'r_outer = 26 with check_units = .false. passes the range checks')
     b = budget_estimate(cfg, 1)
     call check(b%nodes > 2.0_wp**31, 'r_outer = 26: more nodes than int32 ids')
     call budget_check(cfg, b, huge(1.0_wp), 'test', .true., stat, msg)
@@ -181,8 +185,16 @@ contains
     call check(index(text, 'sigma_y = 3.1000E+008 Pa is above E/50') > 0, &
                'sigma_y above E/50 warned')
     call check(index(text, 'rho = 7.8000E+000 kg/m^3 is outside') > 0, 'rho = 7.8 warned')
-    call check(index(text, '&grid h = 1.5000E+000 m is over 1 m') > 0, 'h = 1.5 m warned')
+    call check(index(text, '&grid: h = 1.5000E+000 m is over 1 m') > 0, 'h = 1.5 m warned')
     call check(count_lines(text) == 4, 'four values, four lines: '//text)
+    ! the reader refuses them at their variables, unless check_units = .false.
+    call config_resolve(cfg, stat, msg, warnings)
+    call check(stat == EXIT_INPUT .and. index(msg, '&material #1: E = ') > 0 .and. &
+               index(msg, '&grid: h = ') > 0 .and. index(msg, 'check_units = .false.') > 0, &
+               'config_resolve refuses the four: '//msg)
+    cfg%run%check_units = .false.
+    call config_resolve(cfg, stat, msg, warnings)
+    call check(stat == 0, 'with check_units = .false. they are accepted: '//msg)
     cfg = crush_quarter(BASIS_CPDI2)
     cfg%materials(1)%E = 2.0e13_wp
     cfg%materials(1)%rho = 40000.0_wp

@@ -293,7 +293,7 @@ contains
     character(len=:), allocatable :: msg, warn, f
     call begin_test('warnings')
     f = write_case('warn', [character(len=100) :: run_ok, '&grid h = 3e-3 /', mat_ok, body_ok, &
-      '&wall point = 0, 0, normal = 0, 1, ramp = 1e-4', &
+      '&wall point = 0, -0.03, normal = 0, 1, ramp = 1e-4', &
       '  motion_t = 0, 1e-4, motion_f = 0, 1 /'])
     call read_config(f, c, stat, msg, warn)
     call check(stat == 0, 'warnings do not fail the read: '//msg)

@@ -7,7 +7,8 @@
 # what to change. Oracles: exit 2 within 20 s under a 3 GB address-space limit (the old code
 # could only die), the project's lines only, the numbers and variables named; the limit given
 # by TUBEMPM_MEMORY_LIMIT; the wall-time estimate of --check equal to work / throughput as
-# printed, and the warning of a run longer than an hour; a unit warning for rho = 7.8.
+# printed, and the warning of a run longer than an hour; values in a likely wrong unit refused
+# at their line (r_outer = 26, rho = 7.8), warned of with &run check_units = .false.
 #   usage: TUBEMPM=build/debug/tubempm bash tests/test_limits.sh SCRATCH
 set -u
 bin=${TUBEMPM:-bin/tubempm}
@@ -45,8 +46,14 @@ refused() {
     grep -q -- "$pat" "$scratch/$name.err" && ok || bad "$name: no '$pat' in: $(head -c 600 "$scratch/$name.err")"
   done
 }
+# millimetres typed as metres: refused by the reader at the variable, before the set-up
 refused r_outer_26 's/^  r_outer = 25.43e-3 /  r_outer = 26 /' \
-  'r_outer' 'r_outer = 2.6000E+001 m is over 1 m' 'grid of'
+  'r_outer_26.nml:48: &body #1: r_outer = 26: over 1 m: the input is in metres' \
+  'allowed: a length in metres, at most 1 m (or &run check_units = .false. when the value is meant)'
+# the same with check_units = .false. (and no platen, which the 26 m ring would lie behind):
+# the memory budget refuses it, with the unit as a hint
+refused r_outer_26_budget 's/^  r_outer = 25.43e-3 /  r_outer = 26 /; s/^  t_end = \(.*\)/  t_end = \1\n  check_units = .false./; /^&wall/,/^\//d' \
+  'r_outer' '&body #1: r_outer = 2.6000E+001 m is over 1 m' 'grid of'
 refused h_1e-6 's/^  h = 0.37e-3 /  h = 1.0e-6 /' \
   'more than the .* available' 'a larger &grid h' 'GiB'
 
@@ -79,13 +86,19 @@ sed -e 's/^  t_end = 3.25e-3 /  t_end = 0.2 /' "$crush" > "$scratch/long.nml"
 grep -q '^WARNING \[check\]: the run will take about [1-9][0-9]*:[0-9][0-9]:[0-9][0-9]' "$scratch/long.err" \
   && ok || bad "t_end = 0.2 (about 2 h): no long-run warning: $(cat "$scratch/long.err")"
 
-# a density in g/cm^3: a warning, not a refusal
+# a density in g/cm^3: refused at its line; with check_units = .false. a warning only
 sed -e 's/^  rho = 7800.0 /  rho = 7.8 /' "$crush" > "$scratch/rho.nml"
 "$bin" --check "$scratch/rho.nml" > /dev/null 2> "$scratch/rho.err"
 rc=$?
-[ $rc -eq 0 ] && ok || bad "rho = 7.8: exit $rc, expected 0 (a warning only)"
-grep -q "^WARNING \[check\]: &material #1 ('steel'): rho = 7.8000E+000 kg/m^3 is outside" "$scratch/rho.err" \
-  && ok || bad "rho = 7.8: no warning: $(cat "$scratch/rho.err")"
+[ $rc -eq 2 ] && ok || bad "rho = 7.8: exit $rc, expected 2 (refused)"
+grep -q "^ERROR \[input\]: .*rho.nml:38: &material #1: rho = 7.8: outside 10 .. 30000 kg/m^3" "$scratch/rho.err" \
+  && ok || bad "rho = 7.8: not refused at its line: $(cat "$scratch/rho.err")"
+sed -i 's/^  t_end = \(.*\)/  t_end = \1\n  check_units = .false./' "$scratch/rho.nml"
+"$bin" --check "$scratch/rho.nml" > /dev/null 2> "$scratch/rho.err"
+rc=$?
+[ $rc -eq 0 ] && ok || bad "rho = 7.8, check_units = .false.: exit $rc, expected 0 (a warning only)"
+grep -q "^WARNING \[check\]: &material #1: rho = 7.8000E+000 kg/m^3 is outside" "$scratch/rho.err" \
+  && ok || bad "rho = 7.8, check_units = .false.: no warning: $(cat "$scratch/rho.err")"
 
 echo "limits: $pass passed, $fail failed"
 [ $fail -eq 0 ]
