@@ -28,7 +28,6 @@ contains
     integer :: k, j, id, io_run, io_solver, io_grid, n0
     logical :: all_named, all_ok, fbar
     character(len=:), allocatable :: names_txt, want, vname
-    real(wp) :: lo(2), hi(2)
 
     io_run = first_of(1)
     io_solver = first_of(2)
@@ -101,24 +100,7 @@ contains
     end do
 
     ! given grid bounds contain every body
-    if (io_grid > 0) then
-      if (rd%occ(io_grid)%ok .and. .not. cfg%grid%fitted) then
-        do k = 1, size(cfg%bodies)
-          if (.not. rd%occ(occ_body(k))%ok) cycle
-          call body_box(cfg%bodies(k), lo, hi)
-          if (any(lo < cfg%grid%lower)) call err_var(rd, io_grid, 'lower', &
-            fmt_vec(cfg%grid%lower), 'does not contain &body #'//itoa(k)// &
-            ' (it reaches down to x = '//fmt_short(lo(1))//', y = '//fmt_short(lo(2))//')', &
-            'lower <= '//fmt_short(lo(1))//', '//fmt_short(lo(2))//' for this body, '// &
-            'or lower and upper not given (fitted)')
-          if (any(hi > cfg%grid%upper)) call err_var(rd, io_grid, 'upper', &
-            fmt_vec(cfg%grid%upper), 'does not contain &body #'//itoa(k)// &
-            ' (it reaches up to x = '//fmt_short(hi(1))//', y = '//fmt_short(hi(2))//')', &
-            'upper >= '//fmt_short(hi(1))//', '//fmt_short(hi(2))//' for this body, '// &
-            'or lower and upper not given (fitted)')
-        end do
-      end if
-    end if
+    if (io_grid > 0) call grid_bounds_checks(rd, cfg, io_grid, occ_body)
 
     ! a fixed time step must not exceed the stable limit at cfl = 1
     all_ok = io_run > 0 .and. io_grid > 0 .and. size(cfg%materials) > 0 .and. &
@@ -143,6 +125,31 @@ contains
 
     call contact_checks(rd, cfg, occ_con)
   end subroutine cross_checks
+
+  !> Given grid bounds (not fitted) contain every body.
+  subroutine grid_bounds_checks(rd, cfg, io_grid, occ_body)
+    type(reader_t), intent(inout) :: rd
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: io_grid, occ_body(:)
+    integer :: k
+    real(wp) :: lo(2), hi(2)
+    if (rd%occ(io_grid)%ok .and. .not. cfg%grid%fitted) then
+      do k = 1, size(cfg%bodies)
+        if (.not. rd%occ(occ_body(k))%ok) cycle
+        call body_box(cfg%bodies(k), lo, hi)
+        if (any(lo < cfg%grid%lower)) call err_var(rd, io_grid, 'lower', &
+          fmt_vec(cfg%grid%lower), 'does not contain &body #'//itoa(k)// &
+          ' (it reaches down to x = '//fmt_short(lo(1))//', y = '//fmt_short(lo(2))//')', &
+          'lower <= '//fmt_short(lo(1))//', '//fmt_short(lo(2))//' for this body, '// &
+          'or lower and upper not given (fitted)')
+        if (any(hi > cfg%grid%upper)) call err_var(rd, io_grid, 'upper', &
+          fmt_vec(cfg%grid%upper), 'does not contain &body #'//itoa(k)// &
+          ' (it reaches up to x = '//fmt_short(hi(1))//', y = '//fmt_short(hi(2))//')', &
+          'upper >= '//fmt_short(hi(1))//', '//fmt_short(hi(2))//' for this body, '// &
+          'or lower and upper not given (fitted)')
+      end do
+    end if
+  end subroutine grid_bounds_checks
 
   !> Values that are usually a number in the wrong unit (mpm_advice's rule), refused at their
   !! variable unless `&run check_units = .false.` (then the set-up warns of them).

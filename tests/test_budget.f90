@@ -11,7 +11,7 @@
 program test_budget
   use mpm_kinds, only: wp
   use mpm_constants, only: MODEL_J2, MODEL_ELASTIC, SECTOR_HALF, SECTOR_QUARTER, BASIS_LINEAR, &
-                           BASIS_UGIMP, BASIS_CPDI1, BASIS_CPDI2, EXIT_INPUT, EXIT_NUMERIC
+                           BASIS_CPDI2, EXIT_INPUT, EXIT_NUMERIC
   use mpm_config, only: config_t, config_resolve
   use mpm_scene_builder, only: scene_new, scene_add_material, scene_add_ring, scene_add_rect, &
                                scene_add_wall

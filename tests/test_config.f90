@@ -104,7 +104,7 @@ contains
       ' cfl = '//e17(0.1_wp + 0.2_wp), &
       ' depth = '//e17(1.0e300_wp), &
       ' gravity = -0.0, '//e17(-9.81_wp*third), &   ! along the mirror plane of body 2
-      ' threads = 3, history_every = 1e-7 /', &
+      ' threads = 3, history_every = 1e-7, check_units = F /', &   ! lower = -1, -2 (m)
       '&solver basis = ''CPDI1'', scheme = ''Usf'', plane = ''STRESS''', &
       ' flip = '//e17(0.99_wp), &
       ' mass_scale = 1e4, damping = 123.456, deterministic = T /', &

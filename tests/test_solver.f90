@@ -50,6 +50,7 @@ contains
     type(config_t) :: cfg
     cfg = scene_new('test', t_end, h, basis, scheme, plane)
     cfg%run%cfl = 0.2_wp         ! the step these tests were written for (not automatic)
+    cfg%run%check_units = .false.  ! unit-free cases (rings of 1.25 m, E of 1e3)
     call scene_add_material(cfg, 'm', MODEL_ELASTIC, E, nu, rho, sigma_y=1.0_wp)
   end function base_case
 
