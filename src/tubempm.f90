@@ -30,7 +30,7 @@ program tubempm
   implicit none
 
   character(len=path_len) :: case_file, arg, restart_dir
-  logical :: check_only, scene_only, quiet, restart
+  logical :: check_only, scene_only, quiet, restart, found
   integer :: i, nargs, stat
   character(len=:), allocatable :: errmsg, report, warnings, input_warnings, advice
   type(config_t) :: cfg
@@ -115,6 +115,10 @@ program tubempm
   if (restart) then
     if (len_trim(case_file) > 0) call fatal('command line', '--restart DIR takes no case '// &
       'file: the case is DIR/input.nml. Usage: tubempm --restart DIR', EXIT_INPUT)
+    inquire(file=trim(restart_dir)//'/input.nml', exist=found)
+    if (.not. found) call fatal('restart', trim(restart_dir)//' is not the output folder of a '// &
+      'run (it has no input.nml): give the folder a run wrote into (&run output_dir, default '// &
+      'out/<title>)', EXIT_IO)
     case_file = trim(restart_dir)//'/input.nml'
   end if
   if (len_trim(case_file) == 0) call fatal('command line', 'no case file given. Usage: '// &
@@ -214,7 +218,8 @@ contains
     write(output_unit, '(a)') '  tubempm --restart DIR        continue the run in DIR from its last checkpoint'
     write(output_unit, '(a)') '  tubempm --defaults           print every namelist group with its defaults'
     write(output_unit, '(a)') '  tubempm --help | --version'
-    write(output_unit, '(a)') '  --quiet                      no progress line (errors and warnings still printed)'
+    write(output_unit, '(a)') '  --quiet                      no set-up report, progress or end-of-run lines '// &
+      '(warnings and errors still printed)'
     write(output_unit, '(a)') ''
     write(output_unit, '(a)') 'exit status: 0 ok, 1 internal error, 2 bad input, 3 I/O failure,'
     write(output_unit, '(a)') '             4 numerical failure, 130 / 143 stopped by SIGINT / SIGTERM'
@@ -533,7 +538,8 @@ contains
     msg = advice_end_of_run(s%bal_max, max(s%e0, s%ext_max, s%prm%e_floor), s%energy_error)
     if (len(msg) > 0) call warn('run', msg)
     if (.not. r%quiet) then
-      write(output_unit, '(a,i0,a,i0,a,f10.2,a)') 'done: ', s%step, ' steps, ', s%p%np, &
+      write(output_unit, '(a,i0,a,i0,a,f10.2,a)') trim(merge('stopped: ', 'done:    ', &
+        r%sm%status == 'interrupted'))//' ', s%step, ' steps, ', s%p%np, &
         ' particles, ', r%sm%wall_seconds, ' s'
       write(output_unit, '(a,es10.3,a,es10.3,a,es10.3)') 'runtime ratio (simulated/wall) ', &
         s%t/max(r%sm%wall_seconds, 1.0e-9_wp), ', particle-steps per second ', &

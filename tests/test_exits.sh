@@ -57,12 +57,19 @@ expect 'numerical failure' 4 $? "$scratch/numeric.err"
 # 143: SIGTERM during a run
 ring sig ""
 sed -i 's/t_end = 2.0e-4/t_end = 5.0e-2/' "$scratch/sig.nml"
-"$bin" --quiet "$scratch/sig.nml" > /dev/null 2> "$scratch/sig.err" &
+"$bin" "$scratch/sig.nml" > "$scratch/sig.out" 2> "$scratch/sig.err" &
 pid=$!
 sleep 2
 kill -TERM $pid 2>/dev/null
 wait $pid
 expect 'SIGTERM' 143 $? "$scratch/sig.err"
+grep -q '^stopped: ' "$scratch/sig.out" && ! grep -q '^done:' "$scratch/sig.out" && ok \
+  || bad "an interrupted run's end line: $(grep -E '^(done|stopped)' "$scratch/sig.out")"
+# --restart of a folder that holds no run: exit 3, says so
+"$bin" --restart "$scratch/no_such_run" > /dev/null 2> "$scratch/norun.err"
+expect '--restart of no run' 3 $? "$scratch/norun.err"
+grep -q "no_such_run is not the output folder of a run" "$scratch/norun.err" && ok \
+  || bad "--restart of no run: $(cat "$scratch/norun.err")"
 # a new run into the folder of the interrupted one: refused (exit 3), its outputs and checkpoint
 # untouched, the message names --restart (before: it ran over them and lost that work)
 sum0=$(cksum "$scratch/sig/history.csv" "$scratch/sig/checkpoint.bin" 2>/dev/null)
