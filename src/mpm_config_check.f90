@@ -180,7 +180,7 @@ contains
     type(reader_t), intent(inout) :: rd
     type(config_t), intent(in) :: cfg
     integer, intent(in) :: occ_body(:)
-    integer :: k, j, io
+    integer :: k, j, i, io
     real(wp) :: n(2), gap, flipped
     character(len=256) :: fix
     do k = 1, size(cfg%walls)
@@ -192,7 +192,11 @@ contains
         if (.not. rd%occ(occ_body(j))%ok) cycle
         gap = body_low(cfg%bodies(j), n) - dot_product(cfg%walls(k)%point, n)
         if (gap >= -0.5_wp*cfg%grid%h) cycle
-        flipped = body_low(cfg%bodies(j), -n) + dot_product(cfg%walls(k)%point, n)
+        flipped = huge(1.0_wp)              ! the flip must put every body in front
+        do i = 1, size(cfg%bodies)
+          if (rd%occ(occ_body(i))%ok) flipped = min(flipped, body_low(cfg%bodies(i), -n) + &
+                                                    dot_product(cfg%walls(k)%point, n))
+        end do
         fix = ''
         if (flipped >= -0.5_wp*cfg%grid%h) fix = 'normal = '//fmt_vec(-n)//' (the material '// &
           'is on that side of the wall), or '

@@ -130,9 +130,9 @@ contains
         do ib = 1, ia - 1
           if (o%asg(ib)%stray .or. len(o%asg(ib)%sub) > 0) cycle
           if (o%asg(ib)%base /= o%asg(ia)%base) cycle
-          call add_warn(rd, o%asg(ia)%line, label(rd, io)//': '//o%asg(ia)%base// &
-            ' is given again (first on line '//itoa(o%asg(ib)%line)//'): the last value, '// &
-            o%asg(ia)%value//', is used')
+          call add_warn(rd, o%asg(ia)%line, label(rd, io)//': '//o%asg(ia)%base//' = '// &
+            o%asg(ia)%value//': given again (first on line '//itoa(o%asg(ib)%line)// &
+            '); the last value is used')
           exit
         end do
       end do

@@ -48,6 +48,9 @@ contains
     if (ierr < 0 .and. stat == 0) then
       stat = 1
       errmsg = 'HDF5 call failed: '//what
+      if (index(what, 'h5fcreate_f') == 1 .or. index(what, 'h5fopen_f') == 1) errmsg = &
+        errmsg//' (the file is not writable, or locked: HDF5 locks its files, which a file '// &
+        'system without locks refuses; there set HDF5_USE_FILE_LOCKING=FALSE)'
     end if
   end subroutine h5_check
 

@@ -219,15 +219,16 @@ contains
   end subroutine sys_mkdir_p
 
   !> Lock a folder for this process until it ends (flock on the folder): stat 0, -1 when
-  !! another process holds it, else errno.
+  !! another process holds it, -2 when the file system has no such locks, else errno.
   subroutine sys_lock_dir(path, stat, errmsg)
     character(len=*), intent(in) :: path   !! directory
-    integer, intent(out) :: stat           !! 0, -1 (held by another process) or errno (> 0)
+    integer, intent(out) :: stat           !! 0, -1 (held), -2 (no locks here) or errno (> 0)
     character(len=:), allocatable, intent(out) :: errmsg  !! reason
     character(kind=c_char) :: msg(512)
     stat = int(c_lock_dir(to_c(path), msg, 512_c_int))
     errmsg = from_c(msg)
     if (stat == -2) stat = -1
+    if (stat == -3) stat = -2
   end subroutine sys_lock_dir
 
   !> Rename a file atomically; stat = errno (0 ok).

@@ -1,8 +1,9 @@
 /* System calls Fortran lacks: mkdir -p, signal flags, isatty, atomic rename, busy cores,
  * the lock of an output folder.
  * SPDX-License-Identifier: MIT
- * SIGINT/SIGTERM only set a flag; the time loop polls it, finishes the step, writes a
- * checkpoint and stops cleanly (issue 8). */
+ * SIGINT/SIGTERM only set a flag (the first one: a second kills at once); the driver polls it
+ * before the outputs open (it stops with nothing written) and in the time loop (it finishes
+ * the step, writes a checkpoint and stops cleanly; issue 8). */
 #define _GNU_SOURCE
 #include <errno.h>
 #ifdef __linux__
@@ -28,6 +29,7 @@ int tubempm_install_signals(void) {
   struct sigaction sa;
   memset(&sa, 0, sizeof sa);
   sa.sa_handler = on_signal;
+  sa.sa_flags = SA_RESETHAND;   /* a second Ctrl-C kills at once (a long set-up, a slow save) */
   sigemptyset(&sa.sa_mask);
   if (sigaction(SIGINT, &sa, NULL) != 0) return -1;
   if (sigaction(SIGTERM, &sa, NULL) != 0) return -1;
@@ -74,7 +76,9 @@ int tubempm_mkdir_p(const char *path, char *msg, int len) {
 
 /* Lock the folder `path` for this process (an exclusive flock on the folder itself, held
  * until the process ends: no file is added, and a killed run leaves no stale lock). Returns 0,
- * -2 when another process holds it, or errno; msg gets the reason. */
+ * -2 when another process holds it, -3 when the file system has no such locks (NFS emulates
+ * flock with byte-range locks that a directory cannot take, Lustre without its flock option
+ * refuses it), or errno; msg gets the reason. */
 int tubempm_lock_dir(const char *path, char *msg, int len) {
   int fd = open(path, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (fd < 0) {
@@ -86,7 +90,9 @@ int tubempm_lock_dir(const char *path, char *msg, int len) {
     int e = errno;
     close(fd);
     snprintf(msg, (size_t)len, "%s: %s", path, strerror(e));
-    return e == EWOULDBLOCK ? -2 : e;
+    if (e == EWOULDBLOCK) return -2;
+    if (e == ENOLCK || e == ENOSYS || e == EOPNOTSUPP || e == EBADF || e == EINVAL) return -3;
+    return e;
   }
   msg[0] = '\0';
   return 0;                                   /* fd stays open: the lock lasts the process */

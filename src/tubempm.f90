@@ -329,7 +329,12 @@ contains
     !$ r%sm%threads = omp_get_max_threads()
     probes = probe_particles(cfg, s)         ! nearest particles at t = 0 (before a restart)
     if (restart) then
-      call lock_folder(r%dir)
+      call lock_folder(r%dir)               ! (then again: another restart may have ended it)
+      if (index(read_text(r%dir//'/summary.nml'), "status = 'completed'") > 0) then
+        write(output_unit, '(a)') 'the run in '//r%dir//' is complete (summary.nml: '// &
+          'status = ''completed''): nothing to restart; its outputs are left as they are'
+        stop
+      end if
       r%input_text = read_text(r%dir//'/input.nml')
       call checkpoint_read(r%dir, r%input_text, s, ex, st, msg)
       if (st == 2) call fatal('restart', msg, EXIT_INPUT)
@@ -380,30 +385,34 @@ contains
     integer :: st
     character(len=:), allocatable :: msg
     call sys_lock_dir(dir, st, msg)
-    if (st < 0) call fatal('output', 'another tubempm run is writing into '//dir// &
+    if (st == -1) call fatal('output', 'another tubempm run is writing into '//dir// &
       ' (it holds the folder''s lock): wait until it ends, or choose another &run output_dir', &
       EXIT_IO)
+    if (st == -2) call warn('output', 'the file system of '//dir//' has no folder locks ('// &
+      msg//'): a second run started into this folder would not be noticed')
     if (st > 0) call fatal('output', 'cannot lock the output folder '//msg, EXIT_IO)
   end subroutine lock_folder
 
   !> A new run in a folder that holds an earlier run: refused when that run was stopped before
   !! its end and can be continued (a checkpoint, and no summary.nml saying it completed or
-  !! failed): its work would be lost. Otherwise its checkpoint and summary are removed, so that
-  !! they cannot pass for this run's.
+  !! failed): its work would be lost. Otherwise its checkpoint and summary are removed, and a
+  !! summary.nml with status = 'running' stands for this run until its end, so that a run killed
+  !! outright (SIGKILL, a node lost) is not taken for a finished one.
   subroutine replace_finished_run(dir)
     character(len=*), intent(in) :: dir
     character(len=:), allocatable :: summary, why
     logical :: ckpt
     integer :: u, ios
     inquire(file=dir//'/checkpoint.bin', exist=ckpt)
-    if (.not. ckpt) return
     summary = read_text(dir//'/summary.nml')
-    if (index(summary, "status = 'completed'") == 0 .and. &
+    if (ckpt .and. index(summary, "status = 'completed'") == 0 .and. &
         index(summary, "status = 'unstable'") == 0) then
       if (len(summary) == 0) then
         why = 'no summary.nml'
       else if (index(summary, "status = 'interrupted'") > 0) then
         why = "summary.nml: status = 'interrupted'"
+      else if (index(summary, "status = 'running'") > 0) then
+        why = "summary.nml: status = 'running': it was killed"
       else
         why = 'a summary.nml without an end status'
       end if
@@ -414,8 +423,9 @@ contains
     end if
     open(newunit=u, file=dir//'/checkpoint.bin', status='old', iostat=ios)
     if (ios == 0) close(u, status='delete', iostat=ios)
-    open(newunit=u, file=dir//'/summary.nml', status='old', iostat=ios)
-    if (ios == 0) close(u, status='delete', iostat=ios)
+    open(newunit=u, file=dir//'/summary.nml', status='replace', action='write', iostat=ios)
+    if (ios == 0) write(u, '(a)', iostat=ios) '&summary', "  status = 'running'", '/'
+    if (ios == 0) close(u, iostat=ios)
   end subroutine replace_finished_run
 
   !> With `&run end_at_release`: record whether the step just taken had a contact force, and

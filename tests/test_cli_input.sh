@@ -104,7 +104,7 @@ check_case "$scratch/quarter_behind.nml" 2 "&wall #1: normal = 1.0, 0.0: &body #
 # value used (namelist input keeps the last one)
 sed -e 's/^&material name/\&material nu = 0.25, name/' "$scratch/quarter_front.nml" > "$scratch/twice.nml"
 "$bin" --check "$scratch/twice.nml" > /dev/null 2> "$scratch/twice.err"
-grep -q "^WARNING \[check\]: .*twice.nml:3: &material #1: nu is given again (first on line 3): the last value, 0.33, is used" \
+grep -q "^WARNING \[check\]: .*twice.nml:3: &material #1: nu = 0.33: given again (first on line 3); the last value is used" \
   "$scratch/twice.err" && pass=$((pass + 1)) || failed twice "no repeated-variable warning: $(cat "$scratch/twice.err")"
 
 # the set-up report counts mirror planes in good English (was "1 mirror planes")

@@ -104,6 +104,30 @@ sleep 0.3
 kill -TERM $pid 2>/dev/null
 wait $pid
 expect 'SIGTERM during the set-up' 143 $? "$scratch/early.err"
+# (a machine fast enough to be past the set-up stops in the loop, with a checkpoint)
+if grep -q 'during the set-up, before the run started: nothing was written' "$scratch/early.err"; then
+  [ ! -e "$scratch/early" ] && ok || bad "a stop during the set-up wrote $scratch/early"
+else
+  [ -s "$scratch/early/checkpoint.bin" ] && ok || bad "SIGTERM early: neither a stop in the set-up nor a checkpoint: $(cat "$scratch/early.err")"
+fi
+# a finished run without a checkpoint, then a run into its folder killed outright (SIGKILL)
+# after a checkpoint: that run is not taken for the finished one (before: its folder kept the
+# old summary, --restart said 'complete' and a new run overwrote the work)
+ring kill ""
+sed -i 's/t_end = 2.0e-4/t_end = 2.0e-5/' "$scratch/kill.nml"
+"$bin" --quiet "$scratch/kill.nml" > /dev/null 2>&1 && ok || bad "the finished run failed"
+sed -i "s/t_end = 2.0e-5/t_end = 5.0e-2, checkpoint_every = 0.2/" "$scratch/kill.nml"
+"$bin" --quiet "$scratch/kill.nml" > /dev/null 2>&1 &
+pid=$!
+for _ in $(seq 1 100); do [ -s "$scratch/kill/checkpoint.bin" ] && break; sleep 0.1; done
+kill -KILL $pid 2>/dev/null
+wait $pid 2>/dev/null
+grep -q "status = 'running'" "$scratch/kill/summary.nml" && ok \
+  || bad "a killed run's summary.nml: $(cat "$scratch/kill/summary.nml")"
+"$bin" --quiet "$scratch/kill.nml" > /dev/null 2> "$scratch/kill_again.err"
+expect 'a new run over a killed one' 3 $? "$scratch/kill_again.err"
+grep -q "status = 'running': it was killed" "$scratch/kill_again.err" && ok \
+  || bad "the refusal does not say the run was killed: $(cat "$scratch/kill_again.err")"
 # t_end far beyond any run: --check counts the steps as a real (before: the count overflowed,
 # and the debug build stopped with SIGFPE) and warns of the run's length
 ring long ""
