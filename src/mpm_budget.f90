@@ -25,6 +25,7 @@ module mpm_budget
   use mpm_shapes, only: body_box, body_estimate
   use mpm_particles, only: basis_reach, basis_block
   use mpm_advice, only: advice_units
+  use mpm_strings, only: itoa
   implicit none
   private
   public :: budget_t, budget_estimate, budget_check, budget_threads, budget_max_nodes, bytes_text
@@ -148,6 +149,7 @@ contains
     integer, intent(out) :: stat           !! 0 or EXIT_INPUT
     character(len=:), allocatable, intent(out) :: errmsg  !! what is too big, what to change
     character(len=:), allocatable :: what, hints
+    real(wp) :: buffers
     stat = 0
     errmsg = ''
     if (b%particles > max_index .or. b%corners > max_index .or. &
@@ -167,7 +169,12 @@ contains
       bytes_text(b%grid_bytes)
     if (cfg%grid%fitted) errmsg = errmsg//', with room to grow'
     errmsg = errmsg//').'
-    if (b%grid_bytes >= b%particle_bytes) then
+    buffers = b%nodes*40.0_wp*real(b%nf*(b%threads - 1), wp)   ! as budget_estimate counts them
+    if (buffers > 0.5_wp*b%grid_bytes .and. buffers > b%particle_bytes) then
+      errmsg = errmsg//' Change: fewer &run threads (the '//itoa(b%threads)//' threads'' '// &
+        'scatter buffers take '//bytes_text(buffers)//' of the grid''s share, 40 B per node '// &
+        'for each thread beyond the first; threads = 0 takes one per free core)'
+    else if (b%grid_bytes >= b%particle_bytes) then
       errmsg = errmsg//' Change: a larger &grid h (the nodes grow as 1/h^2), the size of '// &
         'the bodies '// &
         '(&body r_inner, r_outer, size, center: lengths are in metres), or give &grid '// &

@@ -164,6 +164,19 @@ contains
     call check(stat == EXIT_INPUT, 'r_outer = 26: refused at any memory')
     call check(index(msg, 'r_outer = 2.6000E+001 m is over 1 m') > 0, &
                'r_outer = 26: the unit hint names r_outer: '//msg)
+    ! 100 000 threads on the crush: the threads' buffers are the memory, and the advice says
+    ! so (before: 'a larger &grid h', for a 94 x 94 grid)
+    cfg = crush_quarter(BASIS_CPDI2)
+    call config_resolve(cfg, stat, msg, warnings)
+    b = budget_estimate(cfg, 100000)
+    call budget_check(cfg, b, 1.0e9_wp, 'test', .true., stat, msg)
+    call check(stat == EXIT_INPUT .and. index(msg, 'Change: fewer &run threads (the 100000 '// &
+               'threads'' scatter buffers') > 0 .and. index(msg, 'larger &grid h') == 0, &
+               '100 000 threads: refused, naming the threads: '//msg)
+    b = budget_estimate(cfg, 1)
+    call budget_check(cfg, b, 1.0e6_wp, 'test', .true., stat, msg)
+    call check(stat == EXIT_INPUT .and. index(msg, 'threads') == 0, &
+               'one thread, too little memory: no word of threads: '//msg)
   end subroutine refusal
 
   !> One warning per implausible value, none for the study's crush.
