@@ -48,6 +48,7 @@ module mpm_budget
     real(wp) :: particle_bytes = 0.0_wp    !! particles, their good-state copy, basis cache,
                                            !! work arrays, output temporaries [bytes]
     real(wp) :: grid_bytes = 0.0_wp        !! grid fields, thread buffers, tiles [bytes]
+    real(wp) :: buffer_bytes = 0.0_wp      !! the thread buffers' part of grid_bytes [bytes]
     real(wp) :: total = 0.0_wp             !! everything, with the fixed base [bytes]
   end type budget_t
 
@@ -102,9 +103,9 @@ contains
                                b%corners*16.0_wp) &
                        + b%particles*(24.0_wp*real(b%nb, wp)**2 + 8.0_wp + 8.0_wp + 128.0_wp)
     b%nf = contact_fields(cfg)
+    b%buffer_bytes = b%nodes*40.0_wp*real(b%nf*(b%threads - 1), wp)
     b%grid_bytes = b%nodes*(72.0_wp*real(b%nf, wp) &
-                            + 40.0_wp*real(b%nf*(b%threads - 1), wp) &
-                            + (44.0_wp + 8.0_wp*real(1 + 2*b%nwall, wp))/16.0_wp)
+                            + (44.0_wp + 8.0_wp*real(1 + 2*b%nwall, wp))/16.0_wp) + b%buffer_bytes
     if (cfg%solver%volumetric_id >= VOLUMETRIC_FBAR) then   ! mpm_fbar's work arrays
       b%particle_bytes = b%particle_bytes + b%particles*80.0_wp
       b%grid_bytes = b%grid_bytes + b%nodes*16.0_wp
@@ -149,7 +150,6 @@ contains
     integer, intent(out) :: stat           !! 0 or EXIT_INPUT
     character(len=:), allocatable, intent(out) :: errmsg  !! what is too big, what to change
     character(len=:), allocatable :: what, hints
-    real(wp) :: buffers
     stat = 0
     errmsg = ''
     if (b%particles > max_index .or. b%corners > max_index .or. &
@@ -169,11 +169,10 @@ contains
       bytes_text(b%grid_bytes)
     if (cfg%grid%fitted) errmsg = errmsg//', with room to grow'
     errmsg = errmsg//').'
-    buffers = b%nodes*40.0_wp*real(b%nf*(b%threads - 1), wp)   ! as budget_estimate counts them
-    if (buffers > 0.5_wp*b%grid_bytes .and. buffers > b%particle_bytes) then
+    if (b%buffer_bytes > 0.5_wp*b%grid_bytes .and. b%buffer_bytes > b%particle_bytes) then
       errmsg = errmsg//' Change: fewer &run threads (the '//itoa(b%threads)//' threads'' '// &
-        'scatter buffers take '//bytes_text(buffers)//' of the grid''s share, 40 B per node '// &
-        'for each thread beyond the first; threads = 0 takes one per free core)'
+        'scatter buffers take '//bytes_text(b%buffer_bytes)//' of the grid''s share, 40 B '// &
+        'per node for each thread beyond the first; threads = 0 takes one per free core)'
     else if (b%grid_bytes >= b%particle_bytes) then
       errmsg = errmsg//' Change: a larger &grid h (the nodes grow as 1/h^2), the size of '// &
         'the bodies '// &

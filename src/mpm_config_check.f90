@@ -183,6 +183,8 @@ contains
     integer :: k, j, i, io
     real(wp) :: n(2), gap, flipped
     character(len=256) :: fix
+    character(len=*), parameter :: any_fix = 'a unit normal pointing from the wall into the '// &
+      'material, and a point with every body in front of it'
     do k = 1, size(cfg%walls)
       io = occurrence(rd, 'wall', k)
       if (io == 0) cycle
@@ -197,11 +199,9 @@ contains
           if (rd%occ(occ_body(i))%ok) flipped = min(flipped, body_low(cfg%bodies(i), -n) + &
                                                     dot_product(cfg%walls(k)%point, n))
         end do
-        fix = ''
+        fix = any_fix
         if (flipped >= -0.5_wp*cfg%grid%h) fix = 'normal = '//fmt_vec(-n)//' (the material '// &
-          'is on that side of the wall), or '
-        fix = adjustl(trim(fix)//' a unit normal pointing from the wall into the material, '// &
-          'and a point with every body in front of it')
+          'is on that side of the wall), or '//any_fix
         call err_var(rd, io, 'normal', fmt_vec(n), '&body #'//itoa(j)//' lies up to '// &
           fmt_short(-gap)//' m behind the wall at t = 0 (more than h/2): its contact would '// &
           'push the material through the wall at the first step', trim(fix))

@@ -384,7 +384,7 @@ contains
     dt = dt_stable
     if (s%prm%dt_fixed > 0.0_wp) dt = s%prm%dt_fixed
     steps = s%prm%t_end/dt                 ! a real: t_end = 1e12 s must not overflow a count
-    if (steps < 1.0e15_wp) steps = aint(steps) + merge(1.0_wp, 0.0_wp, steps > aint(steps))
+    if (steps < 1.0e15_wp) steps = real(ceiling(steps, i8), wp)
     write(line, '(a,es11.4,a,es11.4,a,f5.3,a,es10.3,a)') 'time step: stable limit ', &
       s%g%h/(s%prm%c_max + s%vmax), ' s (cfl = 1), used ', dt, ' s (cfl ', &
       dt*(s%prm%c_max + s%vmax)/s%g%h, '), wave speed ', s%prm%c_max, ' m/s'

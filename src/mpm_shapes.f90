@@ -99,9 +99,13 @@ contains
     case default                           ! a ring's angles from a0 to a1; x . n is least at
       a0 = 0.0_wp                          ! an end of the range or where u(a) = -n
       a1 = 2.0_wp*pi
-      if (b%sector_id == SECTOR_HALF) a0 = -0.5_wp*pi
-      if (b%sector_id == SECTOR_HALF) a1 = 0.5_wp*pi
-      if (b%sector_id == SECTOR_QUARTER) a1 = 0.5_wp*pi
+      select case (b%sector_id)
+      case (SECTOR_HALF)
+        a0 = -0.5_wp*pi
+        a1 = 0.5_wp*pi
+      case (SECTOR_QUARTER)
+        a1 = 0.5_wp*pi
+      end select
       low = huge(1.0_wp)
       do k = 1, 3
         a = a0

@@ -140,13 +140,7 @@ program tubempm
     stop
   end if
   ! a completed run has nothing to continue (its input read and valid): say so, touch nothing
-  if (restart) then
-    if (index(read_text(trim(restart_dir)//'/summary.nml'), "status = 'completed'") > 0) then
-      write(output_unit, '(a)') 'the run in '//trim(restart_dir)//' is complete (summary.nml: '// &
-        'status = ''completed''): nothing to restart; its outputs are left as they are'
-      stop
-    end if
-  end if
+  if (restart) call stop_if_complete(trim(restart_dir))
   if (restart) cfg%run%output_dir = restart_dir
   if (len(input_warnings) > 0) call print_warnings(input_warnings)
   call setup_sim(cfg, s, stat, errmsg)
@@ -329,12 +323,8 @@ contains
     !$ r%sm%threads = omp_get_max_threads()
     probes = probe_particles(cfg, s)         ! nearest particles at t = 0 (before a restart)
     if (restart) then
-      call lock_folder(r%dir)               ! (then again: another restart may have ended it)
-      if (index(read_text(r%dir//'/summary.nml'), "status = 'completed'") > 0) then
-        write(output_unit, '(a)') 'the run in '//r%dir//' is complete (summary.nml: '// &
-          'status = ''completed''): nothing to restart; its outputs are left as they are'
-        stop
-      end if
+      call lock_folder(r%dir)
+      call stop_if_complete(r%dir)          ! (again: another restart may have ended it)
       r%input_text = read_text(r%dir//'/input.nml')
       call checkpoint_read(r%dir, r%input_text, s, ex, st, msg)
       if (st == 2) call fatal('restart', msg, EXIT_INPUT)
@@ -400,22 +390,22 @@ contains
   !! outright (SIGKILL, a node lost) is not taken for a finished one.
   subroutine replace_finished_run(dir)
     character(len=*), intent(in) :: dir
-    character(len=:), allocatable :: summary, why
+    character(len=:), allocatable :: status, why
     logical :: ckpt
     integer :: u, ios
     inquire(file=dir//'/checkpoint.bin', exist=ckpt)
-    summary = read_text(dir//'/summary.nml')
-    if (ckpt .and. index(summary, "status = 'completed'") == 0 .and. &
-        index(summary, "status = 'unstable'") == 0) then
-      if (len(summary) == 0) then
+    status = summary_status(dir)
+    if (ckpt .and. status /= 'completed' .and. status /= 'unstable') then
+      select case (status)
+      case ('none')
         why = 'no summary.nml'
-      else if (index(summary, "status = 'interrupted'") > 0) then
+      case ('interrupted')
         why = "summary.nml: status = 'interrupted'"
-      else if (index(summary, "status = 'running'") > 0) then
+      case ('running')
         why = "summary.nml: status = 'running': it was killed"
-      else
+      case default
         why = 'a summary.nml without an end status'
-      end if
+      end select
       call fatal('output', dir//' holds a run that stopped before its end and can be '// &
         'continued ('//why//', and a checkpoint.bin): continue it with tubempm --restart '// &
         dir//', or remove the folder (or choose another &run output_dir) to start afresh', &
@@ -427,6 +417,32 @@ contains
     if (ios == 0) write(u, '(a)', iostat=ios) '&summary', "  status = 'running'", '/'
     if (ios == 0) close(u, iostat=ios)
   end subroutine replace_finished_run
+
+  !> The status in dir/summary.nml ('completed', 'running', ...; 'none' without the file, ''
+  !! when it names none).
+  function summary_status(dir) result(status)
+    character(len=*), intent(in) :: dir
+    character(len=:), allocatable :: status, text
+    integer :: p, q
+    text = read_text(dir//'/summary.nml')
+    status = 'none'
+    if (len(text) == 0) return
+    status = ''
+    p = index(text, "status = '")
+    if (p == 0) return
+    p = p + len("status = '")
+    q = index(text(p:), "'")
+    if (q > 1) status = text(p:p+q-2)
+  end function summary_status
+
+  !> A completed run has nothing to continue: say so and stop, touching nothing.
+  subroutine stop_if_complete(dir)
+    character(len=*), intent(in) :: dir
+    if (summary_status(dir) /= 'completed') return
+    write(output_unit, '(a)') 'the run in '//dir//' is complete (summary.nml: '// &
+      'status = ''completed''): nothing to restart; its outputs are left as they are'
+    stop
+  end subroutine stop_if_complete
 
   !> With `&run end_at_release`: record whether the step just taken had a contact force, and
   !! whether the contact is over (mpm_release).
