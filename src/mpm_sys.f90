@@ -7,7 +7,7 @@ module mpm_sys
   use mpm_strings, only: itoa, plural
   implicit none
   private
-  public :: sys_mkdir_p, sys_lock_dir, sys_install_signals, sys_signal_received, sys_stdout_isatty, &
+  public :: sys_mkdir_p, sys_dir_creatable, sys_lock_dir, sys_install_signals, sys_signal_received, sys_stdout_isatty, &
             sys_rename, sys_exit, sys_memory_available, sys_cores_busy, sys_free_threads
 
   interface
@@ -30,6 +30,13 @@ module mpm_sys
       integer(c_int), value :: n
       integer(c_int) :: r
     end function c_mkdir_p
+    function c_dir_creatable(path, msg, n) result(r) bind(C, name='tubempm_dir_creatable')
+      import :: c_int, c_char
+      character(kind=c_char), intent(in) :: path(*)
+      character(kind=c_char), intent(out) :: msg(*)
+      integer(c_int), value :: n
+      integer(c_int) :: r
+    end function c_dir_creatable
     function c_lock_dir(path, msg, n) result(r) bind(C, name='tubempm_lock_dir')
       import :: c_int, c_char
       character(kind=c_char), intent(in) :: path(*)
@@ -217,6 +224,17 @@ contains
     stat = int(c_mkdir_p(to_c(path), msg, 512_c_int))
     errmsg = from_c(msg)
   end subroutine sys_mkdir_p
+
+  !> Whether sys_mkdir_p(path) could make the folder, making nothing: the path or its nearest
+  !! existing ancestor is a folder this process can write into; stat = errno (0 yes).
+  subroutine sys_dir_creatable(path, stat, errmsg)
+    character(len=*), intent(in) :: path   !! directory
+    integer, intent(out) :: stat           !! 0 or errno
+    character(len=:), allocatable, intent(out) :: errmsg  !! reason
+    character(kind=c_char) :: msg(512)
+    stat = int(c_dir_creatable(to_c(path), msg, 512_c_int))
+    errmsg = from_c(msg)
+  end subroutine sys_dir_creatable
 
   !> Lock a folder for this process until it ends (flock on the folder): stat 0, -1 when
   !! another process holds it, -2 when the file system has no such locks, else errno.

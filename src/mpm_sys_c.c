@@ -1,4 +1,4 @@
-/* System calls Fortran lacks: mkdir -p, signal flags, isatty, atomic rename, busy cores,
+/* System calls Fortran lacks: mkdir -p (and whether it could), signal flags, isatty, atomic rename, busy cores,
  * the lock of an output folder.
  * SPDX-License-Identifier: MIT
  * SIGINT/SIGTERM only set a flag (the first one: a second kills at once); the driver polls it
@@ -72,6 +72,43 @@ int tubempm_mkdir_p(const char *path, char *msg, int len) {
   }
   msg[0] = '\0';
   return 0;
+}
+
+/* Whether mkdir -p `path` could make it, without making anything: the path, or its nearest
+ * existing ancestor, must be a folder this process can write into. Returns 0 or errno; msg
+ * gets the reason (len bytes). For `--check`, which writes nothing. */
+int tubempm_dir_creatable(const char *path, char *msg, int len) {
+  char buf[4096];
+  size_t n = strlen(path);
+  if (n == 0 || n >= sizeof buf) { snprintf(msg, (size_t)len, "path empty or too long"); return EINVAL; }
+  memcpy(buf, path, n + 1);
+  for (;;) {
+    struct stat st;
+    if (stat(buf, &st) == 0) {
+      if (!S_ISDIR(st.st_mode)) {
+        snprintf(msg, (size_t)len, "%s is not a directory", buf);
+        return ENOTDIR;
+      }
+      if (access(buf, W_OK | X_OK) != 0) {
+        int e = errno;
+        snprintf(msg, (size_t)len, "%s is not writable: %s", buf, strerror(e));
+        return e;
+      }
+      msg[0] = '\0';
+      return 0;
+    }
+    if (errno != ENOENT) {
+      int e = errno;
+      snprintf(msg, (size_t)len, "%s: %s", buf, strerror(e));
+      return e;
+    }
+    /* up one level: strip trailing slashes, then the last component */
+    size_t k = strlen(buf);
+    while (k > 1 && buf[k - 1] == '/') buf[--k] = '\0';
+    while (k > 0 && buf[k - 1] != '/') buf[--k] = '\0';
+    while (k > 1 && buf[k - 1] == '/') buf[--k] = '\0';
+    if (k == 0) { buf[0] = '.'; buf[1] = '\0'; }
+  }
 }
 
 /* Lock the folder `path` for this process (an exclusive flock on the folder itself, held

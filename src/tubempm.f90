@@ -24,8 +24,8 @@ program tubempm
   use mpm_restart, only: checkpoint_write, checkpoint_read, ckpt_extra_t
   use mpm_release, only: release_t, release_observe, release_due, in_contact
   use mpm_walls, only: wall_t
-  use mpm_sys, only: sys_mkdir_p, sys_install_signals, sys_signal_received, sys_stdout_isatty, &
-                     sys_free_threads, sys_lock_dir
+  use mpm_sys, only: sys_mkdir_p, sys_dir_creatable, sys_install_signals, sys_signal_received, &
+                     sys_stdout_isatty, sys_free_threads, sys_lock_dir
   use mpm_strings, only: itoa, rtoa, hms
   implicit none
 
@@ -156,12 +156,24 @@ program tubempm
   if (check_only) then
     call study_advice(cfg, s%g%h, s%walls(1:s%nwall), advice)
     if (len(advice) > 0) write(output_unit, '(a)') advice
+    call warn_if_not_creatable(trim(cfg%run%output_dir))
     write(output_unit, '(a)') 'input ok: '//trim(case_file)
     stop
   end if
   call run_case(cfg, s, quiet, restart)
 
 contains
+
+  !> --check: a warning when the output folder could not be made here (the run would stop with
+  !! exit 3); a warning, not an error, since a batch job may run where the folder can be made.
+  subroutine warn_if_not_creatable(dir)
+    character(len=*), intent(in) :: dir    !! &run output_dir
+    integer :: st
+    character(len=:), allocatable :: msg
+    call sys_dir_creatable(dir, st, msg)
+    if (st /= 0) call warn('check', '&run output_dir = '''//dir//''' cannot be written here ('// &
+      msg//'): a run here would stop before its first step. Choose a writable &run output_dir')
+  end subroutine warn_if_not_creatable
 
   !> A signal received before the outputs are opened: stop (exit 128 + signal, as shells
   !! report it) with nothing written.

@@ -107,6 +107,24 @@ sed -e 's/^&material name/\&material nu = 0.25, name/' "$scratch/quarter_front.n
 grep -q "^WARNING \[check\]: .*twice.nml:3: &material #1: nu = 0.33: given again (first on line 3); the last value is used" \
   "$scratch/twice.err" && pass=$((pass + 1)) || failed twice "no repeated-variable warning: $(cat "$scratch/twice.err")"
 
+# --check warns of an output folder the run could not make (the run stops with exit 3), and
+# makes nothing: a folder under a regular file is warned of; a new nested folder under the
+# scratch folder is not, and is not created
+touch "$scratch/a_file"
+for dir in "$scratch/a_file/run" "$scratch/new/nested/run"; do
+  sed -e "s|^&run |\&run output_dir = '$dir', |" "$scratch/quarter_front.nml" > "$scratch/outdir.nml"
+  "$bin" --check "$scratch/outdir.nml" > /dev/null 2> "$scratch/outdir.err"
+  rc=$?
+  warned=no
+  grep -q "^WARNING \[check\]: &run output_dir = '$dir' cannot be written here" "$scratch/outdir.err" && warned=yes
+  case $dir in */a_file/*) want=yes ;; *) want=no ;; esac
+  if [ "$rc" -eq 0 ] && [ "$warned" = "$want" ] && [ ! -e "$dir" ]; then
+    pass=$((pass + 1))
+  else
+    failed outdir "output_dir $dir: exit $rc, warned $warned (expected $want), exists: $([ -e "$dir" ] && echo yes || echo no); $(cat "$scratch/outdir.err")"
+  fi
+done
+
 # the set-up report counts mirror planes in good English (was "1 mirror planes")
 out=$("$bin" --check "$here/../namelists/default.nml" 2> "$scratch/default.err")
 echo "$out" | grep -q "walls: 2 (1 mirror plane added by the sector)" && pass=$((pass + 1)) || {
