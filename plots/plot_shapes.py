@@ -6,7 +6,8 @@
 One panel per snapshot of particles.h5 (by default up to six, spread evenly over the run),
 each particle drawn as its domain polygon (the CPDI corners) coloured by the equivalent
 plastic strain, with the walls that are not mirror planes drawn at their position at that time
-(the point moved by the wall's travel, history column wall<k>_disp, along minus its normal).
+(the point moved by the wall's travel, history column wall<k>_disp, along minus its normal;
+with the whole tube drawn, also their images in the mirror planes).
 A half or quarter model is drawn as the whole tube, from the mirror images that tubempm writes
 into particles.h5 (docs/output.md; `--sector` draws the computed part only).
 
@@ -55,9 +56,12 @@ def pick_frames(count: int, wanted: list[int] | None) -> list[int]:
 
 
 def wall_positions(walls: list[dict[str, Any]], history: dict[str, np.ndarray] | None,
-                   time: float) -> list[tuple[np.ndarray, np.ndarray, int]]:
+                   time: float, mirrored: bool = False
+                   ) -> list[tuple[np.ndarray, np.ndarray, int]]:
     """(current point [m], unit normal, wall number) of each non-mirror wall at a time: the
-    input point moved by wall<k>_disp of the history row nearest the time along -normal."""
+    input point moved by wall<k>_disp of the history row nearest the time along -normal. With
+    `mirrored` (the whole tube drawn from a half or quarter model) also each wall's images in
+    the mirror planes (the lower platen of a quarter crush), each plane drawn once."""
     out = []
     row = None
     if history is not None and history["time"].size:
@@ -70,7 +74,20 @@ def wall_positions(walls: list[dict[str, Any]], history: dict[str, np.ndarray] |
         if row is not None and f"wall{k}_disp" in history:
             travel = float(history[f"wall{k}_disp"][row])
         out.append((w["point"] - travel * w["normal"], w["normal"], k))
-    return out
+    if mirrored:
+        for m in walls:
+            if not m["mirror"]:
+                continue
+            q, nm = np.asarray(m["point"], float), np.asarray(m["normal"], float)
+            out += [(p - 2.0 * np.dot(p - q, nm) * nm, n - 2.0 * np.dot(n, nm) * nm, k)
+                    for p, n, k in out]
+    seen, unique = set(), []
+    for p, n, k in out:                         # a plane is its normal and offset n . p
+        key = tuple(np.round(np.append(n, np.dot(n, p)), 12))
+        if key not in seen:
+            seen.add(key)
+            unique.append((p, n, k))
+    return unique
 
 
 def draw_wall(ax: plt.Axes, point: np.ndarray, normal: np.ndarray, size: float,
@@ -167,7 +184,8 @@ def main(argv: list[str] | None = None) -> int:
                             edgecolors=(0, 0, 0, 0.35) if args.edges else "face",
                             linewidths=0.15 if args.edges else 0.3, zorder=2)
         ax.add_collection(pc)
-        for point, normal, _ in wall_positions(walls, history, float(frame.get("time", 0.0))):
+        for point, normal, _ in wall_positions(walls, history, float(frame.get("time", 0.0)),
+                                               bool(frame["mirrored"])):
             draw_wall(ax, point, normal, size, mm)
         ax.set_xlim(lo[0], hi[0])
         ax.set_ylim(lo[1], hi[1])

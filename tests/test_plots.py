@@ -16,7 +16,8 @@ their command line in this process; the figure they save is caught and its artis
   namelists/contact/two_rings.nml): the generic plot instead, exit 0, with a one-line note that
   names plots/plot_bodies.py; asked for with --kind impact it is still an error (exit 2);
 * shapes: the drawn polygons are the snapshot's corners (in mm) and their colours its eqps, or
-  with --colour body one discrete colour per body id;
+  with --colour body one discrete colour per body id; the whole tube of a half or quarter
+  model has its walls' mirror images drawn too (the lower platen of a quarter crush);
 * a run whose summary.nml says 'unstable', or that has no summary.nml, is marked in red above
   the plots (and the mark is absent for a completed run); without summary.nml the kind of scene
   is asked of the binary named by TUBEMPM (`tubempm --scene input.nml`), so the made-up
@@ -347,12 +348,36 @@ def test_shapes(scratch: Path) -> None:
               f"{what}: the title says whether it is the whole tube ({suptitle(fig)[0]!r})")
 
 
+def test_mirrored_walls(scratch: Path) -> None:
+    """The whole tube of a quarter model is drawn with its walls' mirror images: a platen at
+    y = 50 mm (normal -y) with mirror planes x = 0 and y = 25 mm gives it and the lower platen
+    at y = 0 (normal +y), each once; a side wall at x = 30 mm (normal -x) gives also x = -30 mm
+    (normal +x); the sector alone draws the walls as given."""
+    def wall(k, point, normal, mirror=False):
+        return {"index": k, "point": np.array(point), "normal": np.array(normal),
+                "mirror": mirror}
+    walls = [wall(1, [0.0, 0.05], [0.0, -1.0]), wall(2, [0.03, 0.0], [-1.0, 0.0]),
+             wall(3, [0.0, 0.0], [1.0, 0.0], True), wall(4, [0.0, 0.025], [0.0, 1.0], True)]
+
+    def planes(mirrored):
+        return sorted((round(float(n[0]), 12), round(float(n[1]), 12),
+                       round(float(np.dot(n, p)), 12))
+                      for p, n, _ in plot_shapes.wall_positions(walls, None, 0.0, mirrored))
+    want = sorted([(0.0, -1.0, -0.05), (0.0, 1.0, 0.0), (-1.0, 0.0, -0.03), (1.0, 0.0, -0.03)])
+    got = planes(True)
+    check(got == want, f"shapes: a quarter model's walls and their mirror images, each once "
+          f"(normal, offset n.p: {got}, expected {want})")
+    got = planes(False)
+    check(got == sorted([(0.0, -1.0, -0.05), (-1.0, 0.0, -0.03)]),
+          f"shapes: the sector alone draws its own walls ({got})")
+
+
 def main() -> int:
     scratch = Path(sys.argv[1] if len(sys.argv) > 1 else "/tmp/test_plots").resolve() / "plots"
     if scratch.exists():
         shutil.rmtree(scratch)
     scratch.mkdir(parents=True)
-    for test in (test_crush, test_impact, test_impact_no_wall, test_shapes):
+    for test in (test_crush, test_impact, test_impact_no_wall, test_shapes, test_mirrored_walls):
         try:
             test(scratch)
         except Exception as exc:  # noqa: BLE001 - a crash is a failed check, the others go on
