@@ -1,9 +1,9 @@
-/* System calls Fortran lacks: mkdir -p (and whether it could), signal flags, isatty, atomic rename, busy cores,
- * the lock of an output folder.
+/* System calls Fortran lacks: mkdir -p (and whether it could), signal flags, isatty, atomic
+ * rename, busy cores, the lock of an output folder.
  * SPDX-License-Identifier: MIT
- * SIGINT/SIGTERM only set a flag (the first one: a second kills at once); the driver polls it
- * before the outputs open (it stops with nothing written) and in the time loop (it finishes
- * the step, writes a checkpoint and stops cleanly; issue 8). */
+ * SIGINT/SIGTERM only set a flag (the first one: another, a second or more later, kills at
+ * once); the driver polls it before the outputs open (it stops with nothing written) and in
+ * the time loop (it finishes the step, writes a checkpoint and stops cleanly; issue 8). */
 #define _GNU_SOURCE
 #include <errno.h>
 #ifdef __linux__
@@ -21,16 +21,42 @@
 #include <unistd.h>
 
 static volatile sig_atomic_t received = 0;
+static struct timespec first_at;         /* when the first signal came (CLOCK_MONOTONIC) */
 
-static void on_signal(int sig) { received = sig; }
+/* A second signal kills at once (a second Ctrl-C during a long set-up or a slow save), unless
+ * it comes within `echo_window` seconds of the first: one interrupt often arrives twice, as
+ * coreutils `timeout` signals the child and then its process group, and a shell's Ctrl-C or
+ * Slurm's scancel reach every process of the group. Such an echo is ignored; SA_RESETHAND,
+ * used before, let it kill the run with no checkpoint. Only async-signal-safe calls here. */
+static const double echo_window = 1.0;
+
+static void on_signal(int sig) {
+  struct timespec now;
+  if (received == 0) {
+    clock_gettime(CLOCK_MONOTONIC, &first_at);
+    received = sig;
+    return;
+  }
+  clock_gettime(CLOCK_MONOTONIC, &now);
+  if ((double)(now.tv_sec - first_at.tv_sec) + 1e-9 * (double)(now.tv_nsec - first_at.tv_nsec)
+      < echo_window) return;
+  struct sigaction dfl;
+  memset(&dfl, 0, sizeof dfl);
+  dfl.sa_handler = SIG_DFL;
+  sigemptyset(&dfl.sa_mask);
+  sigaction(sig, &dfl, NULL);
+  raise(sig);
+}
 
 /* Install the handlers for SIGINT and SIGTERM. Returns 0 on success. */
 int tubempm_install_signals(void) {
   struct sigaction sa;
   memset(&sa, 0, sizeof sa);
   sa.sa_handler = on_signal;
-  sa.sa_flags = SA_RESETHAND;   /* a second Ctrl-C kills at once (a long set-up, a slow save) */
+  sa.sa_flags = 0;
   sigemptyset(&sa.sa_mask);
+  sigaddset(&sa.sa_mask, SIGINT);        /* one handler at a time */
+  sigaddset(&sa.sa_mask, SIGTERM);
   if (sigaction(SIGINT, &sa, NULL) != 0) return -1;
   if (sigaction(SIGTERM, &sa, NULL) != 0) return -1;
   return 0;

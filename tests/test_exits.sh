@@ -65,6 +65,20 @@ wait $pid
 expect 'SIGTERM' 143 $? "$scratch/sig.err"
 grep -q '^stopped: ' "$scratch/sig.out" && ! grep -q '^done:' "$scratch/sig.out" && ok \
   || bad "an interrupted run's end line: $(grep -E '^(done|stopped)' "$scratch/sig.out")"
+# one interrupt delivered twice (coreutils timeout signals the child and then its group; a
+# shell's Ctrl-C and scancel reach every process of the group): the echo is ignored and the run
+# stops cleanly with its checkpoint (before: the second copy killed it outright, no checkpoint)
+ring sig2 ""
+sed -i 's/t_end = 2.0e-4/t_end = 5.0e-2/' "$scratch/sig2.nml"
+"$bin" "$scratch/sig2.nml" > "$scratch/sig2.out" 2> "$scratch/sig2.err" &
+pid=$!
+sleep 2
+kill -TERM $pid 2>/dev/null; kill -TERM $pid 2>/dev/null
+wait $pid
+expect 'SIGTERM twice at once' 143 $? "$scratch/sig2.err"
+grep -q "status = 'interrupted'" "$scratch/sig2/summary.nml" 2>/dev/null \
+  && [ -s "$scratch/sig2/checkpoint.bin" ] && ok \
+  || bad "SIGTERM twice at once: no clean stop ($(grep status "$scratch/sig2/summary.nml" 2>&1); $(head -c 200 "$scratch/sig2.err"))"
 # --restart of a folder that holds no run: exit 3, says so
 "$bin" --restart "$scratch/no_such_run" > /dev/null 2> "$scratch/norun.err"
 expect '--restart of no run' 3 $? "$scratch/norun.err"
