@@ -5,15 +5,16 @@ module mpm_config_check
   use mpm_kinds, only: wp
   use mpm_constants, only: BASIS_CPDI2, SCHEME_MUSL, PLANE_STRAIN, SHAPE_RING, SHAPE_RECT, &
                            SECTOR_HALF, SECTOR_QUARTER, VOLUMETRIC_FBAR, VOLUMETRIC_FBARWALL, &
-                           PLANE_STRESS, MODEL_NEOHOOKEAN, CONTACT_SLIP
+                           PLANE_STRESS, MODEL_NEOHOOKEAN
   use mpm_config_types, only: config_t, material_cfg_t
-  use mpm_shapes, only: body_box, body_low
+  use mpm_shapes, only: body_box
   use mpm_config_text, only: lower, itoa, quote, file_stem, fmt_short, fmt_vec, fmt_real
   use mpm_config_table, only: n_groups
   use mpm_config_lexer, only: reader_t, occurrence
   use mpm_config_values, only: err_var, warn_var
   use mpm_advice, only: wall_too_thin, advice_unit_issues, unit_issue_t
   use mpm_symmetry, only: symmetry_checks
+  use mpm_placement, only: placement_checks
   implicit none
   private
   public :: cross_checks, advice_checks
@@ -119,8 +120,8 @@ contains
     call symmetry_checks(rd, cfg)
     n0 = rd%n_err
     if (cfg%run%check_units) call unit_checks(rd, cfg)
-    if (io_grid > 0 .and. rd%n_err == n0) then   ! (a length in mm puts bodies behind walls)
-      if (rd%occ(io_grid)%ok) call wall_side_checks(rd, cfg, occ_body)
+    if (io_grid > 0 .and. rd%n_err == n0) then   ! bodies apart, in front of the walls
+      if (rd%occ(io_grid)%ok) call placement_checks(rd, cfg, occ_body)
     end if
 
     call contact_checks(rd, cfg, occ_con)
@@ -171,44 +172,6 @@ contains
       end associate
     end do
   end subroutine unit_checks
-
-  !> Every body in front of every wall at t = 0: a body more than half a cell behind a wall
-  !! (its normal pointing away from the material, or its point inside the body) would be
-  !! pushed through it at the first step; reported at the wall's normal, with the normal that
-  !! would put the body in front. Mirror planes ('slip') hold material on both sides.
-  subroutine wall_side_checks(rd, cfg, occ_body)
-    type(reader_t), intent(inout) :: rd
-    type(config_t), intent(in) :: cfg
-    integer, intent(in) :: occ_body(:)
-    integer :: k, j, i, io
-    real(wp) :: n(2), gap, flipped
-    character(len=256) :: fix
-    character(len=*), parameter :: any_fix = 'a unit normal pointing from the wall into the '// &
-      'material, and a point with every body in front of it'
-    do k = 1, size(cfg%walls)
-      io = occurrence(rd, 'wall', k)
-      if (io == 0) cycle
-      if (.not. rd%occ(io)%ok .or. cfg%walls(k)%contact_id == CONTACT_SLIP) cycle
-      n = cfg%walls(k)%normal
-      do j = 1, size(cfg%bodies)
-        if (.not. rd%occ(occ_body(j))%ok) cycle
-        gap = body_low(cfg%bodies(j), n) - dot_product(cfg%walls(k)%point, n)
-        if (gap >= -0.5_wp*cfg%grid%h) cycle
-        flipped = huge(1.0_wp)              ! the flip must put every body in front
-        do i = 1, size(cfg%bodies)
-          if (rd%occ(occ_body(i))%ok) flipped = min(flipped, body_low(cfg%bodies(i), -n) + &
-                                                    dot_product(cfg%walls(k)%point, n))
-        end do
-        fix = any_fix
-        if (flipped >= -0.5_wp*cfg%grid%h) fix = 'normal = '//fmt_vec(-n)//' (the material '// &
-          'is on that side of the wall), or '//any_fix
-        call err_var(rd, io, 'normal', fmt_vec(n), '&body #'//itoa(j)//' lies up to '// &
-          fmt_short(-gap)//' m behind the wall at t = 0 (more than h/2): its contact would '// &
-          'push the material through the wall at the first step', trim(fix))
-        exit
-      end do
-    end do
-  end subroutine wall_side_checks
 
   !> &contact: the bodies named exist, and no pair (nor 0, 0) is named twice.
   subroutine contact_checks(rd, cfg, occ_con)

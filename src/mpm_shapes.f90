@@ -1,6 +1,6 @@
 !> The body shapes: what a &body is (`body_cfg_t`, as the input fills it) and the four answers
 !! every shape gives: its particle and corner counts, its particles (fill), its bounding box,
-!! its line in the --check report; and the estimate of the counts in reals for the memory
+!! its reach along a direction, its overlap with another body, its line in the --check report; and the estimate of the counts in reals for the memory
 !! budget. A new shape is a `case` in each routine here (docs/architecture.md, "A body shape").
 ! SPDX-License-Identifier: MIT
 !
@@ -14,7 +14,8 @@ module mpm_shapes
   use mpm_particles, only: particles_t, ring_counts, ring_fill, rect_counts, rect_fill
   implicit none
   private
-  public :: body_cfg_t, body_counts, body_fill, body_box, body_low, body_estimate, body_report
+  public :: body_cfg_t, body_counts, body_fill, body_box, body_low, body_overlap, body_estimate, &
+            body_report
 
   !> &body (repeatable): one component per row of the input table (mpm_config_table), with its
   !! default; the rows of one shape only carry `only = '<shape>'`.
@@ -119,6 +120,33 @@ contains
       low = low + dot_product(b%center, n)
     end select
   end function body_low
+
+  !> How deep two bodies overlap at t = 0 [m], > 0 when they do (<= 0: apart or touching). The
+  !! whole shapes are compared (a sector ring stands for its whole ring: its mirror images fill
+  !! the rest). A ring is an annulus: another body overlaps it when it reaches into the outer
+  !! disc and not only into the hole; the depth is the least of how far it reaches into the
+  !! disc and how far it sticks out of the hole (rectangles: the least of the overlaps along x
+  !! and y).
+  pure real(wp) function body_overlap(a, b) result(depth)
+    type(body_cfg_t), intent(in) :: a, b   !! the two bodies
+    real(wp) :: d, lo(2), hi(2), near(2), far(2)
+    if (a%shape_id == SHAPE_RECT .and. b%shape_id == SHAPE_RECT) then
+      depth = minval(min(a%center + 0.5_wp*a%size, b%center + 0.5_wp*b%size) - &
+                     max(a%center - 0.5_wp*a%size, b%center - 0.5_wp*b%size))
+    else if (a%shape_id /= SHAPE_RECT .and. b%shape_id /= SHAPE_RECT) then
+      d = norm2(a%center - b%center)         ! into the other's disc; out of each hole
+      depth = min(a%r_outer + b%r_outer - d, d + b%r_outer - a%r_inner, &
+                  d + a%r_outer - b%r_inner)
+    else if (a%shape_id == SHAPE_RECT) then
+      depth = body_overlap(b, a)
+    else                                   ! a ring, b a rectangle
+      lo = b%center - 0.5_wp*b%size
+      hi = b%center + 0.5_wp*b%size
+      near = min(max(a%center, lo), hi) - a%center           ! the rectangle's nearest point
+      far = max(abs(lo - a%center), abs(hi - a%center))      ! and its farthest corner
+      depth = min(a%r_outer - norm2(near), norm2(far) - a%r_inner)
+    end if
+  end function body_overlap
 
   !> Particles, corners and the largest particle extent of a body as body_counts makes them,
   !! in reals (the memory budget: a length in the wrong unit must not overflow an integer).

@@ -15,7 +15,9 @@
 !   or oblique to a mirror plane stands for itself and its mirror image, a symmetric pair, and
 !   may move in any direction (the crush's platen: its image is the other platen);
 ! - every sector ring centred on the mirror planes (the planes go through the first one's
-!   centre).
+!   centre);
+! - every other body (a full ring, a rectangle) on the modelled side of the planes, within h/2:
+!   one across a plane would overlap its own mirror image.
 module mpm_symmetry
   use mpm_kinds, only: wp
   use mpm_constants, only: SHAPE_RING, SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER
@@ -23,6 +25,7 @@ module mpm_symmetry
   use mpm_config_text, only: itoa, fmt_short, fmt_vec
   use mpm_config_lexer, only: reader_t, occurrence
   use mpm_config_values, only: err_var
+  use mpm_shapes, only: body_low
   implicit none
   private
   public :: symmetry_checks
@@ -34,7 +37,7 @@ contains
     type(reader_t), intent(inout) :: rd    !! the input's occurrences and messages
     type(config_t), intent(in) :: cfg      !! the case, group checks done
     integer :: k, m, nm, first, io
-    real(wp) :: normals(2, 2), center(2)
+    real(wp) :: normals(2, 2), center(2), reach
     character(len=40) :: plane(2)
     character(len=:), allocatable :: model
     first = 0
@@ -82,6 +85,19 @@ contains
               trim(merge('planes', 'plane ', nm == 2))//' of '//model, &
               'the centre of &body #'//itoa(first)// &
               ' ('//fmt_vec(center)//'), or sector = ''full''')
+        end if
+        if (b%shape_id /= SHAPE_RING .or. b%sector_id == SECTOR_FULL) then
+          do m = 1, nm                     ! a whole body: on the modelled side
+            reach = center(m) - body_low(b, normals(:, m))
+            if (reach > 0.5_wp*cfg%grid%h) then
+              call err_var(rd, io, 'center', fmt_vec(b%center), 'reaches '// &
+                fmt_short(reach)//' m across the mirror plane '//trim(plane(m))//' of '// &
+                model//' (more than h/2): its mirror image would overlap it', &
+                'a centre with the whole body on the modelled side of the plane, or '// &
+                'sector = ''full'' for every body (the whole structure)')
+              exit
+            end if
+          end do
         end if
       end associate
     end do
