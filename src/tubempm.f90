@@ -333,6 +333,7 @@ contains
     r%tty = sys_stdout_isatty()
     r%sm%threads = 1
     !$ r%sm%threads = omp_get_max_threads()
+    if (s%p%np < s%prm%parallel_min) r%sm%threads = 1   ! small scenes: serial loops
     probes = probe_particles(cfg, s)         ! nearest particles at t = 0 (before a restart)
     if (restart) then
       call lock_folder(r%dir)

@@ -345,7 +345,7 @@ contains
     call scene_add_material(cfg, 'rubber', MODEL_ELASTIC, E, nu, rho, sigma_y=1.0_wp)
     call scene_add_ring(cfg, [0.0_wp, 0.0_wp], a, b, nt, sector=SECTOR_QUARTER)
     call must_setup(cfg, s)
-    X0 = s%p%x(:, 1:s%p%np)
+    allocate(X0, source=s%p%x(:, 1:s%p%np))
     allocate(s%prm%bacc(2, s%p%np))
     t_ramp = 0.25_wp*t_end
     stat = 0
