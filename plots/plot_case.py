@@ -59,6 +59,7 @@ ENERGY_STYLE: dict[str, dict[str, Any]] = {
     "plastic": {"color": "C3"},
     "external": {"color": "k", "linestyle": "--"},
     "damped": {"color": "C7", "linestyle": ":"},
+    "contact_loss": {"color": "C4", "linestyle": "-."},   # drawn only when not zero
 }
 
 
@@ -113,8 +114,8 @@ def _walls(inputs: Inputs, history: History) -> list[dict[str, Any]]:
 
 def _energy_lines(ax: plt.Axes, x: np.ndarray, history: History) -> None:
     for name, kw in ENERGY_STYLE.items():
-        if name in history:
-            ax.plot(x, history[name], label=name, **kw)
+        if name in history and (name != "contact_loss" or np.any(history[name] != 0.0)):
+            ax.plot(x, history[name], label=name.replace("_", " "), **kw)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -424,9 +425,10 @@ def plot_generic(history: History, inputs: Inputs, outdir: str, experiment: str 
     _energy_lines(ax, t * scale, history)
     if all(k in history for k in ("kinetic", "strain", "plastic", "external")):
         damped = history.get("damped", np.zeros_like(t))
-        total = history["kinetic"] + history["strain"] + history["plastic"] + damped
+        loss = history.get("contact_loss", np.zeros_like(t))
+        total = history["kinetic"] + history["strain"] + history["plastic"] + damped + loss
         ax.plot(t * scale, total - history["external"], color="C5", lw=1.0,
-                label="kinetic + strain + plastic + damped − external")
+                label="kinetic + strain + plastic + damped + contact loss − external")
     ax.set_xlabel(f"time [{unit}]")
     ax.set_ylabel(f"energy [J] (depth {scene.depth_of(inputs):g} m)")
     ax.set_title(f"{title}: energies")

@@ -24,6 +24,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 #: axis labels of the common columns (others are labelled with their name)
 UNITS = {"plastic": "J", "kinetic": "J", "strain": "J", "external": "J", "damped": "J",
+         "contact_loss": "J",
          "force": "N", "disp": "m", "com_vx": "m/s", "com_vy": "m/s", "cpu_s": "s",
          "wall_s": "s", "ring.speed": "m/s", "ring.t": "m"}
 NAMES = {"plastic_end": "plastic dissipation (absorbed energy)", "ring.D_over_t": "D/t",

@@ -562,16 +562,27 @@ contains
   !> The end-of-run warning: the energy balance did not close ('' when it did). The error is
   !! judged against the growth check's scale, so that the tiny work of a crush's first steps
   !! does not count.
-  function advice_end_of_run(bal_max, scale, energy_error) result(text)
+  function advice_end_of_run(bal_max, scale, energy_error, musl_flip, bodies) result(text)
     real(wp), intent(in) :: bal_max        !! largest energy balance error of the run [J]
     real(wp), intent(in) :: scale          !! max(initial energy, external work, floor) [J]
     real(wp), intent(in) :: energy_error   !! relative energy error at the end [-]
+    logical, intent(in) :: musl_flip       !! the run used scheme = 'musl' and flip = 1
+    logical, intent(in) :: bodies          !! bodies in contact (several velocity fields)
     character(len=:), allocatable :: text
+    character(len=16) :: pct
     text = ''
-    if (bal_max > 0.05_wp*scale) text = 'energy error '// &
-      rtoa(100.0_wp*energy_error)//' % is above 5 %: the energy balance does not close, so '// &
-      'forces and energies are not to be trusted (docs/stability.md: USL, PIC blending and '// &
-      'coarse walls lose energy). Use scheme = ''musl'', flip = 1 and a finer grid'
+    if (.not. bal_max > 0.05_wp*scale) return
+    write(pct, '(f0.2)') 100.0_wp*energy_error
+    text = 'energy error '//trim(pct)//' % is above 5 %: the energy balance does not close, '// &
+      'so forces and energies are not to be trusted'
+    if (bodies) text = text//' (the loss of the contact between bodies, its friction and '// &
+      'inelastic normal impulse, is part of the error: docs/theory.md, "Energies")'
+    if (musl_flip) then
+      text = text//'. Use a finer grid or a smaller cfl (docs/stability.md)'
+    else
+      text = text//' (docs/stability.md: USL, PIC blending and coarse walls lose energy). '// &
+        'Use scheme = ''musl'', flip = 1 and a finer grid'
+    end if
   end function advice_end_of_run
 
   !> Which study scene the case resembles: 'wave' (a wall gives a blow: a motion table that

@@ -85,7 +85,7 @@ contains
       header = header//',probe'//itoa(k)//'_x,probe'//itoa(k)//'_y,probe'//itoa(k)// &
                '_vx,probe'//itoa(k)//'_vy,probe'//itoa(k)//'_eqps'
     end do
-    header = header//',damped,step,dt,energy_error'
+    header = header//',damped,contact_loss,step,dt,energy_error'
     if (s%prm%nbody > 1) then                ! several bodies: per body, then per pair
       do k = 1, s%prm%nbody
         header = header//',body'//itoa(k)//'_x,body'//itoa(k)//'_y,body'//itoa(k)// &
@@ -112,7 +112,7 @@ contains
     logical, intent(in) :: force           !! write regardless of the interval
     integer, intent(out) :: stat           !! 0 or iostat
     character(len=:), allocatable, intent(out) :: errmsg  !! the I/O problem
-    real(wp) :: row(4*s%nwall + 13 + 5*size(h%probe) + &
+    real(wp) :: row(4*s%nwall + 14 + 5*size(h%probe) + &
                     merge(7*s%prm%nbody + 3*s%prm%npair, 0, s%prm%nbody > 1)), f(2), c(2), cv(2)
     integer :: k, i, ip
     character(len=512) :: msg
@@ -155,10 +155,11 @@ contains
       i = i + 5
     end do
     row(i + 1) = s%e_damped*h%depth*h%factor
-    row(i + 2) = real(s%step, wp)
-    row(i + 3) = s%dt
-    row(i + 4) = s%energy_error
-    i = i + 4
+    row(i + 2) = s%e_contact_loss*h%depth*h%factor
+    row(i + 3) = real(s%step, wp)
+    row(i + 4) = s%dt
+    row(i + 5) = s%energy_error
+    i = i + 5
     if (s%prm%nbody > 1) call body_columns(h, s, row(i + 1:))
     row = row + 0.0_wp                     ! no negative zeros in the file
     write(h%unit, '(es24.16e3,*(:",",es24.16e3))', iostat=stat, iomsg=msg) row

@@ -15,12 +15,13 @@ module mpm_restart
   use mpm_state, only: sim_t, state_write, state_read, diag_write, diag_read
   use mpm_grid, only: grid_write_placement, grid_read_placement
   use mpm_sys, only: sys_rename
+  use mpm_strings, only: itoa
   implicit none
   private
   public :: checkpoint_write, checkpoint_read, ckpt_extra_t
 
   character(len=12), parameter :: magic = 'TUBEMPM-CKPT'
-  integer, parameter :: format_version = 4
+  integer, parameter :: format_version = 5  !! 5: the contact's energy loss (2026-11-28)
 
   !> What the driver needs besides the simulation state to continue its outputs.
   type :: ckpt_extra_t
@@ -108,9 +109,16 @@ contains
     end if
     stat = 3
     read(u, iostat=ios, iomsg=msg) m1, version, nlen
-    if (ios /= 0 .or. m1 /= magic .or. version /= format_version .or. nlen < 0) then
+    if (ios == 0 .and. m1 == magic .and. version /= format_version) then
+      errmsg = fin//' was written by another version of tubempm (checkpoint format '// &
+               itoa(version)//'; this one reads format '//itoa(format_version)//'): '// &
+               'continue it with the tubempm that wrote it, or start a new run'
+      close(u, iostat=ios)
+      return
+    end if
+    if (ios /= 0 .or. m1 /= magic .or. nlen < 0) then
       errmsg = fin//' is not a tubempm checkpoint of format version '// &
-               char(48 + format_version)//' (or is damaged)'
+               itoa(format_version)//' (or is damaged)'
       close(u, iostat=ios)
       return
     end if

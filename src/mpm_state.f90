@@ -96,6 +96,9 @@ module mpm_state
     real(wp) :: e_external = 0.0_wp, e_damped = 0.0_wp, e0 = 0.0_wp
     real(wp) :: w_gravity = 0.0_wp         !! work of gravity and body forces [J/m]
     real(wp) :: e_contact = 0.0_wp         !! energy stored in the walls' contact now [J/m]
+    real(wp) :: e_contact_loss = 0.0_wp    !! energy lost in contact so far: friction at walls
+                                           !! and between bodies, the bodies' inelastic normal
+                                           !! contact [J/m]
                                            !! (recomputed from the positions: not written)
     real(wp) :: energy_error = 0.0_wp      !! largest |balance| / max(E0, largest |external|) [-]
     real(wp) :: bal_max = 0.0_wp           !! largest |kin + strain + plastic + damped - ext - E0|
@@ -174,7 +177,7 @@ contains
     character(len=*), intent(inout) :: errmsg !! the iomsg on failure
     write(u, iostat=stat, iomsg=errmsg) st%t, st%step, st%dt, st%vmax, st%e_kin, st%e_strain, &
       st%e_plastic, st%e_external, st%e_damped, st%e0, st%w_gravity, st%energy_error, &
-      st%bal_max, st%ext_max
+      st%bal_max, st%ext_max, st%e_contact_loss
     if (stat == 0) call walls_write_state(st%walls, u, stat, errmsg)
     if (stat == 0) call particles_write(st%p, u, stat, errmsg)
     if (stat == 0 .and. allocated(st%pair_acc)) write(u, iostat=stat, iomsg=errmsg) &
@@ -190,7 +193,7 @@ contains
     character(len=*), intent(inout) :: errmsg !! the iomsg on failure
     read(u, iostat=stat, iomsg=errmsg) st%t, st%step, st%dt, st%vmax, st%e_kin, st%e_strain, &
       st%e_plastic, st%e_external, st%e_damped, st%e0, st%w_gravity, st%energy_error, &
-      st%bal_max, st%ext_max
+      st%bal_max, st%ext_max, st%e_contact_loss
     if (stat == 0) call walls_read_state(st%walls, u, stat, errmsg)
     if (stat == 0) call particles_read(st%p, u, stat, errmsg)
     if (stat == 0 .and. allocated(st%pair_acc)) read(u, iostat=stat, iomsg=errmsg) &

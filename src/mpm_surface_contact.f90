@@ -75,6 +75,8 @@ module mpm_surface_contact
     real(wp), allocatable :: lam(:,:)      !! normal and tangential impulses (2, n) [kg/s]
     real(wp), allocatable :: corner_mass(:)  !! CPDI2: mass share of each corner (nc) [kg/m]
     integer :: sweeps = 0                  !! sweeps taken by the last friction solve
+    real(wp) :: de = 0.0_wp                !! the nodes' kinetic energy change by that solve
+                                           !! (with the wall's work, the friction loss) [J/m]
     ! CPDI2 surface curve (mpm_surface_curve): a point is a quadrature point of the curve,
     ! a combination of three domain corners
     logical :: curve = .false.             !! the points are curve points (cid, phi, xq set)
@@ -298,9 +300,10 @@ contains
     real(wp), intent(inout) :: dvel(:,:)   !! node velocity change of the step (2, nn) [m/s]
     real(wp), intent(out) :: impulse(2)    !! momentum given to the material [kg/s per m]
     integer :: k, a, n, sweep
-    real(wp) :: tang(2), vc(2), lt, dlt, change, vscale
+    real(wp) :: tang(2), vc(2), lt, dlt, change, vscale, d(2)
     impulse = 0.0_wp
     wk%sweeps = 0
+    wk%de = 0.0_wp
     if (law /= CONTACT_COULOMB .and. law /= CONTACT_STICK) return
     tang = [-normal(2), normal(1)]
     vscale = sqrt(dot_product(vwall, vwall))
@@ -328,8 +331,11 @@ contains
         do a = 1, wk%nnode
           if (wk%wt(a, k) == 0.0_wp) cycle
           n = wk%node(a, k)
-          vel(:, n) = vel(:, n) + wk%wt(a, k)*dlt*tang
-          dvel(:, n) = dvel(:, n) + wk%wt(a, k)*dlt*tang
+          d = wk%wt(a, k)*dlt*tang           ! node mass nw / wt: its kinetic energy change
+          wk%de = wk%de + wk%nw(a, k)/wk%wt(a, k)*(dot_product(vel(:, n), d) + &
+                                                   0.5_wp*dot_product(d, d))
+          vel(:, n) = vel(:, n) + d
+          dvel(:, n) = dvel(:, n) + d
         end do
         change = max(change, abs(dlt)*wk%s(k))
       end do

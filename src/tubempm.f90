@@ -9,7 +9,7 @@ program tubempm
                                            compiler_options
   !$ use omp_lib, only: omp_set_num_threads, omp_get_max_threads
   use mpm_kinds, only: wp, i8
-  use mpm_constants, only: version_string, EXIT_INPUT, EXIT_IO, path_len, BASIS_CPDI2
+  use mpm_constants, only: version_string, EXIT_INPUT, EXIT_IO, path_len, BASIS_CPDI2, SCHEME_MUSL
   use mpm_errors, only: fatal, warn
   use mpm_config, only: config_t, read_config, write_config, write_config_unit, default_config
   use mpm_setup, only: setup_sim, setup_report, sector_factor
@@ -574,7 +574,8 @@ contains
     call history_close(r%hist)
     call write_summary(r%dir//'/summary.nml', s, r%sm, st, msg)
     if (st /= 0) call fatal('output', msg, EXIT_IO)
-    msg = advice_end_of_run(s%bal_max, max(s%e0, s%ext_max, s%prm%e_floor), s%energy_error)
+    msg = advice_end_of_run(s%bal_max, max(s%e0, s%ext_max, s%prm%e_floor), s%energy_error, &
+      s%prm%scheme == SCHEME_MUSL .and. s%prm%flip == 1.0_wp, s%prm%nf > 1)
     if (len(msg) > 0) call warn('run', msg)
     if (.not. r%quiet) then
       write(output_unit, '(a,i0,a,i0,a,f10.2,a)') trim(merge('stopped: ', 'done:    ', &

@@ -79,6 +79,14 @@ expect 'SIGTERM twice at once' 143 $? "$scratch/sig2.err"
 grep -q "status = 'interrupted'" "$scratch/sig2/summary.nml" 2>/dev/null \
   && [ -s "$scratch/sig2/checkpoint.bin" ] && ok \
   || bad "SIGTERM twice at once: no clean stop ($(grep status "$scratch/sig2/summary.nml" 2>&1); $(head -c 200 "$scratch/sig2.err"))"
+# a checkpoint of another format version (an earlier tubempm's): refused, the message says so
+# and names what to do (before: "not a tubempm checkpoint ... (or is damaged)")
+cp -r "$scratch/sig2" "$scratch/oldfmt"
+printf '\004\000\000\000' | dd of="$scratch/oldfmt/checkpoint.bin" bs=1 seek=12 conv=notrunc 2>/dev/null
+"$bin" --restart "$scratch/oldfmt" > /dev/null 2> "$scratch/oldfmt.err"
+rc=$?
+[ "$rc" -ne 0 ] && grep -q "was written by another version of tubempm (checkpoint format 4; this one reads format" \
+  "$scratch/oldfmt.err" && ok || bad "an old checkpoint format: exit $rc: $(head -c 300 "$scratch/oldfmt.err")"
 # --restart of a folder that holds no run: exit 3, says so
 "$bin" --restart "$scratch/no_such_run" > /dev/null 2> "$scratch/norun.err"
 expect '--restart of no run' 3 $? "$scratch/norun.err"

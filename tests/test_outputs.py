@@ -103,7 +103,7 @@ def expected_header(nwall: int, nprobe: int) -> list[str]:
     cols += ["kinetic", "strain", "plastic", "external", "com_x", "com_y", "com_vx", "com_vy"]
     for k in range(1, nprobe + 1):
         cols += [f"probe{k}_{s}" for s in ("x", "y", "vx", "vy", "eqps")]
-    cols += ["damped", "step", "dt", "energy_error"]
+    cols += ["damped", "contact_loss", "step", "dt", "energy_error"]
     return cols
 
 

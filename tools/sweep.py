@@ -57,7 +57,8 @@ from mpmplot import namelist  # noqa: E402
 #: the design variables of the first ring body (see the module's help)
 RING_KEYS = ("ring.d_over_t", "ring.t", "ring.speed")
 #: history columns summarised in sweep.csv (end, min, max of each)
-HISTORY = re.compile(r"^(kinetic|strain|plastic|external|damped|com_v[xy]|wall\d+_(force|disp)"
+HISTORY = re.compile(r"^(kinetic|strain|plastic|external|damped|contact_loss|com_v[xy]"
+                     r"|wall\d+_(force|disp)"
                      r"|contact\d+_\d+_force)$")
 NAME_MAX = 60           #: longest run name (the title of a run holds 64 characters)
 
