@@ -433,7 +433,7 @@ contains
   !! given when required and not too long, names of a list (case-insensitive; stored as the
   !! list spells them, with their code). Left to the group's own rules: rows marked `own`.
   !! Rows `only` for another body shape than the one given (the row `shape` comes first) are not
-  !! stored, and a warning names them all when any of them was given.
+  !! stored, and a warning names those given.
   subroutine store_rows(rd, io, v, f)
     type(reader_t), intent(inout) :: rd
     integer, intent(in) :: io
@@ -444,18 +444,15 @@ contains
     character(len=4) :: shape
     character(len=:), allocatable :: name, t
     character(len=name_len), allocatable :: names(:)
-    logical :: given_other
     allocate(idx, source=group_specs(v%group))
     shape = ''
     allocate(other(0))
-    given_other = .false.
     do j = 1, size(idx)
       r = idx(j)
       associate (sp => specs(r))
         name = trim(sp%name)
         if (len_trim(sp%only) > 0 .and. sp%only /= shape) then
-          other = [other, r]
-          given_other = given_other .or. row_given(v, r)
+          if (row_given(v, r)) other = [other, r]
           cycle
         end if
         if (sp%own) cycle
@@ -504,10 +501,10 @@ contains
         end select
       end associate
     end do
-    if (given_other .and. len_trim(shape) > 0) then
+    if (size(other) > 0 .and. len_trim(shape) > 0) then
       names = specs(other)%name
-      call warn_group(rd, io, join_list(names, '')//' are ignored for shape = '''// &
-                      trim(shape)//'''')
+      call warn_group(rd, io, join_list(names, '')//trim(merge(' is ignored ', ' are ignored', &
+                      size(other) == 1))//' for shape = '''//trim(shape)//'''')
     end if
   end subroutine store_rows
 

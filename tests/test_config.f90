@@ -114,7 +114,7 @@ contains
       ' sigma_y = 2.5e8, rate_law = ''none'', cs_d = 6500, cs_q = 4 /', &
       '&material name = ''alu'', E = 7e10, nu = 0.499999, rho = 2.7e3', &
       ' sigma_y = 1.5e8, hardening = 4.9e-324, rate_law = ''Cowper_Symonds'' /', &
-      '&body shape = ''rect'', material = ''ALU'', center = -0.5, 0.25', &
+      '&body shape = ''rect'', material = ''ALU'', center = 1.5, 0.25', &
       ' size = 0.5, 0.25, n_x = 7, n_y = 3, velocity = -0.0, 1e-12 /', &
       '&body material = ''steel'', center = 1, 1, r_inner = 0.1, r_outer = 0.2', &
       ' n_thick = 3, n_circ = 10, sector = ''HALF'' /', &
@@ -304,9 +304,8 @@ contains
     call test_other_shape()
   end subroutine test_warnings
 
-  !> The variables of another body shape (the table's `only`): a warning that names them all
-  !! when any of them is given (whatever its value but the reader's start value), none
-  !! otherwise; the echo leaves them out with one comment line that names the shape they are
+  !> The variables of another body shape (the table's `only`): a warning that names those
+  !! given (whatever their value but the reader's start value), none otherwise; the echo leaves them out with one comment line that names the shape they are
   !! for.
   subroutine test_other_shape()
     type(config_t) :: c
@@ -315,8 +314,6 @@ contains
     integer :: k
     character(len=*), parameter :: rect = '&body shape = ''rect'', size = 4e-3, 4e-3, n_x = 4, '// &
       'n_y = 4'
-    character(len=*), parameter :: to_rings = 'r_inner, r_outer, n_thick, n_circ, sector, '// &
-      'self_contact are ignored for shape = ''rect'''
     f = write_case('shape1', [character(len=160) :: run_ok, grid_ok, mat_ok, &
       '&body r_inner = 24e-3, r_outer = 26e-3, n_y = 3 /', rect//', sector = ''half'' /', &
       rect//', center = 0, 1e-2, self_contact = .false. /', rect//', center = 0, 2e-2 /', &
@@ -324,16 +321,17 @@ contains
       '&body center = 0, 1, r_inner = 24e-3, r_outer = 26e-3, size = 0, 1 /'])
     call read_config(f, c, stat, msg, warn)
     call check(stat == 0, 'other shapes'' variables do not fail the read: '//msg)
-    call check(index(warn, 'shape1.nml:4: &body #1: size, n_x, n_y are ignored for shape = '// &
-      '''ring''') > 0, 'n_y of a ring is warned of: '//warn)
-    call check(index(warn, 'shape1.nml:5: &body #2: '//to_rings) > 0, 'sector of a rect')
+    call check(index(warn, 'shape1.nml:4: &body #1: n_y is ignored for shape = ''ring''') > 0, &
+      'n_y of a ring is warned of, and only it: '//warn)
+    call check(index(warn, 'shape1.nml:5: &body #2: sector is ignored for shape = ''rect''') > 0, &
+      'sector of a rect, and only it')
     call check(index(warn, 'shape1.nml:6:') == 0, 'self_contact = .false. (its default) of '// &
       'a rect is not warned of')
     call check(index(warn, 'shape1.nml:7:') == 0, 'a rect without ring variables')
-    call check(index(warn, 'shape1.nml:8: &body #5: '//to_rings) > 0, 'self_contact = .true. '// &
-      'of a rect')
-    call check(index(warn, 'shape1.nml:9: &body #6: size, n_x, n_y') > 0, 'size = 0, 1 of a '// &
-      'ring (one component given)')
+    call check(index(warn, 'shape1.nml:8: &body #5: self_contact is ignored for shape = '// &
+      '''rect''') > 0, 'self_contact = .true. of a rect')
+    call check(index(warn, 'shape1.nml:9: &body #6: size is ignored for shape = ''ring''') > 0, &
+      'size = 0, 1 of a ring (one component given)')
     call write_config(c, dir//'/shape1_echo.nml', stat, msg)
     echo = file_text(dir//'/shape1_echo.nml')
     call check(count_of(echo, '  ! size, n_x, n_y: for rectangles only') == 2, &
