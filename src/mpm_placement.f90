@@ -14,7 +14,7 @@ module mpm_placement
   use mpm_shapes, only: body_low, body_overlap
   use mpm_config_text, only: itoa, fmt_short, fmt_vec
   use mpm_config_lexer, only: reader_t, occurrence
-  use mpm_config_values, only: err_var
+  use mpm_config_values, only: err_var, warn_var
   implicit none
   private
   public :: placement_checks
@@ -28,7 +28,35 @@ contains
     integer, intent(in) :: occ_body(:)     !! occurrence of each &body
     call overlap_checks(rd, cfg, occ_body)
     call wall_side_checks(rd, cfg, occ_body)
+    call twin_walls(rd, cfg)
   end subroutine placement_checks
+
+  !> A wall given twice (the same plane, normal and motion as an earlier one): a warning, as
+  !! both act and share the contact force between them (each reports its share).
+  subroutine twin_walls(rd, cfg)
+    type(reader_t), intent(inout) :: rd    !! the input's occurrences and messages
+    type(config_t), intent(in) :: cfg      !! the case
+    integer :: j, k, io
+    real(wp) :: nj(2), nk(2)
+    do k = 2, size(cfg%walls)
+      io = occurrence(rd, 'wall', k)
+      if (io == 0) cycle
+      if (.not. rd%occ(io)%ok) cycle
+      nk = cfg%walls(k)%normal/norm2(cfg%walls(k)%normal)
+      do j = 1, k - 1
+        associate (a => cfg%walls(j), b => cfg%walls(k))
+          nj = a%normal/norm2(a%normal)
+          if (any(abs(nj - nk) > 1.0e-12_wp) .or. abs(dot_product(a%point - b%point, nk)) > &
+              1.0e-9_wp*cfg%grid%h .or. any(a%velocity /= b%velocity) .or. &
+              a%ramp /= b%ramp .or. a%n_motion /= b%n_motion) cycle
+          if (any(a%motion_t /= b%motion_t) .or. any(a%motion_f /= b%motion_f)) cycle
+          call warn_var(rd, io, 'point', 'the same plane, normal and motion as &wall #'// &
+            itoa(j)//': the two act together and share the contact force (give it once)')
+          exit
+        end associate
+      end do
+    end do
+  end subroutine twin_walls
 
   !> No two bodies overlapping by more than h/2 at t = 0; reported at the later body's centre.
   subroutine overlap_checks(rd, cfg, occ_body)
