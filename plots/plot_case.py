@@ -9,7 +9,9 @@ to hit, such as two rings thrown at each other, with a note that names plot_bodi
 there are several bodies):
 
 * crush:   platen force vs platen displacement with the DeRuntz-Hodge curve and the elastic
-           diametral stiffness; energies vs displacement with kinetic / plastic.
+           diametral stiffness; energies vs displacement with kinetic / plastic. The closed
+           forms are a single tube's: with more than one &body they are left out, and a line
+           says so.
 * impact:  target force vs time with the contact phases, contact duration, rebound velocity and
            coefficient of restitution; centre-of-mass velocity vs time.
 * wave:    probe velocity disturbances vs time with the arrival times; arrival time vs angle
@@ -143,7 +145,14 @@ def plot_crush(history: History, inputs: Inputs, outdir: str, experiment: str | 
                f"peak force        {force.max():.6g} N at displacement "
                f"{disp[np.argmax(force)] * 1e3:.4g} mm"]
     dmax = float(np.nanmax(disp)) if disp.size else 0.0
-    if ring is not None and np.isfinite(ring["sigma_y"]) and dmax > 0:
+    nbody = len(inputs.get("body", []))
+    if nbody > 1:                              # the closed forms are one tube's
+        lines += ["no DeRuntz–Hodge or elastic ring curve: closed forms",
+                  f"of a single tube, and this case has {nbody} bodies"]
+        numbers.append(f"closed forms      left out: DeRuntz-Hodge and the elastic ring are "
+                       f"for a single tube and the case has {nbody} bodies (the force of each "
+                       f"pair and each body's energies: plots/plot_bodies.py --dir {outdir})")
+    elif ring is not None and np.isfinite(ring["sigma_y"]) and dmax > 0:
         D, t, plane = ring["D"], ring["t"], ring["plane"]
         p0 = theory.plastic_collapse_load(D, t, ring["sigma_y"], plane, depth)
         d = np.linspace(0.0, min(dmax, 0.97 * D), 400)

@@ -10,6 +10,8 @@ their command line in this process; the figure they save is caught and its artis
   ring's both platens: the sum of their travels), the DeRuntz-Hodge curve is P0 / sqrt(1 -
   (delta/D)^2) with P0 = 4 M0 / R, M0 = sigma0 t^2 / (2 sqrt 3) computed here, axis labels
   name the quantities and units, and no MPM-fit stiffness is printed;
+* a crush of two tubes (two &body groups): no DeRuntz-Hodge or elastic-ring curve (a single
+  tube's closed forms) against the force on both, and one printed line says they are left out;
 * impact: the force and velocity curves are the history's columns, and the printed coefficient
   of restitution is the one built into the history (0.75);
 * an impact without a wall to hit (two half rings thrown at each other, as
@@ -177,6 +179,60 @@ def test_crush(scratch: Path) -> None:
     check("elastic stiffness" not in out, "crush: no MPM-fit stiffness compared with the thin "
           "ring (a dynamic crush does not measure it)")
     check_failure_marks(folder, plot_case, argv, "crush plot")
+
+
+def test_crush_bodies(scratch: Path) -> None:
+    """A crush of two tubes (two &body groups, as namelists/contact/nested.nml): the closed
+    forms are one tube's, so no DeRuntz-Hodge or elastic-ring curve is drawn against the force
+    on both, and one printed line (and the legend) says why."""
+    folder = scratch / "crush_bodies"
+    folder.mkdir(parents=True, exist_ok=True)
+    rings = "".join(f"""&body shape = 'ring', center = 0.0, 0.02625, r_inner = {ri!r},
+  r_outer = {ro!r}, sector = 'full' /
+""" for ri, ro in ((R_IN, R_OUT), (R_IN - 0.004, R_OUT - 0.004)))
+    (folder / "input.nml").write_text(f"""&run title = 'two tubes', depth = 1.0, t_end = 1.0e-3 /
+&grid h = 0.5e-3 /
+&solver plane = 'strain' /
+&material name = 'steel', model = 'j2', E = 210.0e9, nu = 0.3, rho = 7800.0,
+  sigma_y = {SIGMA_Y!r} /
+""" + rings + """&wall point = 0.0, 0.0525, normal = 0.0, -1.0, velocity = 0.0, -5.0 /
+&wall point = 0.0, 0.0, normal = 0.0, 1.0 /
+""")
+    t = np.linspace(0.0, 2.0e-3, 401)
+    f1 = 9.0e4 * (1.0 - np.exp(-t / 1.0e-4))
+    zero = np.zeros_like(t)
+    cols = {"time": t, "wall1_force": f1, "wall1_fx": zero, "wall1_fy": f1,
+            "wall1_disp": -5.0 * t, "wall2_force": f1, "wall2_fx": zero, "wall2_fy": -f1,
+            "wall2_disp": zero, "com_vx": zero, "com_vy": zero, "kinetic": 1.0 + t,
+            "strain": 2.0 * t, "plastic": 1.0e3 * t, "external": 1.0e3 * t}
+    for b in (1, 2):
+        cols.update({f"body{b}_x": zero, f"body{b}_y": zero, f"body{b}_plastic": 500.0 * t})
+    cols.update({"contact1_2_force": 0.5 * f1, "contact1_2_fx": zero, "contact1_2_fy": zero})
+    write_history(folder / "history.csv", cols)
+    write_summary(folder, scene="crush")
+    argv = ["--dir", str(folder), "--out", str(scratch / "crush_bodies.png")]
+    rc, out, fig = run_main(plot_case, argv)
+    if not check(rc == 0 and fig is not None, f"two-tube crush plot exits 0 and saves (rc {rc}: "
+                 f"{out.strip()[:300]})"):
+        return
+    ax, ax2 = fig.axes[0], fig.axes[1]
+    mpm = line(ax, "MPM, wall 1")
+    check(mpm is not None and np.allclose(mpm.get_ydata(), f1 * 1e-3, rtol=1e-12, atol=0),
+          "two-tube crush: the platen's force is drawn")
+    drawn = [str(ln.get_label()) for a in (ax, ax2) for ln in a.get_lines()]
+    check(not any("DeRuntz" in d or "elastic ring" in d for d in drawn),
+          f"two-tube crush: no single-tube closed form (DeRuntz-Hodge, elastic ring) is drawn "
+          f"against the force on both tubes (curves {drawn})")
+    check("DeRuntz-Hodge     " not in out and "plateau force" not in out,
+          f"two-tube crush: no single-tube DeRuntz-Hodge or plateau number is printed ({out!r})")
+    said = [ln for ln in out.splitlines() if "single tube" in ln and "left out" in ln]
+    check(len(said) == 1 and "2 bodies" in said[0],
+          f"two-tube crush: one printed line says the closed forms are a single tube's and are "
+          f"left out (got {said})")
+    leg = ax.get_legend()
+    title = leg.get_title().get_text() if leg is not None else ""
+    check("single tube" in title, f"two-tube crush: the legend says why there is no closed form "
+          f"({title!r})")
 
 
 def test_impact(scratch: Path) -> None:
@@ -377,7 +433,8 @@ def main() -> int:
     if scratch.exists():
         shutil.rmtree(scratch)
     scratch.mkdir(parents=True)
-    for test in (test_crush, test_impact, test_impact_no_wall, test_shapes, test_mirrored_walls):
+    for test in (test_crush, test_crush_bodies, test_impact, test_impact_no_wall, test_shapes,
+                 test_mirrored_walls):
         try:
             test(scratch)
         except Exception as exc:  # noqa: BLE001 - a crash is a failed check, the others go on
