@@ -708,11 +708,19 @@ contains
     text = ''
     scene = scene_of(cfg)
     if (len_trim(scene) == 0 .or. n_study == 0) return
-    ib = findloc(cfg%bodies%shape_id, SHAPE_RING, dim=1)
-    associate (b => cfg%bodies(ib))
-      t = b%r_outer - b%r_inner
-      nt = b%n_thick
-    end associate
+    ib = 0                        ! the coarsest ring: largest h/t, then fewest particles through
+    t = huge(1.0_wp)
+    nt = 0
+    do j = 1, size(cfg%bodies)
+      associate (b => cfg%bodies(j))
+        if (b%shape_id /= SHAPE_RING) cycle
+        if (b%r_outer - b%r_inner < t .or. (b%r_outer - b%r_inner == t .and. b%n_thick < nt)) then
+          ib = j
+          t = b%r_outer - b%r_inner
+          nt = b%n_thick
+        end if
+      end associate
+    end do
     aspect = ring_aspect(cfg, ib)
     hot = h/t
     basis = basis_names(cfg%solver%basis_id)
@@ -769,7 +777,10 @@ contains
         best = i
       end if
     end do
-    write(line, '(a,g0.3,a,i0,a,f4.2,a,a,a,f4.2,a)') '  this input: h/t ', hot, ', n_thick ', &
+    line = '  this input'
+    if (count(cfg%bodies%shape_id == SHAPE_RING) > 1) line = '  this input (body '//itoa(ib)// &
+      ', its coarsest ring)'
+    write(line, '(a,a,g0.3,a,i0,a,f4.2,a,a,a,f4.2,a)') trim(line), ': h/t ', hot, ', n_thick ', &
       nt, ', aspect ', aspect, ', ', trim(basis), ', cfl ', cfl_in_use(cfg), vol_text(volumetric)
     call append_msg(text, trim(line))
     if (best > 0) then

@@ -139,6 +139,12 @@ NML
   && pass=$((pass + 1)) || failed two_fast "not one quasi-static warning naming the body: $(grep omega "$scratch/two_fast.err")"
 grep -q "two_fast.nml:8: &wall #3: point = 1.0, 0.0: the same plane, normal and motion as &wall #1" \
   "$scratch/two_fast.err" && pass=$((pass + 1)) || failed two_fast "no warning of a wall given twice: $(cat "$scratch/two_fast.err")"
+# the study's advice for several rings describes the coarsest (it described the first)
+sed -e 's/r_inner = 0.023, r_outer = 0.025, n_thick = 4 \/$/r_inner = 0.023, r_outer = 0.025, n_thick = 8 \//' \
+    -e '5s/r_inner = 0.023, r_outer = 0.025, n_thick = 8/r_inner = 0.0235, r_outer = 0.025, n_thick = 6/' \
+    -e 's/-500.0/-2.5/' "$scratch/two_fast.nml" > "$scratch/two_t.nml"
+"$bin" --check "$scratch/two_t.nml" 2>/dev/null | grep -q "this input (body 2, its coarsest ring): h/t 0.333, n_thick 6" \
+  && pass=$((pass + 1)) || failed two_t "the advice does not describe the coarsest ring: $("$bin" --check "$scratch/two_t.nml" 2>&1 | grep 'this input')"
 
 # the set-up report counts mirror planes in good English (was "1 mirror planes")
 out=$("$bin" --check "$here/../namelists/default.nml" 2> "$scratch/default.err")
