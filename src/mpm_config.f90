@@ -446,7 +446,7 @@ contains
     b = vvec(v, 'bodies')
     if (chk_v(rd, io, v, 'bodies') == 2) then
       if (any(b < 0.0_wp) .or. any(b /= aint(b)) .or. any(b > 1.0e6_wp)) then
-        call err_var(rd, io, 'bodies', fmt_vec(b), 'not two whole numbers >= 0')
+        call err_var(rd, io, 'bodies', fmt_vec(b), 'not two whole numbers from 0 to 1000000')
       else if (count(b == 0.0_wp) == 1) then
         call err_var(rd, io, 'bodies', fmt_vec(b), 'one body given with 0 (0, 0 stands for '// &
           'every pair not named elsewhere)')
