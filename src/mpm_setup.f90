@@ -235,7 +235,7 @@ contains
     type(sim_t), intent(inout) :: s        !! particles and the fixed grid (basis cache filled)
     integer, intent(out) :: stat           !! 0 or EXIT_INPUT
     character(len=:), allocatable, intent(inout) :: errmsg  !! the bounds needed
-    character(len=:), allocatable :: msg
+    character(len=:), allocatable :: msg, given, fix
     integer :: lo(2), hi(2)
     real(wp) :: need_lo(2), need_hi(2)
     call weights_compute(s%prm, s%state_t, s%g, s%wk, s%diag, stat, msg)
@@ -245,13 +245,28 @@ contains
     hi = maxval(s%wk%blk(:, 1:s%p%np), dim=2) + s%wk%nb - 1
     need_lo = s%g%origin + s%g%h*real(lo, wp)
     need_hi = s%g%origin + s%g%h*real(hi, wp)
-    errmsg = trim(cfg%file)//': &grid: lower = '//vec_text(cfg%grid%lower)//', upper = '// &
-      vec_text(cfg%grid%upper)//': the grid does not hold the support of every particle at '// &
-      't = 0 (its domain plus a cell, in blocks of '//itoa(s%wk%nb)//' x '//itoa(s%wk%nb)// &
-      ' nodes of h = '//rtoa(s%g%h)//' m), which reaches from ('//vec_text(need_lo)// &
-      ') to ('//vec_text(need_hi)//') m; allowed: lower <= '//vec_text(need_lo)// &
-      ' and upper >= '//vec_text(need_hi)//', plus room for the motion, or lower and upper '// &
-      'not given (the grid is fitted and grows with the material)'
+    given = ''                             ! the bound(s) short of the support, and their fix
+    fix = ''
+    if (any(cfg%grid%lower > need_lo)) then
+      given = 'lower = '//vec_text(cfg%grid%lower)
+      fix = 'lower <= '//vec_text(need_lo)
+    end if
+    if (any(cfg%grid%upper < need_hi)) then
+      if (len(given) > 0) given = given//', '
+      if (len(fix) > 0) fix = fix//' and '
+      given = given//'upper = '//vec_text(cfg%grid%upper)
+      fix = fix//'upper >= '//vec_text(need_hi)
+    end if
+    if (len(given) == 0) then              ! (the grid's rounding to whole cells)
+      given = 'lower = '//vec_text(cfg%grid%lower)//', upper = '//vec_text(cfg%grid%upper)
+      fix = 'lower <= '//vec_text(need_lo)//' and upper >= '//vec_text(need_hi)
+    end if
+    errmsg = trim(cfg%file)//': &grid: '//given//': the grid does not hold the support of '// &
+      'every particle at t = 0 (its domain plus a cell, in blocks of '//itoa(s%wk%nb)//' x '// &
+      itoa(s%wk%nb)//' nodes of h = '//rtoa(s%g%h)//' m), which reaches from ('// &
+      vec_text(need_lo)//') to ('//vec_text(need_hi)//') m; allowed: '//fix//', plus room '// &
+      'for the motion, or lower and upper not given (the grid is fitted and grows with the '// &
+      'material)'
   end subroutine fixed_grid_fits
 
   !> Two numbers as 'a, b' (5 significant digits).
