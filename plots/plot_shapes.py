@@ -75,10 +75,10 @@ def wall_positions(walls: list[dict[str, Any]], history: dict[str, np.ndarray] |
             travel = float(history[f"wall{k}_disp"][row])
         out.append((w["point"] - travel * w["normal"], w["normal"], k))
     if mirrored:
-        for m in walls:
-            if not m["mirror"]:
-                continue
+        for m in walls:                         # the planes the sector adds, where the images are
             q, nm = np.asarray(m["point"], float), np.asarray(m["normal"], float)
+            if not m["mirror"] or m.get("input") or not np.all(np.isfinite(nm)):
+                continue
             out += [(p - 2.0 * np.dot(p - q, nm) * nm, n - 2.0 * np.dot(n, nm) * nm, k)
                     for p, n, k in out]
     seen, unique = set(), []

@@ -580,19 +580,23 @@ contains
     logical, intent(in) :: musl_flip       !! the run used scheme = 'musl' and flip = 1
     logical, intent(in) :: bodies          !! bodies in contact (several velocity fields)
     character(len=:), allocatable :: text
-    character(len=16) :: pct
+    character(len=24) :: pct
     text = ''
     if (.not. bal_max > 0.05_wp*scale) return
-    write(pct, '(f0.2)') 100.0_wp*energy_error
+    if (100.0_wp*energy_error < 1.0e6_wp) then
+      write(pct, '(f0.2)') 100.0_wp*energy_error
+    else
+      pct = rtoa(100.0_wp*energy_error)
+    end if
     text = 'energy error '//trim(pct)//' % is above 5 %: the energy balance does not close, '// &
       'so forces and energies are not to be trusted'
-    if (bodies) text = text//' (the loss of the contact between bodies, its friction and '// &
-      'inelastic normal impulse, is part of the error: docs/theory.md, "Energies")'
+    if (bodies) text = text//'. The loss of the contact between bodies, its friction and '// &
+      'inelastic normal impulse, is part of the error (docs/theory.md, "Energies")'
     if (musl_flip) then
       text = text//'. Use a finer grid or a smaller cfl (docs/stability.md)'
     else
-      text = text//' (docs/stability.md: USL, PIC blending and coarse walls lose energy). '// &
-        'Use scheme = ''musl'', flip = 1 and a finer grid'
+      text = text//'. USL, PIC blending and coarse walls lose energy (docs/stability.md): '// &
+        'use scheme = ''musl'', flip = 1 and a finer grid'
     end if
   end function advice_end_of_run
 

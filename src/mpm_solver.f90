@@ -229,8 +229,9 @@ contains
     end if
   end subroutine time_step
 
-  !> Step 7: external work, the balance kin + strain + plastic + damped - external - E0, the
-  !! energy error of docs/output.md, and the growth check (stat = EXIT_NUMERIC past step 10).
+  !> Step 7: external work, the balance kin + strain + plastic + damped + contact (+ the walls'
+  !! friction loss for the energy error of docs/output.md, not for the growth check) -
+  !! external - E0, and the growth check (stat = EXIT_NUMERIC past step 10).
   subroutine energy_balance(prm, st, h, dt, stat, errmsg)
     type(params_t), intent(in) :: prm      !! parameters (tolerances, wave speed)
     type(state_t), intent(inout) :: st     !! state: energies and their extremes

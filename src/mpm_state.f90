@@ -96,13 +96,12 @@ module mpm_state
     real(wp) :: e_external = 0.0_wp, e_damped = 0.0_wp, e0 = 0.0_wp
     real(wp) :: w_gravity = 0.0_wp         !! work of gravity and body forces [J/m]
     real(wp) :: e_contact = 0.0_wp         !! energy stored in the walls' contact now [J/m]
-    real(wp) :: e_contact_loss = 0.0_wp    !! energy lost in contact so far: friction at walls
-                                           !! and between bodies, the bodies' inelastic normal
-                                           !! contact [J/m]
                                            !! (recomputed from the positions: not written)
+    real(wp) :: e_contact_loss = 0.0_wp    !! energy lost to the walls' friction so far (not
+                                           !! the contact between bodies') [J/m]
     real(wp) :: energy_error = 0.0_wp      !! largest |balance| / max(E0, largest |external|) [-]
-    real(wp) :: bal_max = 0.0_wp           !! largest |kin + strain + plastic + damped - ext - E0|
-                                           !! [J/m]
+    real(wp) :: bal_max = 0.0_wp           !! largest |kin + strain + plastic + damped + contact
+                                           !! + contact_loss - ext - E0| [J/m]
     real(wp) :: ext_max = 0.0_wp           !! largest |external work| so far [J/m]
     real(wp), allocatable :: pair_acc(:,:) !! per pair of bodies i < j: normal impulse and the
                                            !! impulse on body i since the last history row

@@ -39,8 +39,9 @@ contains
     integer :: k, m, nm, first, io
     real(wp) :: normals(2, 2), center(2), reach
     character(len=40) :: plane(2)
-    character(len=:), allocatable :: model
+    character(len=:), allocatable :: model, why
     first = 0
+    why = ''
     do k = 1, size(cfg%bodies)
       io = occurrence(rd, 'body', k)
       if (io == 0) cycle
@@ -90,11 +91,15 @@ contains
           do m = 1, nm                     ! a whole body: on the modelled side
             reach = center(m) - body_low(b, normals(:, m))
             if (reach > 0.5_wp*cfg%grid%h) then
-              call err_var(rd, io, 'center', fmt_vec(b%center), 'reaches '// &
-                fmt_short(reach)//' m across the mirror plane '//trim(plane(m))//' of '// &
-                model//' (more than h/2): its mirror image would overlap it', &
-                'a centre with the whole body on the modelled side of the plane, or '// &
-                'sector = ''full'' for every body (the whole structure)')
+              why = 'reaches '//fmt_short(reach)//' m across the mirror plane '// &
+                trim(plane(m))//' of '//model//' (more than h/2): its mirror image would '// &
+                'overlap it'
+              if (body_low(b, -normals(:, m)) >= -center(m) - 0.5_wp*cfg%grid%h) why = &
+                'lies behind the mirror plane '//trim(plane(m))//' of '//model// &
+                ', outside the part it computes'
+              call err_var(rd, io, 'center', fmt_vec(b%center), why, 'a centre with the '// &
+                'whole body on the modelled side of the plane, or sector = ''full'' for '// &
+                'every body (the whole structure)')
               exit
             end if
           end do

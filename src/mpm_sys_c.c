@@ -20,26 +20,32 @@
 #include <sys/types.h>
 #include <unistd.h>
 
-static volatile sig_atomic_t received = 0;
-static struct timespec first_at;         /* when the first signal came (CLOCK_MONOTONIC) */
+/* The first signal and its time (CLOCK_MONOTONIC, ns), read and written only through the
+ * __atomic builtins (lock-free, so async-signal-safe): the handler may run on two OpenMP
+ * threads at once, and a thread that sees `received` set must see `first_ns` too. */
+static int received = 0;
+static long long first_ns = 0;
 
-/* A second signal kills at once (a second Ctrl-C during a long set-up or a slow save), unless
- * it comes within `echo_window` seconds of the first: one interrupt often arrives twice, as
+/* Another SIGINT or SIGTERM kills at once (a second Ctrl-C during a long set-up or a slow
+ * save), unless it comes within `echo_ns` of the first: one interrupt often arrives twice, as
  * coreutils `timeout` signals the child and then its process group, and a shell's Ctrl-C or
  * Slurm's scancel reach every process of the group. Such an echo is ignored; SA_RESETHAND,
  * used before, let it kill the run with no checkpoint. Only async-signal-safe calls here. */
-static const double echo_window = 1.0;
+static const long long echo_ns = 1000000000LL;
 
 static void on_signal(int sig) {
-  struct timespec now;
-  if (received == 0) {
-    clock_gettime(CLOCK_MONOTONIC, &first_at);
-    received = sig;
+  struct timespec ts;
+  long long now, none = 0;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  now = (long long)ts.tv_sec * 1000000000LL + (long long)ts.tv_nsec;
+  /* the first arrival stamps the time before `received` is set (release), so that any
+   * thread that reads `received` set (acquire) reads the stamp */
+  __atomic_compare_exchange_n(&first_ns, &none, now, 0, __ATOMIC_ACQ_REL, __ATOMIC_ACQUIRE);
+  if (__atomic_load_n(&received, __ATOMIC_ACQUIRE) == 0) {
+    __atomic_store_n(&received, sig, __ATOMIC_RELEASE);
     return;
   }
-  clock_gettime(CLOCK_MONOTONIC, &now);
-  if ((double)(now.tv_sec - first_at.tv_sec) + 1e-9 * (double)(now.tv_nsec - first_at.tv_nsec)
-      < echo_window) return;
+  if (now - __atomic_load_n(&first_ns, __ATOMIC_ACQUIRE) < echo_ns) return;
   struct sigaction dfl;
   memset(&dfl, 0, sizeof dfl);
   dfl.sa_handler = SIG_DFL;
@@ -63,7 +69,7 @@ int tubempm_install_signals(void) {
 }
 
 /* The signal received since start (0 if none). */
-int tubempm_signal_received(void) { return (int)received; }
+int tubempm_signal_received(void) { return __atomic_load_n(&received, __ATOMIC_ACQUIRE); }
 
 /* 1 when standard output is a terminal. */
 int tubempm_stdout_isatty(void) { return isatty(STDOUT_FILENO) ? 1 : 0; }

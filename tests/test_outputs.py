@@ -95,8 +95,8 @@ CASE_TEXT = """! test_outputs: elastic aluminium ring onto a rigid frictionless 
 
 
 def expected_header(nwall: int, nprobe: int) -> list[str]:
-    """history.csv columns from the rules of docs/output.md (and the three extra columns
-    the code appends at the end: step, dt, energy_error)."""
+    """history.csv columns from the rules of docs/output.md (with the added columns after
+    damped: contact_loss, step, dt, energy_error)."""
     cols = ["time"]
     for k in range(1, nwall + 1):
         cols += [f"wall{k}_disp", f"wall{k}_force", f"wall{k}_fx", f"wall{k}_fy"]

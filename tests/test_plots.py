@@ -409,11 +409,14 @@ def test_mirrored_walls(scratch: Path) -> None:
     y = 50 mm (normal -y) with mirror planes x = 0 and y = 25 mm gives it and the lower platen
     at y = 0 (normal +y), each once; a side wall at x = 30 mm (normal -x) gives also x = -30 mm
     (normal +x); the sector alone draws the walls as given."""
-    def wall(k, point, normal, mirror=False):
+    def wall(k, point, normal, mirror=False, given=True):
         return {"index": k, "point": np.array(point), "normal": np.array(normal),
-                "mirror": mirror}
+                "mirror": mirror, "input": {"point": point} if given else {}}
+    # a user's own 'slip' wall (wall 5, given in the input) is not a plane of the images
     walls = [wall(1, [0.0, 0.05], [0.0, -1.0]), wall(2, [0.03, 0.0], [-1.0, 0.0]),
-             wall(3, [0.0, 0.0], [1.0, 0.0], True), wall(4, [0.0, 0.025], [0.0, 1.0], True)]
+             wall(5, [0.0, -0.01], [0.0, 1.0], True),
+             wall(3, [0.0, 0.0], [1.0, 0.0], True, False),
+             wall(4, [0.0, 0.025], [0.0, 1.0], True, False)]
 
     def planes(mirrored):
         return sorted((round(float(n[0]), 12), round(float(n[1]), 12),
