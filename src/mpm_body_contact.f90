@@ -49,6 +49,8 @@ module mpm_body_contact
                                                !! node along the surface [-]
   real(wp), parameter :: sep_eps = 1.0e-6_wp   !! separations closer than this many cells are
                                                !! equal (separating_normal) [-]
+  integer, parameter :: n_marks = 8            !! entries a corner remembers being gathered for
+                                               !! (a repeat beyond them is harmless) [-]
 
 contains
 
@@ -268,19 +270,20 @@ contains
     type(grid_t), intent(in) :: g          !! grid
     type(work_t), intent(inout) :: wk      !! basis cache; surface corners
     logical, intent(in) :: fill            !! second pass: store the corners
-    integer :: k, ip, f, a, b, kk, c, e, nb, q, slot, mark
+    integer :: k, ip, f, a, b, kk, c, e, nb, q, slot, mark, id
     real(wp) :: xq(2, 4), xn(2)
     logical :: shared
     associate (fc => wk%fc)
       ! CPDI2's corners are shared by up to four particles: each is gathered once per entry
-      ! and side (the extremes are the same without the repeats, which cost 42 % of a
-      ! nested-tube crush's time in separating_normal)
+      ! and side, as far as its last n_marks entries remember (the extremes are the same
+      ! without the repeats, which cost 42 % of a nested-tube crush's time in
+      ! separating_normal)
       shared = prm%basis == BASIS_CPDI2
       if (shared) then
         if (allocated(fc%cq_mark)) then
-          if (size(fc%cq_mark) < p%nc) deallocate(fc%cq_mark)
+          if (size(fc%cq_mark, 2) < p%nc) deallocate(fc%cq_mark)
         end if
-        if (.not. allocated(fc%cq_mark)) allocate(fc%cq_mark(p%nc))
+        if (.not. allocated(fc%cq_mark)) allocate(fc%cq_mark(n_marks, p%nc))
         fc%cq_mark = 0
       end if
       if (.not. fill) then
@@ -315,12 +318,15 @@ contains
               mark = merge(-e, e, fc%pn_b(e) == f)
               do q = 1, 4
                 if (shared) then
-                  if (fc%cq_mark(p%corner(q, ip)) == mark) cycle
+                  if (any(fc%cq_mark(:, p%corner(q, ip)) == mark)) cycle
                 end if
                 ! only the corners within a cell of the node along the surface
                 if (abs(fc%pn_n(2, e)*(xq(1, q) - xn(1)) - fc%pn_n(1, e)*(xq(2, q) - xn(2))) &
                     > tang_window*g%h) cycle
-                if (shared) fc%cq_mark(p%corner(q, ip)) = mark
+                if (shared) then                 ! remembered in the oldest of its slots
+                  id = p%corner(q, ip)
+                  fc%cq_mark(:, id) = eoshift(fc%cq_mark(:, id), -1, mark)
+                end if
                 if (.not. fill) then
                   fc%cq_first(e + 1) = fc%cq_first(e + 1) + 1
                 else

@@ -47,8 +47,8 @@ module mpm_contact_law
     real(wp), allocatable :: cq(:,:)       !! the entries' surface corners near their nodes
                                            !! (2, ncq) [m]
     logical, allocatable :: cq_b(:)        !! the corner is b's (else a's) (ncq)
-    integer, allocatable :: cq_mark(:)     !! CPDI2: the entry (b's: minus it) a shared domain
-                                           !! corner was last gathered for (nc)
+    integer, allocatable :: cq_mark(:,:)   !! CPDI2: the last entries (b's: minus them) each
+                                           !! shared domain corner was gathered for (8, nc)
     integer :: nplist = 0                  !! particles whose block holds a contact node
     integer, allocatable :: plist(:)       !! those particles (np)
     real(wp), allocatable :: pair_imp(:,:) !! per pair of bodies this step: normal impulse and
