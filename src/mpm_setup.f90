@@ -440,7 +440,7 @@ contains
     if (cfg%run%threads == 0 .and. nthreads > 1) line = trim(line)//'; for free cores: a '// &
       'run takes one thread per core that other work does not keep busy'
     if (s%prm%nf > 1) line = trim(line)//'; contact between bodies is not in it and costs '// &
-      'more as the bodies meet (namelists/contact/nested.nml: up to x 2; docs/performance.md)'
+      'more as the bodies meet (namelists/contact/nested.nml took x 1.5; docs/performance.md)'
     call append_msg(report, line)
     if (sector_factor(cfg) > 1.0_wp) then
       write(line, '(a,f3.0,a)') 'outputs: energies and masses x ', sector_factor(cfg), &
