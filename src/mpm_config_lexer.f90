@@ -469,17 +469,18 @@ contains
     list(n)%text = text
   end subroutine push_msg
 
-  !> `file:line: &group #k: var = value: what; allowed: ...` for occurrence io; the line and
-  !> Line and value text of variable var in occurrence io (the last assignment to it).
-  subroutine var_where(rd, io, var, value, ln, v)
+  !> Line and value text of variable var in occurrence io, as the last assignment to it wrote
+  !> them (shown: var, or var(subscript) with the subscript's own value text).
+  subroutine var_where(rd, io, var, value, ln, v, shown)
     type(reader_t), intent(in) :: rd
     integer, intent(in) :: io
     character(len=*), intent(in) :: var, value
     integer, intent(out) :: ln
-    character(len=:), allocatable, intent(out) :: v
+    character(len=:), allocatable, intent(out) :: v, shown
     integer :: ia, k
     ln = rd%occ(io)%line
     v = value
+    shown = var
     ia = 0
     do k = rd%occ(io)%n_asg, 1, -1
       if (rd%occ(io)%asg(k)%stray) cycle
@@ -490,8 +491,8 @@ contains
     end do
     if (ia == 0) return
     ln = rd%occ(io)%asg(ia)%line
-    if (len(rd%occ(io)%asg(ia)%sub) == 0 .and. len(rd%occ(io)%asg(ia)%value) > 0) &
-      v = rd%occ(io)%asg(ia)%value
+    if (len(rd%occ(io)%asg(ia)%value) > 0) v = rd%occ(io)%asg(ia)%value
+    if (len(rd%occ(io)%asg(ia)%sub) > 0) shown = var//'('//rd%occ(io)%asg(ia)%sub//')'
   end subroutine var_where
 
   !> Messages sorted by line (stable; messages without a line last), one per line.

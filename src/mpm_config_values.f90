@@ -382,14 +382,15 @@ contains
     character(len=*), intent(in) :: var, value, what
     character(len=*), intent(in), optional :: allowed
     integer :: ln
-    character(len=:), allocatable :: v, al
-    call var_where(rd, io, var, value, ln, v)
+    character(len=:), allocatable :: v, al, shown
+    call var_where(rd, io, var, value, ln, v, shown)
+    if (shown /= var .and. len(value) > 0) v = v//' (so '//var//' = '//value//')'
     if (present(allowed)) then
       al = allowed
     else
       al = allowed_text(rd%occ(io)%group, var)
     end if
-    call add_err(rd, ln, label(rd, io)//': '//var//' = '//v//': '//what//'; allowed: '//al)
+    call add_err(rd, ln, label(rd, io)//': '//shown//' = '//v//': '//what//'; allowed: '//al)
     rd%occ(io)%ok = .false.
   end subroutine err_var
 
@@ -409,12 +410,12 @@ contains
     integer, intent(in) :: io
     character(len=*), intent(in) :: var, what
     integer :: ln
-    character(len=:), allocatable :: v
-    call var_where(rd, io, var, '', ln, v)
+    character(len=:), allocatable :: v, shown
+    call var_where(rd, io, var, '', ln, v, shown)
     if (len(v) > 0) then
-      call add_warn(rd, ln, label(rd, io)//': '//var//' = '//v//': '//what)
+      call add_warn(rd, ln, label(rd, io)//': '//shown//' = '//v//': '//what)
     else
-      call add_warn(rd, ln, label(rd, io)//': '//var//': '//what)
+      call add_warn(rd, ln, label(rd, io)//': '//shown//': '//what)
     end if
   end subroutine warn_var
 

@@ -448,8 +448,8 @@ contains
     call bad('b_dt_negative', [character(len=100) :: '&run t_end = 1e-3, dt = -1 /', grid_ok, &
       mat_ok, body_ok], [character(len=100) :: ':1: &run: dt = -1: out of range'])
     call bad('b_gravity_inf', [character(len=100) :: '&run t_end = 1e-3, gravity(2) = -Inf /', &
-      grid_ok, mat_ok, body_ok], [character(len=100) :: ':1: &run: gravity = 0.0, -Infinity: '// &
-      'not finite numbers'])
+      grid_ok, mat_ok, body_ok], [character(len=100) :: ':1: &run: gravity(2) = -Inf (so '// &
+      'gravity = 0.0, -Infinity): not finite numbers'])
     call bad('b_plane', [character(len=100) :: run_ok, '&solver', ' plane = ''axisymmetric''', &
       '/', grid_ok, mat_ok, body_ok], [character(len=100) :: &
       ':3: &solver: plane = ''axisymmetric'': not an allowed value', &
@@ -544,7 +544,7 @@ contains
     call bad('b_motion_gap', [character(len=100) :: run_ok, grid_ok, mat_ok, body_ok, &
       '&wall point = 0, 0, normal = 1, 0', ' motion_t(1) = 0', ' motion_t(3) = 1', &
       ' motion_f = 1, 1, 1 /'], [character(len=100) :: &
-      ':7: &wall #1: motion_t = 0.0, (none), 1.0: motion_t(2) not given (a gap in the table)'])
+      ':7: &wall #1: motion_t(3) = 1 (so motion_t = 0.0, (none), 1.0): motion_t(2) not given'])
     call bad('b_motion_nan', [character(len=100) :: run_ok, grid_ok, mat_ok, body_ok, &
       '&wall point = 0, 0, normal = 1, 0', ' motion_t = 0, 1', ' motion_f = 0, nan /'], &
       [character(len=100) :: ':7: &wall #1: motion_f = 0, nan: motion_f(2) is not a finite'])
