@@ -57,6 +57,7 @@ sys.path.insert(0, str(ROOT / "plots"))
 sys.path.insert(0, str(ROOT / "tests"))
 from mpmplot import readers  # noqa: E402
 from pycheck import Checks  # noqa: E402
+from pyscene import run_scene  # noqa: E402
 
 T = Checks("test_body_contact")
 check = T.check
@@ -67,20 +68,8 @@ STEEL = "&material name = 'steel', model = 'elastic', E = 200.0e9, nu = 0.3, rho
 
 
 def run(scratch: Path, name: str, text: str) -> tuple[dict, dict]:
-    """Run one scene; its history and summary."""
-    folder = scratch / name
-    folder.mkdir(parents=True, exist_ok=True)
-    nml = folder / f"{name}.nml"
-    nml.write_text(text.replace("OUT", str(folder / "out")))
-    res = subprocess.run([os.environ.get("TUBEMPM", str(ROOT / "bin" / "tubempm")), "--quiet",
-                          str(nml)], capture_output=True, text=True,
-                         env=dict(os.environ, OMP_NUM_THREADS="1"))
-    ok = check(res.returncode == 0, f"{name}: run completes (exit {res.returncode}: "
-                                    f"{res.stderr.strip()[-300:]})")
-    if not ok:
-        return {}, {}
-    return (readers.read_history(folder / "out" / "history.csv"),
-            readers.read_summary(folder / "out" / "summary.nml"))
+    """Run one scene; its history and summary ({} when it failed): pyscene.run_scene."""
+    return run_scene(T, scratch, name, text)
 
 
 def within(a: float, b: float, rtol: float, what: str) -> None:

@@ -20,16 +20,14 @@ At cfl 0.1 (the contact's loss is measured on the grid and converges with the ti
 from __future__ import annotations
 
 import math
-import os
-import subprocess
 import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "plots"))
 sys.path.insert(0, str(ROOT / "tests"))
-from mpmplot import readers  # noqa: E402
 from pycheck import Checks  # noqa: E402
+from pyscene import run_scene  # noqa: E402
 
 T = Checks("test_friction")
 check = T.check
@@ -67,18 +65,9 @@ def within(a: float, b: float, rtol: float, what: str) -> None:
 
 def main() -> int:
     scratch = Path(sys.argv[1] if len(sys.argv) > 1 else "/tmp/test_friction").resolve()
-    folder = scratch / "friction"
-    folder.mkdir(parents=True, exist_ok=True)
-    nml = folder / "slide.nml"
-    nml.write_text(CASE.replace("OUT", str(folder / "out")))
-    res = subprocess.run([os.environ.get("TUBEMPM", str(ROOT / "bin" / "tubempm")), "--quiet",
-                          str(nml)], capture_output=True, text=True,
-                         env=dict(os.environ, OMP_NUM_THREADS="1"))
-    if not check(res.returncode == 0, f"the sliding block runs (exit {res.returncode}: "
-                                      f"{res.stderr.strip()[-300:]})"):
+    h, s = run_scene(T, scratch, "friction", CASE)
+    if not h:
         return 0
-    h = readers.read_history(folder / "out" / "history.csv")
-    s = readers.read_summary(folder / "out" / "summary.nml")
     within(float(h["com_x"][-1] - h["com_x"][0]), V0 ** 2 / (2 * MU * G), 0.03,
            "distance slid to rest against v0^2 / (2 mu g) [m]")
     if check("contact_loss" in h, "history.csv has the contact_loss column"):

@@ -20,9 +20,7 @@ Scenes (debug build, one thread, about 20 s in all):
 """
 from __future__ import annotations
 
-import os
 import re
-import subprocess
 import sys
 from pathlib import Path
 
@@ -31,8 +29,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "plots"))
 sys.path.insert(0, str(ROOT / "tests"))
-from mpmplot import readers  # noqa: E402
 from pycheck import Checks  # noqa: E402
+from pyscene import run_scene  # noqa: E402
 
 T = Checks("test_release")
 check = T.check
@@ -44,19 +42,8 @@ RING = ("&body center = 0.0, {y}, r_inner = 10.0e-3, r_outer = 12.0e-3, n_thick 
 
 
 def run(scratch: Path, name: str, text: str) -> tuple[dict, dict]:
-    """Run one scene; its history and summary ({} when it failed)."""
-    folder = scratch / name
-    folder.mkdir(parents=True, exist_ok=True)
-    nml = folder / f"{name}.nml"
-    nml.write_text(text.replace("OUT", str(folder / "out")))
-    res = subprocess.run([os.environ.get("TUBEMPM", str(ROOT / "bin" / "tubempm")), "--quiet",
-                          str(nml)], capture_output=True, text=True,
-                         env=dict(os.environ, OMP_NUM_THREADS="1"))
-    if not check(res.returncode == 0, f"{name}: run completes (exit {res.returncode}: "
-                                      f"{res.stderr.strip()[-300:]})"):
-        return {}, {}
-    return (readers.read_history(folder / "out" / "history.csv"),
-            readers.read_summary(folder / "out" / "summary.nml"))
+    """Run one scene; its history and summary ({} when it failed): pyscene.run_scene."""
+    return run_scene(T, scratch, name, text)
 
 
 def contact_times(summary: dict) -> tuple[float, float] | None:
