@@ -23,7 +23,7 @@ module mpm_advice
   use mpm_config_types, only: config_t
   use mpm_walls, only: wall_t, wall_travel
   use mpm_errors, only: append_msg
-  use mpm_strings, only: rtoa, itoa, hms
+  use mpm_strings, only: rtoa, itoa, hms, sci
   implicit none
   private
 
@@ -206,7 +206,7 @@ contains
     if (.not. cfg%run%check_units) call advice_units(cfg, warnings)  ! (else refused at input)
     call advice_walls(cfg, warnings)
     if (cfg%run%dt > 0.0_wp .and. cfg%run%dt > 0.3_wp*h/(c_max + vmax)) then
-      write(line, '(a,es10.3,a,f5.2,a)') 'dt = ', cfg%run%dt, ' s is cfl ', &
+      write(line, '(a,f5.2,a)') 'dt = '//sci(cfg%run%dt, 3)//' s is cfl ', &
         cfg%run%dt*(c_max + vmax)/h, ' of the grid limit; above 0.3 runs may go unstable'
       call append_msg(warnings, line)
     end if
@@ -357,7 +357,7 @@ contains
       vwall = abs(dot_product(cfg%walls(k)%velocity, cfg%walls(k)%normal))
       which = ''
       if (count(cfg%bodies%shape_id == SHAPE_RING) > 1) which = ' of body '//itoa(worst(k))
-      write(line, '(a,i0,a,es10.3,a,f6.3,a)') 'wall ', k, ': speed ', vwall, ' m/s is ', &
+      write(line, '(a,i0,a,f6.3,a)') 'wall ', k, ': speed '//sci(vwall, 3)//' m/s is ', &
         top(k), ' of D * omega_2 (ring ovalling mode'//which//'); above 0.05 the crush '// &
         'is not quasi-static: inertia adds to the force. Lower the speed or mass_scale, '// &
         'or check kinetic/plastic in history.csv'
@@ -376,10 +376,10 @@ contains
     associate (b => cfg%bodies(ib))
       t = b%r_outer - b%r_inner
       if (wall_too_thin(cfg%grid%h, t)) then
-        write(line, '(a,i0,a,es10.3,a,es10.3,a)') 'body ', ib, ': h = ', cfg%grid%h, &
-          ' m is not below the wall thickness t = ', t, ' m: both faces of the wall share '// &
-          'nodes, so the wall bends wrongly (crush force +25 % at h = t, +90 % at h = 2t) '// &
-          'and opposite walls stick when they come within about 2h (docs/stability.md). '// &
+        write(line, '(a,i0,a)') 'body ', ib, ': h = '//sci(cfg%grid%h, 3)// &
+          ' m is not below the wall thickness t = '//sci(t, 3)//' m: both faces of the '// &
+          'wall share nodes, so the wall bends wrongly (crush force +25 % at h = t, +90 % at '// &
+          'h = 2t) and opposite walls stick when they come within about 2h (docs/stability.md). '// &
           'Use h <= t/2'
         call append_msg(warnings, line)
       else if (cfg%grid%h > 0.5_wp*t*(1.0_wp + 1.0e-9_wp)) then

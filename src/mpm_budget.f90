@@ -25,7 +25,7 @@ module mpm_budget
   use mpm_shapes, only: body_box, body_estimate
   use mpm_particles, only: basis_reach, basis_block
   use mpm_advice, only: advice_units
-  use mpm_strings, only: itoa
+  use mpm_strings, only: itoa, sci
   implicit none
   private
   public :: budget_t, budget_estimate, budget_check, budget_threads, budget_max_nodes, bytes_text
@@ -214,7 +214,7 @@ contains
     character(len=:), allocatable :: text
     character(len=32) :: buf
     if (bytes >= 1.0e18_wp) then
-      write(buf, '(es9.2,a)') bytes/1073741824.0_wp, ' GiB'
+      buf = sci(bytes/1073741824.0_wp, 2)//' GiB'
     else if (bytes >= 1073741824.0_wp) then
       write(buf, '(f12.2,a)') bytes/1073741824.0_wp, ' GiB'
     else
@@ -223,7 +223,7 @@ contains
     text = trim(adjustl(buf))
   end function bytes_text
 
-  !> A count held as a real, as an integer text when it fits ('123456', else '1.2E+012').
+  !> A count held as a real, as an integer text when it fits ('123456', else '1.23E+15').
   pure function count_text(x) result(text)
     real(wp), intent(in) :: x              !! count [-]
     character(len=:), allocatable :: text
@@ -231,7 +231,7 @@ contains
     if (x < 1.0e15_wp) then
       write(buf, '(i0)') nint(x, kind=selected_int_kind(18))
     else
-      write(buf, '(es9.2)') x
+      buf = sci(x, 2)
     end if
     text = trim(adjustl(buf))
   end function count_text
@@ -240,8 +240,6 @@ contains
   pure function len_text(x) result(text)
     real(wp), intent(in) :: x              !! [m]
     character(len=:), allocatable :: text
-    character(len=32) :: buf
-    write(buf, '(es10.3)') x
-    text = trim(adjustl(buf))
+    text = sci(x, 3)
   end function len_text
 end module mpm_budget

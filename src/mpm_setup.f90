@@ -16,7 +16,7 @@ module mpm_setup
   use mpm_material, only: material_from, material_wave_speed
   use mpm_solver, only: sim_t, solver_stable_dt, solver_init_energy
   use mpm_errors, only: append_msg
-  use mpm_strings, only: itoa, rtoa, plural, hms
+  use mpm_strings, only: itoa, rtoa, plural, hms, sci
   use mpm_weights, only: weights_compute
   use mpm_advice, only: advice_check, advice_wall_time, cfl_in_use, cfl_automatic, cfl_text
   use mpm_budget, only: budget_t, budget_estimate, budget_check, budget_threads, &
@@ -373,9 +373,10 @@ contains
     end do
     write(line, '(a,i0,a,i0)') 'particles: ', s%p%np, ', domain corners: ', s%p%nc
     call append_msg(report, line)
-    write(line, '(a,i0,a,i0,a,i0,a,es10.3,a,2es11.3,a,2es11.3,a)') 'grid: ', s%g%nx, ' x ', &
-      s%g%ny, ' = ', s%g%nn, ' nodes, h = ', s%g%h, ' m, from (', s%g%origin, ') to (', &
-      s%g%origin + s%g%h*real([s%g%nx - 1, s%g%ny - 1], wp), ') m'
+    write(line, '(a,i0,a,i0,a,i0,a)') 'grid: ', s%g%nx, ' x ', s%g%ny, ' = ', s%g%nn, &
+      ' nodes, h = '//sci(s%g%h, 3)//' m, from ('//sci(s%g%origin(1), 3)//', '// &
+      sci(s%g%origin(2), 3)//') to ('//sci(s%g%origin(1) + s%g%h*real(s%g%nx - 1, wp), 3)// &
+      ', '//sci(s%g%origin(2) + s%g%h*real(s%g%ny - 1, wp), 3)//') m'
     call append_msg(report, line)
     if (.not. s%g%fixed) call append_msg(report, '      (fitted to the bodies plus two '// &
       'cells; it grows when the material moves out)')
@@ -400,9 +401,9 @@ contains
     if (s%prm%dt_fixed > 0.0_wp) dt = s%prm%dt_fixed
     steps = s%prm%t_end/dt                 ! a real: t_end = 1e12 s must not overflow a count
     if (steps < 1.0e15_wp) steps = real(ceiling(steps, i8), wp)
-    write(line, '(a,es11.4,a,es11.4,a,f5.3,a,es10.3,a)') 'time step: stable limit ', &
-      s%g%h/(s%prm%c_max + s%vmax), ' s (cfl = 1), used ', dt, ' s (cfl ', &
-      dt*(s%prm%c_max + s%vmax)/s%g%h, '), wave speed ', s%prm%c_max, ' m/s'
+    write(line, '(a,f5.3,a)') 'time step: stable limit '// &
+      sci(s%g%h/(s%prm%c_max + s%vmax), 4)//' s (cfl = 1), used '//sci(dt, 4)//' s (cfl ', &
+      dt*(s%prm%c_max + s%vmax)/s%g%h, '), wave speed '//sci(s%prm%c_max, 3)//' m/s'
     call append_msg(report, line)
     if (s%prm%dt_fixed > 0.0_wp) then
       call append_msg(report, 'cfl: not used (fixed dt)')
@@ -413,10 +414,10 @@ contains
       call append_msg(report, 'cfl: '//why)
     end if
     if (steps < 1.0e15_wp) then
-      write(line, '(a,es11.4,a,i0,a)') 'steps: about ', steps, ' to t_end (', nint(steps, i8), &
+      write(line, '(a,i0,a)') 'steps: about '//sci(steps, 4)//' to t_end (', nint(steps, i8), &
         ' at the initial speeds)'
     else
-      write(line, '(a,es11.4,a)') 'steps: about ', steps, ' to t_end at the initial speeds'
+      line = 'steps: about '//sci(steps, 4)//' to t_end at the initial speeds'
     end if
     call append_msg(report, line)
     bud = budget_estimate(cfg, budget_threads(cfg))
@@ -427,15 +428,14 @@ contains
     line = trim(line)//')'
     if (known) line = trim(line)//' of '//bytes_text(avail)//' available'
     call append_msg(report, line)
-    write(line, '(a,es11.4,a)') 'work estimate: ', steps*real(s%p%np, wp), &
-      ' particle-steps'
+    line = 'work estimate: '//sci(steps*real(s%p%np, wp), 4)//' particle-steps'
     call append_msg(report, line)
     nthreads = bud%threads                 ! below parallel_min particles loops run serially
     if (s%p%np < s%prm%parallel_min) nthreads = 1
     call advice_wall_time(steps*real(s%p%np, wp), s%prm%basis, nthreads, &
                           seconds, rate, long_run)
-    write(line, '(a,i0,a,es9.2,a)') 'wall-time estimate: about '//hms(seconds)// &
-      ' (h:mm:ss, release build, ', min(nthreads, 2), ' thread(s), at the ', rate, &
+    write(line, '(a,i0,a)') 'wall-time estimate: about '//hms(seconds)// &
+      ' (h:mm:ss, release build, ', min(nthreads, 2), ' thread(s), at the '//sci(rate, 2)// &
       ' particle-steps/s of make bench, docs/performance.md)'
     if (cfg%run%threads == 0 .and. nthreads > 1) line = trim(line)//'; for free cores: a '// &
       'run takes one thread per core that other work does not keep busy'
@@ -443,9 +443,9 @@ contains
       'more as the bodies meet (namelists/contact/nested.nml took x 1.5; docs/performance.md)'
     call append_msg(report, line)
     if (sector_factor(cfg) > 1.0_wp) then
-      write(line, '(a,f3.0,a)') 'outputs: energies and masses x ', sector_factor(cfg), &
-        ' and wall forces summed over mirror images (the full ring; docs/output.md)'
-      call append_msg(report, line)
+      call append_msg(report, 'outputs: energies and masses x '// &
+        itoa(nint(sector_factor(cfg)))//' and wall forces summed over mirror images (the '// &
+        'full ring; docs/output.md)')
     end if
 
     call advice_check(cfg, s%g%h, s%prm%c_max, s%vmax, dt, s%walls(1:s%nwall), warnings)

@@ -13,6 +13,7 @@ module mpm_shapes
   use mpm_constants, only: pi, name_len, SHAPE_RING, SHAPE_RECT, SECTOR_FULL, SECTOR_HALF, &
                            SECTOR_QUARTER, sector_names
   use mpm_particles, only: particles_t, ring_counts, ring_fill, rect_counts, rect_fill
+  use mpm_strings, only: sci
   implicit none
   private
   public :: body_cfg_t, body_counts, body_fill, body_box, body_low, body_overlap, body_estimate, &
@@ -199,9 +200,9 @@ contains
     call body_counts(b, np, nc, nk)
     select case (b%shape_id)
     case (SHAPE_RING)
-      write(line, '(a,i0,a,i0,a,i0,a,i0,a,a,a,es10.3,a,f6.2)') 'body ', ib, ': ring, ', &
+      write(line, '(a,i0,a,i0,a,i0,a,i0,a,a,a,f6.2)') 'body ', ib, ': ring, ', &
         np, ' particles (', b%n_thick, ' through the wall x ', nk, ' around, sector ', &
-        trim(sector_names(b%sector_id)), '), t = ', b%r_outer - b%r_inner, &
+        trim(sector_names(b%sector_id)), '), t = '//sci(b%r_outer - b%r_inner, 3)// &
         ' m, particle aspect ', (2.0_wp*pi*0.5_wp*(b%r_inner + b%r_outer)/real(nk, wp) &
         *merge(1.0_wp, merge(0.5_wp, 0.25_wp, b%sector_id == SECTOR_HALF), &
         b%sector_id == SECTOR_FULL))/((b%r_outer - b%r_inner)/real(b%n_thick, wp))

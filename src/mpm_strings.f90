@@ -4,7 +4,7 @@ module mpm_strings
   use mpm_kinds, only: wp, i8
   implicit none
   private
-  public :: itoa, rtoa, hms, plural
+  public :: itoa, rtoa, sci, hms, plural
 
   !> Integer (default or 64-bit) to text without blanks.
   interface itoa
@@ -39,6 +39,25 @@ contains
     write(buf, '(es12.4e3)') x
     str = trim(adjustl(buf))
   end function rtoa
+
+  !> Real to text in scientific notation with d digits after the point and an exponent of two
+  !! digits, or three where it needs them ('2.581E-02', '1.000E-300'; a plain es edit descriptor
+  !! drops the E of a three-digit exponent: '1.000-300').
+  pure function sci(x, d) result(str)
+    real(wp), intent(in) :: x              !! value
+    integer, intent(in) :: d               !! digits after the decimal point (0-15)
+    character(len=:), allocatable :: str
+    character(len=40) :: buf
+    character(len=16) :: fmt
+    integer :: ie
+    write(fmt, '(a,i0,a,i0,a)') '(es', d + 12, '.', max(0, min(d, 15)), 'e3)'
+    write(buf, fmt) x
+    str = trim(adjustl(buf))
+    ie = index(str, 'E')
+    if (ie > 0 .and. len(str) == ie + 4) then
+      if (str(ie + 2:ie + 2) == '0') str = str(:ie + 1)//str(ie + 3:)
+    end if
+  end function sci
 
   !> A duration as h:mm:ss (rounded to the second; hours not limited) [s -> text].
   pure function hms(seconds) result(str)

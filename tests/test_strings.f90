@@ -2,7 +2,7 @@
 ! SPDX-License-Identifier: MIT
 program test_strings
   use mpm_kinds, only: wp
-  use mpm_strings, only: hms, plural, itoa
+  use mpm_strings, only: hms, plural, itoa, sci
   use testing, only: begin_test, check, finish_tests
   implicit none
   call begin_test('hms: a duration as h:mm:ss')
@@ -17,5 +17,13 @@ program test_strings
   call check(plural(0, 'mirror plane') == '0 mirror planes', plural(0, 'mirror plane'))
   call check(plural(2, 'mirror plane') == '2 mirror planes', plural(2, 'mirror plane'))
   call check(itoa(-12) == '-12', 'itoa(-12) = '//itoa(-12))
+  call begin_test('sci: scientific notation that keeps its E')
+  call check(sci(2.581e-2_wp, 3) == '2.581E-02', 'two-digit exponent: '//sci(2.581e-2_wp, 3))
+  call check(sci(1.0e-300_wp, 3) == '1.000E-300', 'three-digit exponent keeps its E: '// &
+             sci(1.0e-300_wp, 3))
+  call check(sci(1.26e53_wp, 2) == '1.26E+53', 'positive exponent: '//sci(1.26e53_wp, 2))
+  call check(sci(-1.0e300_wp, 2) == '-1.00E+300', 'negative value, exponent 300: '// &
+             sci(-1.0e300_wp, 2))
+  call check(sci(0.0_wp, 1) == '0.0E+00', 'zero: '//sci(0.0_wp, 1))
   call finish_tests('test_strings')
 end program test_strings
