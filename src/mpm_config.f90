@@ -448,10 +448,11 @@ contains
       if (any(b < 0.0_wp) .or. any(b /= aint(b)) .or. any(b > 1.0e6_wp)) then
         call err_var(rd, io, 'bodies', fmt_vec(b), 'not two whole numbers from 0 to 1000000')
       else if (count(b == 0.0_wp) == 1) then
-        call err_var(rd, io, 'bodies', fmt_vec(b), 'one body given with 0 (0, 0 stands for '// &
-          'every pair not named elsewhere)')
+        call err_var(rd, io, 'bodies', itoa(nint(b(1)))//', '//itoa(nint(b(2))), 'one body '// &
+          'given with 0 (0, 0 stands for every pair not named elsewhere)')
       else if (b(1) == b(2) .and. b(1) > 0.0_wp) then
-        call err_var(rd, io, 'bodies', fmt_vec(b), 'a body cannot be in contact with itself')
+        call err_var(rd, io, 'bodies', itoa(nint(b(1)))//', '//itoa(nint(b(2))), 'a body '// &
+          'cannot be in contact with itself')
       else
         c%bodies = nint(b)
       end if

@@ -349,9 +349,9 @@ contains
     end do
     do ia = 1, o%n_asg
       o%asg(ia)%value = ''
-      do j = o%asg(ia)%t1, o%asg(ia)%t2
-        if (j > o%asg(ia)%t1) o%asg(ia)%value = o%asg(ia)%value//', '
-        o%asg(ia)%value = o%asg(ia)%value//o%tok(j)%text
+      do j = o%asg(ia)%t1, o%asg(ia)%t2    ! the values as written, null values kept ('1, , 2')
+        o%asg(ia)%value = o%asg(ia)%value//repeat(', ', max(merge(0, 1, j == o%asg(ia)%t1), &
+          o%tok(j)%commas))//o%tok(j)%text
       end do
     end do
   end subroutine build_assignments

@@ -341,9 +341,6 @@ contains
 
   ! ------------------------------------------------------------------------ validators
 
-
-  ! ------------------------------------------------------------------------ validators
-
   !> Number of table entries given (leading, without gaps); reports gaps and non-finite values.
   subroutine table_count(rd, io, var, t, n, ok)
     type(reader_t), intent(inout) :: rd
@@ -384,7 +381,9 @@ contains
     integer :: ln
     character(len=:), allocatable :: v, al, shown
     call var_where(rd, io, var, value, ln, v, shown)
-    if (shown /= var .and. len(value) > 0) v = v//' (so '//var//' = '//value//')'
+    ! given by subscript or with null values (', 2'): the whole value it makes too
+    if (len(value) > 0 .and. (shown /= var .or. index(', '//v, ', ,') > 0)) &
+      v = v//' (so '//var//' = '//value//')'
     if (present(allowed)) then
       al = allowed
     else

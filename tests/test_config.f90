@@ -545,6 +545,10 @@ contains
       '&wall point = 0, 0, normal = 1, 0', ' motion_t(1) = 0', ' motion_t(3) = 1', &
       ' motion_f = 1, 1, 1 /'], [character(len=100) :: &
       ':7: &wall #1: motion_t(3) = 1 (so motion_t = 0.0, (none), 1.0): motion_t(2) not given'])
+    call bad('b_motion_null', [character(len=100) :: run_ok, grid_ok, mat_ok, body_ok, &
+      '&wall point = 0, 0, normal = 1, 0', ' motion_t = 0, , 1', ' motion_f = 1, 1, 1 /'], &
+      [character(len=100) :: ':6: &wall #1: motion_t = 0, , 1 (so motion_t = 0.0, (none), '// &
+      '1.0): motion_t(2) not given'])
     call bad('b_motion_nan', [character(len=100) :: run_ok, grid_ok, mat_ok, body_ok, &
       '&wall point = 0, 0, normal = 1, 0', ' motion_t = 0, 1', ' motion_f = 0, nan /'], &
       [character(len=100) :: ':7: &wall #1: motion_f = 0, nan: motion_f(2) is not a finite'])
