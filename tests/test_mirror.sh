@@ -86,7 +86,7 @@ GRID=", lower = -0.0035, -0.003, upper = 0.0305, 0.056"
 scene shifted half "0.0, -30.0" "0.0, 0.0"
 for n in aligned shifted; do
   "$bin" --check "$scratch/$n.nml" > "$scratch/$n.check" 2>&1
-  x0=$(sed -n 's/^grid: .* from ( *\([-0-9.E+]*\) .*/\1/p' "$scratch/$n.check")
+  x0=$(sed -n 's/^grid: .* from ( *\([-0-9.E+]*\)[, ].*/\1/p' "$scratch/$n.check")
   python3 -c "import sys; r = abs($x0) / 1.0e-3; sys.exit(0 if abs(r - round(r)) < 1e-9 else 1)" && ok \
     || bad "$n: grid origin x = $x0 is not a whole number of cells from the mirror plane x = 0"
   "$bin" --quiet "$scratch/$n.nml" > /dev/null 2> "$scratch/$n.err" || bad "$n: run failed: $(grep ERROR "$scratch/$n.err")"
