@@ -150,20 +150,22 @@ sed -e 's/r_inner = 0.023, r_outer = 0.025, n_thick = 4 \/$/r_inner = 0.023, r_o
 out=$("$bin" --check "$here/../namelists/default.nml" 2> "$scratch/default.err")
 echo "$out" | grep -q "walls: 2 (1 mirror plane added by the sector)" && pass=$((pass + 1)) || {
   fail=$((fail + 1)); echo "FAIL [cli]: --check of the half-ring default: $(echo "$out" | grep walls:)"; }
-# the default scene (make run) is one the refinement study calls accurate: --check warns of
-# nothing (it warned of h = t/2, 25-29 % error, before), and the nearest study run is a close
-# match within 5 % (the study's 5 % impact run, docs/validation.md)
+# the default scene (make run) is one the refinement study measured: --check warns of nothing
+# (it warned of h = t/2, 25-29 % error, before), and the nearest study run is a close match,
+# within 5 % as run and 10 % at the worst of its three grid alignments (1.66 % and 6.97 %,
+# docs/validation.md: the impact's rebound at h = t/4 moves with the grid's rows)
 if [ -s "$scratch/default.err" ]; then
   fail=$((fail + 1)); echo "FAIL [cli]: --check warns about the default scene: $(head -c 300 "$scratch/default.err")"
 else
   pass=$((pass + 1))
 fi
 near=$(echo "$out" | grep "nearest study run")
-err=$(echo "$near" | sed -nE 's/.*error +([0-9.]+) %.*/\1/p')
-if [ -n "$err" ] && awk -v e="$err" 'BEGIN { exit !(e <= 5.0) }' && ! echo "$near" | grep -q "not a close"; then
+err=$(echo "$near" | sed -nE 's/.*error +([0-9.]+) % at the worst of 3 grid alignments, ([0-9.]+) % as run.*/\1 \2/p')
+if [ -n "$err" ] && awk -v e="$err" 'BEGIN { split(e, a, " "); exit !(a[1] <= 10.0 && a[2] <= 5.0) }' \
+   && ! echo "$near" | grep -q "not a close"; then
   pass=$((pass + 1))
 else
-  fail=$((fail + 1)); echo "FAIL [cli]: the default scene is not a study run within 5 %: $near"
+  fail=$((fail + 1)); echo "FAIL [cli]: the default scene is not a study run within 5 % as run, 10 % at worst: $near"
 fi
 
 echo "test_cli_input: $pass passed, $fail failed"

@@ -44,6 +44,7 @@ sys.path.insert(0, str(ROOT / "plots"))
 from pycheck import Checks  # noqa: E402
 import plot_case  # noqa: E402  (selects the Agg backend through style)
 import plot_shapes  # noqa: E402
+from mpmplot import namelist, scene  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 from matplotlib.collections import PolyCollection  # noqa: E402
 
@@ -179,6 +180,39 @@ def test_crush(scratch: Path) -> None:
     check("elastic stiffness" not in out, "crush: no MPM-fit stiffness compared with the thin "
           "ring (a dynamic crush does not measure it)")
     check_failure_marks(folder, plot_case, argv, "crush plot")
+
+
+def test_fixed_platen(scratch: Path) -> None:
+    """scene.crush_displacement's platen="fixed": a half model with the bottom platen fixed
+    (the study's crush_fixed scene) reads the fixed platen's force, and the approach is the
+    moving platen's travel alone (the half model's mirror plane is vertical: no image)."""
+    inputs = namelist.parse_namelist(f"""&run t_end = 1.0e-3 /
+&body shape = 'ring', center = 0.0, 0.02625, r_inner = {R_IN!r}, r_outer = {R_OUT!r},
+  sector = 'half' /
+&wall point = 0.0, 0.0525, normal = 0.0, -1.0, velocity = 0.0, -10.0 /
+&wall point = 0.0, 0.0, normal = 0.0, 1.0 /
+""")
+    t = np.linspace(0.0, 1.0e-3, 11)
+    f1, f2 = 5.0e4 + 3.0e3 * np.sin(t * 4.0e4), np.full_like(t, 5.0e4)
+    h = {"time": t, "wall1_force": f1, "wall1_disp": -10.0 * t, "wall2_force": f2,
+         "wall2_disp": 0.0 * t, "wall3_force": 0.0 * t, "wall3_disp": 0.0 * t}
+    d, f, k = scene.crush_displacement(h, inputs)
+    check(k == 1 and np.array_equal(f, f1) and np.allclose(d, 10.0 * t, rtol=1e-12, atol=0),
+          f"fixed platen: by default the moving platen's force (wall {k}) against its travel")
+    d, f, k = scene.crush_displacement(h, inputs, platen="fixed")
+    check(k == 2 and np.array_equal(f, f2) and np.allclose(d, 10.0 * t, rtol=1e-12, atol=0),
+          f"fixed platen: platen='fixed' gives wall 2's force (wall {k}) against the same "
+          "approach")
+    both = namelist.parse_namelist(f"""&run t_end = 1.0e-3 /
+&body shape = 'ring', center = 0.0, 0.02625, r_inner = {R_IN!r}, r_outer = {R_OUT!r},
+  sector = 'quarter' /
+&wall point = 0.0, 0.0525, normal = 0.0, -1.0, velocity = 0.0, -5.0 /
+""")
+    try:
+        scene.crush_displacement({**h, "wall2_force": 0.0 * t}, both, platen="fixed")
+        check(False, "fixed platen: a quarter model (no fixed platen) is refused")
+    except ValueError as exc:
+        check("no fixed platen" in str(exc), f"fixed platen: a quarter model is refused ({exc})")
 
 
 def test_crush_bodies(scratch: Path) -> None:
@@ -436,7 +470,7 @@ def main() -> int:
     if scratch.exists():
         shutil.rmtree(scratch)
     scratch.mkdir(parents=True)
-    for test in (test_crush, test_crush_bodies, test_impact, test_impact_no_wall, test_shapes,
+    for test in (test_crush, test_fixed_platen, test_crush_bodies, test_impact, test_impact_no_wall, test_shapes,
                  test_mirrored_walls):
         try:
             test(scratch)

@@ -34,6 +34,7 @@ check = T.check
 #: What each shipped file models (by reading it, not by running the classifier).
 EXPECTED = {
     "namelists/crush.nml": "crush",            # platen at constant speed
+    "namelists/crush_fixed.nml": "crush",      # the same, the bottom platen fixed
     "namelists/default.nml": "impact",         # ring at 30 m/s onto a static target
     "namelists/impact.nml": "impact",
     "namelists/wave.nml": "wave",              # platen pulse (motion table back to 0), probes

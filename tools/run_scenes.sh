@@ -15,7 +15,7 @@
 # its numbers go to build/scenes.txt instead.
 #   usage: tools/run_scenes.sh [scene ...]      (default: crush impact wave)
 set -eu
-usage() { echo "usage: tools/run_scenes.sh [crush] [impact] [wave] [two_rings] [nested] [nested_eccentric] [stack] [row3] [plates] [densify]"
+usage() { echo "usage: tools/run_scenes.sh [crush] [crush_fixed] [impact] [wave] [two_rings] [nested] [nested_eccentric] [stack] [row3] [plates] [densify]"
           echo "  (default: crush impact wave) runs namelists/<scene>.nml (namelists/contact/ for the"
           echo "  scenes of several bodies; release build bin/tubempm), writes docs/figures/<scene>.png"
           echo "  and <scene>_shapes.png (several bodies: <scene>_bodies.png, _shapes.png, _eqps.png),"
@@ -23,7 +23,7 @@ usage() { echo "usage: tools/run_scenes.sh [crush] [impact] [wave] [two_rings] [
 for a in "$@"; do
   case $a in
     -h|--help) usage; exit 0 ;;
-    crush|impact|wave|two_rings|nested|nested_eccentric|stack|row3|plates|densify) ;;
+    crush|crush_fixed|impact|wave|two_rings|nested|nested_eccentric|stack|row3|plates|densify) ;;
     *) echo "ERROR [run_scenes]: unknown scene '$a'" >&2; usage >&2; exit 2 ;;
   esac
 done

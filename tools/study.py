@@ -30,9 +30,10 @@ out/study-quick/ instead: it checks the machinery, its coarse reference is no re
 `--tables-only` recomputes the table from existing run folders without running anything.
 
 Levels: ``quick`` (under 10 minutes on 2 cores: coarse sweeps, its own coarse reference),
-``full`` (108 runs, 1.5 CPU hours, about 45 minutes on 2 free cores; the committed table and figures), ``all`` (full plus
-n_t = 32 at h = t/8 for every scene, the crush's bases at h = t/4 and its aspect 1/2; several
-hours more).
+``full`` (176 runs, 2.5 CPU hours, about 75 minutes on 2 free cores; the committed table and
+figures; with the crush at a fixed platen and 30 settings at two more grid alignments),
+``all`` (full plus n_t = 32 at h = t/8 for every scene, the crush's bases at h = t/4 and its
+aspect 1/2; several hours more).
 """
 from __future__ import annotations
 
@@ -90,10 +91,22 @@ SCENES: dict[str, dict[str, Any]] = {
     "wave": {"base": ROOT / "namelists" / "wave.nml", "t": 2.0e-3,
              "set": {"run.t_end": 3.0e-5, "run.history_every": 1.0e-7,
                      "run.snapshot_every": 1.0e-5}},
+    # the crush as the test machine does it (half model, the bottom platen fixed, the top one
+    # driven at the whole approach speed), its force read at the fixed platen: a few settings
+    # of the full level, against the same finite element curve (docs/validation.md, "The force
+    # at a fixed platen")
+    "crush_fixed": {"base": ROOT / "namelists" / "crush_fixed.nml", "t": 1.48e-3,
+                    "set": {"run.t_end": _CRUSH_T_END,
+                            "run.history_every": float(f"{1.0e-4 / CRUSH_APPROACH:.3g}"),
+                            "run.snapshot_every": float(f"{_CRUSH_T_END / 10:.3g}"),
+                            "wall[1].velocity": (0.0, -CRUSH_APPROACH),
+                            "wall[1].ramp": CRUSH_RAMP}},
 }
+#: the crush scenes: errors against the finite element curve
+CRUSH_SCENES = ("crush", "crush_fixed")
 #: The centre point's cfl per scene: the quasi-static crush runs at cfl 0.8, where the old
 #: study found the same crush error as at 0.2 and 0.4 (docs/validation.md)
-CENTRE_CFL = {"crush": 0.8, "impact": 0.2, "wave": 0.2}
+CENTRE_CFL = {"crush": 0.8, "impact": 0.2, "wave": 0.2, "crush_fixed": 0.8}
 #: The crush's static finite element reference (make fe-reference): every crush error is
 #: measured against it; the error against the finest MPM run is the second column (err_self)
 FE_CURVE = ROOT / "docs" / "fe_reference" / "crush_fe.csv"
@@ -144,6 +157,10 @@ class Point:
     cfl: float = 0.2
     speed: float = 30.0          # impact only [m/s]
     volumetric: str = "standard"  # &solver volumetric: 'standard', 'fbar', 'fbarwall'
+    #: the grid spacing is h_over_t * t * h_scale: h_scale 0.97 and 1.03 move the grid's rows
+    #: by about a cell where the platen and the hinges are (r_outer / h changes by 1-2), the
+    #: alignment variants of a setting (ALIGNED); 1 for every other run
+    h_scale: float = 1.0
 
     @property
     def cfl_used(self) -> float:
@@ -161,6 +178,8 @@ class Point:
             n += f"_v{self.speed:g}"
         if self.volumetric != "standard":
             n += f"_{self.volumetric}"
+        if self.h_scale != 1.0:
+            n += f"_hs{self.h_scale:g}"
         return n
 
     def n_circ(self) -> int:
@@ -175,8 +194,9 @@ class Point:
 
     def steps(self) -> float:
         r = ring_of(self.scene)
-        h = self.h_over_t * SCENES[self.scene]["t"]
-        v = self.speed if self.scene == "impact" else 0.5 * CRUSH_APPROACH
+        h = self.h_over_t * SCENES[self.scene]["t"] * self.h_scale
+        v = self.speed if self.scene == "impact" else \
+            CRUSH_APPROACH if self.scene == "crush_fixed" else 0.5 * CRUSH_APPROACH
         dt = self.cfl_used * h / (r["c"] + v)
         return self.t_end() / dt
 
@@ -195,7 +215,7 @@ class Point:
         o = dict(sc["set"])
         o.update({"solver.basis": self.basis, "solver.scheme": self.scheme,
                   "run.cfl": self.cfl, "run.t_end": self.t_end(),
-                  "grid.h": self.h_over_t * sc["t"], "body.n_thick": self.n_t,
+                  "grid.h": self.h_over_t * sc["t"] * self.h_scale, "body.n_thick": self.n_t,
                   "body.n_circ": self.n_circ(), "run.threads": 1})
         if self.scene == "impact":
             o["body.velocity"] = (0.0, -float(self.speed))
@@ -209,8 +229,8 @@ class Point:
                 "aspect": self.aspect, "cfl": self.cfl, "cfl_used": self.cfl_used,
                 # impact speed; the crush's relative platen approach
                 "speed": self.speed if self.scene == "impact" else
-                CRUSH_APPROACH if self.scene == "crush" else "",
-                "volumetric": self.volumetric}
+                CRUSH_APPROACH if self.scene in CRUSH_SCENES else "",
+                "volumetric": self.volumetric, "h_scale": self.h_scale}
 
 
 _RINGS: dict[str, dict[str, Any]] = {}
@@ -287,6 +307,10 @@ def design(level: str) -> dict[str, list[Point]]:
         # (elongated particles suit the F-bar at one particle per cell: docs/validation.md)
         pts += [P(scene, h_over_t=0.25, n_t=4, aspect=2.0, volumetric=v)
                 for v in VOLUMETRICS]
+        # fewer than one particle per cell through the wall (each particle spans two cells):
+        # what --check's warning for it quotes
+        if scene == "crush":
+            pts += [P(scene, h_over_t=0.125, n_t=4, volumetric=v) for v in VOLUMETRICS]
         if scene == "impact":
             pts += [P(scene, h_over_t=0.25, n_t=8, speed=v)
                     for v in (1.0, 2.0, 5.0, 16.5, 30.0, 60.0, 125.0)]
@@ -301,7 +325,53 @@ def design(level: str) -> dict[str, list[Point]]:
             pts += [P(scene, h_over_t=0.125, n_t=32)]
         seen: set[str] = set()
         out[scene] = [p for p in pts if not (p.name in seen or seen.add(p.name))]
+    # the crush with a fixed platen: one particle per cell through the wall with each
+    # volumetric treatment, the once-advised 5 % setting (h = t/2, n_t = 4, 'fbarwall') and two per
+    # cell (h = t/4, n_t = 8); its err_self is against the crush's finest run (the same curve)
+    out["crush_fixed"] = [P("crush_fixed", h_over_t=0.25, n_t=4, volumetric=v)
+                          for v in ("fbarwall", "fbar", "standard")]
+    out["crush_fixed"] += [P("crush_fixed", h_over_t=0.5, n_t=4, volumetric="fbarwall"),
+                           P("crush_fixed", h_over_t=0.25, n_t=8)]
+    # the alignment variants of the settings the advice rests on (h x 0.97 and 1.03: the rows
+    # fall elsewhere on the ring): a setting's error is the worst of its variants
+    # (plots/plot_study.py robust_error), and the advice picks by that
+    for scene, kws in ALIGNED.items():
+        out[scene] += [P(scene, **{"cfl": CENTRE_CFL[scene], **kw}, h_scale=f)
+                       for kw in kws for f in H_SCALES]
     return out
+
+
+#: the alignment variants' h scales
+H_SCALES = (0.97, 1.03)
+#: the settings measured at those (besides as run), the ones the advice may pick from
+#: (plots/plot_study.py advice): per scene every setting within reach of 5 % in a minute or
+#: two, and the finest run (its variants show how far alignment moves the converged value)
+ALIGNED: dict[str, list[dict[str, Any]]] = {
+    "crush": [dict(h_over_t=0.5, n_t=4, volumetric="fbarwall"),
+              dict(h_over_t=0.25, n_t=8, aspect=2.0, cfl=1.6),
+              dict(h_over_t=0.25, n_t=4, volumetric="fbarwall"),
+              dict(h_over_t=0.25, n_t=4, volumetric="fbar"),
+              dict(h_over_t=0.25, n_t=8),
+              dict(h_over_t=0.125, n_t=16)],
+    "crush_fixed": [dict(h_over_t=0.25, n_t=4, volumetric="fbarwall"),
+                    dict(h_over_t=0.25, n_t=4, volumetric="fbar"),
+                    dict(h_over_t=0.5, n_t=4, volumetric="fbarwall"),
+                    dict(h_over_t=0.25, n_t=8)],
+    "impact": [dict(h_over_t=0.25, n_t=8, cfl=c) for c in (0.0, 0.2, 0.4, 0.8)]
+              + [dict(h_over_t=0.25, n_t=8, aspect=2.0),
+                 dict(h_over_t=0.25, n_t=8, volumetric="fbar"),
+                 dict(h_over_t=0.25, n_t=4, volumetric="fbarwall"),
+                 dict(h_over_t=0.25, n_t=4, aspect=2.0, volumetric="fbarwall"),
+                 dict(h_over_t=0.25, n_t=16),
+                 dict(h_over_t=0.125, n_t=16)],
+    "wave": [dict(h_over_t=0.25, n_t=8, cfl=c) for c in (0.2, 0.8)]
+            + [dict(h_over_t=0.25, n_t=n) for n in (2, 4, 16)]
+            + [dict(h_over_t=0.25, n_t=8, aspect=2.0),
+               dict(h_over_t=0.5, n_t=2),
+               dict(h_over_t=0.5, n_t=4),
+               dict(h_over_t=0.5, n_t=4, volumetric="fbarwall"),
+               dict(h_over_t=0.125, n_t=16)],
+}
 
 
 # ----------------------------------------------------------------------------------------------
@@ -339,9 +409,11 @@ def crush_curve_metrics(disp: np.ndarray, force: np.ndarray, r: dict[str, Any]
     return m
 
 
-def crush_metrics(folder: Path, inputs: dict) -> dict[str, Any]:
+def crush_metrics(folder: Path, inputs: dict, platen: str = "moving") -> dict[str, Any]:
+    """The crush metrics of a run (crush_curve_metrics of the platen's force, platen "moving"
+    or "fixed": scene.crush_displacement) and how quasi-static it was."""
     h = readers.read_history(folder / "history.csv")
-    disp, force, _ = scene.crush_displacement(h, inputs)
+    disp, force, _ = scene.crush_displacement(h, inputs, platen)
     r = scene.ring_properties(inputs)
     m = crush_curve_metrics(disp, force, r)
     if "F_window" in m and "kinetic" in h and "plastic" in h:
@@ -405,7 +477,8 @@ def wave_metrics(folder: Path, inputs: dict) -> dict[str, Any]:
             "speed_plate": theory.plate_speed(r["E"], r["nu"], r["rho"])}
 
 
-METRICS = {"crush": crush_metrics, "impact": impact_metrics, "wave": wave_metrics}
+METRICS = {"crush": crush_metrics, "impact": impact_metrics, "wave": wave_metrics,
+           "crush_fixed": lambda folder, inputs: crush_metrics(folder, inputs, "fixed")}
 
 
 # ----------------------------------------------------------------------------------------------
@@ -443,9 +516,9 @@ def errors(scene: str, m: dict[str, Any], ref: dict[str, Any] | None,
     error at the probes beyond the struck point, relative to the reference's arrival at the
     farthest probe. err_self is the headline error against the finest run for every scene."""
     e: dict[str, float] = {}
-    if ref is None and not (scene == "crush" and fe is not None):
+    if ref is None and not (scene in CRUSH_SCENES and fe is not None):
         return e
-    if scene == "crush":
+    if scene in CRUSH_SCENES:
         self_e = crush_errors(m, ref) if ref is not None else {}
         main = crush_errors(m, fe) if fe is not None else self_e
         e.update({k: v for k, v in main.items() if k != "force_over_ref"})
@@ -495,7 +568,8 @@ def richardson(f1: float, f2: float, f3: float, ratio: float = 2.0) -> dict[str,
 # ----------------------------------------------------------------------------------------------
 
 COLUMNS = ["scene", "name", "reference", "self_reference", "basis", "scheme", "h_over_t", "n_t",
-           "n_c", "aspect", "cfl", "cfl_used", "speed", "volumetric", "particles", "steps",
+           "n_c", "aspect", "cfl", "cfl_used", "speed", "volumetric", "h_scale", "particles",
+           "steps",
            "status", "exit_code", "wall_s", "cpu_s", "runtime_ratio", "mps", "energy_error",
            "error", "err_self", "err_F_L2", "err_F_smooth", "noise", "err_energy_50", "force_mean",
            "force_over_fe", "force_over_dh", "err_F_smooth_self", "kinetic_over_plastic",
@@ -516,6 +590,7 @@ def collect(level: str, points: dict[str, list[Point]]) -> tuple[list[dict[str, 
     for old in curves.glob("*.csv"):
         if old.stem not in wanted and old.stem.split("_")[0] in points:
             old.unlink()
+    crush_ref: tuple[str, dict[str, Any] | None] = ("", None)
     for scene, pts in points.items():
         metrics: dict[str, dict[str, Any]] = {}
         base_rows: dict[str, dict[str, Any]] = {}
@@ -551,15 +626,20 @@ def collect(level: str, points: dict[str, list[Point]]) -> tuple[list[dict[str, 
             base_rows[p.name] = row
             rows.append(row)
         ref = pts[0]
-        fe = fe_metrics() if scene == "crush" else None
-        if ref.name in metrics or fe is not None:
+        ref_name, ref_m = ref.name, metrics.get(ref.name)
+        if scene == "crush":
+            crush_ref = (ref_name, ref_m)
+        elif scene == "crush_fixed":          # the same curve: the crush's finest run
+            ref_name, ref_m = crush_ref
+        fe = fe_metrics() if scene in CRUSH_SCENES else None
+        if ref_m is not None or fe is not None:
             for name, row in base_rows.items():
                 if scene == "impact" and row["speed"] != ref.speed:
                     continue                   # no reference at other impact speeds
-                row["reference"] = FE_REFERENCE if fe is not None else ref.name
-                row["self_reference"] = ref.name
+                row["reference"] = FE_REFERENCE if fe is not None else ref_name
+                row["self_reference"] = ref_name
                 if name in metrics:
-                    row.update(errors(scene, metrics[name], metrics.get(ref.name), fe))
+                    row.update(errors(scene, metrics[name], ref_m, fe))
         # Richardson over h at the reference's n_t (h/t = 4 h_ref, 2 h_ref, h_ref)
         hs = [ref.h_over_t * 4, ref.h_over_t * 2, ref.h_over_t]
         names = [Point(scene, h_over_t=h, n_t=ref.n_t, cfl=ref.cfl).name for h in hs]
@@ -602,14 +682,15 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--tables-only", action="store_true",
                     help="recompute the table from the run folders, run nothing")
     ap.add_argument("--list", action="store_true", help="list the runs and their estimated cost")
-    ap.add_argument("--scenes", default="crush,impact,wave",
-                    help="comma-separated scenes whose runs to run or list (default: all; the "
+    ap.add_argument("--scenes", default="",
+                    help="comma-separated scenes whose runs to run or list (default: all of the "
+                         "level's: crush, impact, wave, and crush_fixed at full and all; the "
                          "table always covers every scene of the level)")
     batch.add_backend_args(ap, threads=False)
     args = ap.parse_args(argv)
     backend = batch.backend_of(args)
     points = design(args.level)
-    chosen = [s.strip() for s in args.scenes.split(",") if s.strip()]
+    chosen = [s.strip() for s in args.scenes.split(",") if s.strip()] or list(points)
     unknown = [s for s in chosen if s not in points]
     if unknown:
         ap.error(f"--scenes: unknown scene(s) {', '.join(unknown)}; allowed: "
@@ -655,10 +736,15 @@ def main(argv: list[str] | None = None) -> int:
     print(f"wrote {path.relative_to(ROOT)} ({len(rows)} runs; {len(failed)} not run, stale or "
           f"failed)")
     for scene in points:
-        ref = points[scene][0]
-        print(f"  {scene}: reference {ref.name}; Richardson: "
-              + ", ".join(f"{k} order {v['order']:.2f} ref error {v['fine_error']:.2%}"
-                          for k, v in extra.get(scene, {}).items()))
+        # (the crushes' errors are against the FE curve, err_self against the crush's finest
+        # run, which crush_fixed shares: its own first run is no reference)
+        ref = points["crush" if scene in CRUSH_SCENES and "crush" in points else scene][0]
+        against = (f"FE curve {FE_CURVE.relative_to(ROOT)}, err_self against {ref.name}"
+                   if scene in CRUSH_SCENES else f"reference {ref.name}")
+        rich = ", ".join(f"{k} order {v['order']:.2f} ref error {v['fine_error']:.2%}"
+                         for k, v in extra.get(scene, {}).items())
+        print(f"  {scene}: errors against the {against}" + (f"; Richardson: {rich}" if rich
+                                                             else ""))
     return 0
 
 

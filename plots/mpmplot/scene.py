@@ -135,21 +135,34 @@ def wall_table(inputs: dict[str, list[dict[str, Any]]], nwall: int | None = None
     return out
 
 
-def crush_displacement(history: dict[str, np.ndarray], inputs: dict[str, list[dict[str, Any]]]
-                       ) -> tuple[np.ndarray, np.ndarray, int]:
+def crush_displacement(history: dict[str, np.ndarray], inputs: dict[str, list[dict[str, Any]]],
+                       platen: str = "moving") -> tuple[np.ndarray, np.ndarray, int]:
     """Crush displacement delta [m], platen force [N] and the platen's wall index.
 
     ``wall<k>_disp`` is the travel along minus the normal: negative for a platen moving into
     the tube. delta is the relative approach of the platens: the advance of every moving
     platen, plus that of its mirror image where a mirror plane of a half/quarter model is
     parallel to it (the quarter model's bottom platen is the top one's image). The force is
-    that of the first moving platen. ValueError if no wall moves.
+    that of the first moving platen, or with ``platen="fixed"`` that of the first fixed one
+    parallel to it (a test machine's load cell; quieter at one particle per cell, since the
+    material it touches does not cross the grid's rows: docs/validation.md). ValueError if no
+    wall moves, or with "fixed" if no fixed platen faces the moving one.
     """
     table = wall_table(inputs, history_walls(history))
     moving = [w for w in table if w["moving"] and not w["mirror"]]
     if not moving:
         raise ValueError("crush: no moving wall (platen) in the case")
     k = moving[0]["index"]
+    if platen == "fixed":
+        fixed = [w for w in table if not (w["moving"] or w["mirror"] or w["table"])
+                 and float(np.dot(w["normal"], moving[0]["normal"])) < -0.999]
+        if not fixed:
+            raise ValueError("crush: no fixed platen facing the moving one")
+        k_force = fixed[0]["index"]
+    elif platen == "moving":
+        k_force = k
+    else:
+        raise ValueError(f"crush: platen {platen!r}: allowed 'moving', 'fixed'")
     mirrors = [w for w in table if w["mirror"]]
     disp = np.zeros_like(history[f"wall{k}_disp"])
     for w in moving:
@@ -160,7 +173,7 @@ def crush_displacement(history: dict[str, np.ndarray], inputs: dict[str, list[di
                 disp = disp + advance
     if disp.size and disp[np.argmax(np.abs(disp))] < 0.0:
         disp = -disp
-    return disp, history[f"wall{k}_force"], k
+    return disp, history[f"wall{k_force}_force"], k_force
 
 
 SCENES = ("crush", "wave", "impact", "generic")   #: the kinds of scene summary.nml names
