@@ -36,14 +36,18 @@ contains
   subroutine twin_walls(rd, cfg)
     type(reader_t), intent(inout) :: rd    !! the input's occurrences and messages
     type(config_t), intent(in) :: cfg      !! the case
-    integer :: j, k, io
+    integer :: j, k, io, jo
     real(wp) :: nj(2), nk(2)
     do k = 2, size(cfg%walls)
       io = occurrence(rd, 'wall', k)
       if (io == 0) cycle
-      if (.not. rd%occ(io)%ok) cycle
+      if (.not. rd%occ(io)%ok .or. .not. norm2(cfg%walls(k)%normal) > 0.0_wp) cycle
       nk = cfg%walls(k)%normal/norm2(cfg%walls(k)%normal)
       do j = 1, k - 1
+        ! (an earlier wall in error, e.g. without a normal, has been reported: no twin of it)
+        jo = occurrence(rd, 'wall', j)
+        if (jo == 0) cycle
+        if (.not. rd%occ(jo)%ok .or. .not. norm2(cfg%walls(j)%normal) > 0.0_wp) cycle
         associate (a => cfg%walls(j), b => cfg%walls(k))
           nj = a%normal/norm2(a%normal)
           if (any(abs(nj - nk) > 1.0e-12_wp) .or. abs(dot_product(a%point - b%point, nk)) > &
