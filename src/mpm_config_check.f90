@@ -238,6 +238,15 @@ contains
       '(h = '//fmt_short(cfg%grid%h)//' m; c_d = sqrt((lambda + 2 mu)/rho) = '// &
       fmt_short(cd)//' m/s of &material #'//itoa(kc)//'; v_max = '//fmt_short(vmax)// &
       ' m/s)', '0 < dt <= '//fmt_short(dt_lim)//' [s], or dt = 0 (time step from cfl)')
+    ! t_end / dt beyond what double precision counts: t + dt rounds to t before t_end, and
+    ! the run never ends (dt = 1e-200 was only warned of, as a run of 2.8e11 hours)
+    if (cfg%run%dt < cfg%run%t_end*epsilon(1.0_wp)) call err_var(rd, io_run, 'dt', &
+      fmt_real(cfg%run%dt), 't_end / dt = '//fmt_short(cfg%run%t_end/cfg%run%dt)// &
+      ' steps, more than double precision counts: the time t + dt would round to t before '// &
+      't_end = '//fmt_short(cfg%run%t_end)//' s and the run would never end', &
+      't_end x '//fmt_short(epsilon(1.0_wp))//' = '// &
+      fmt_short(cfg%run%t_end*epsilon(1.0_wp))//' <= dt <= '//fmt_short(dt_lim)//' [s], '// &
+      'or dt = 0 (time step from cfl)')
   end subroutine check_fixed_dt
 
   !> Advice that the set-up's advice (mpm_advice, advice_check) gives again in full: thin walls
