@@ -541,8 +541,8 @@ def main(argv: list[str] | None = None) -> int:
     for a in adv:
         if "cpu_s" in a:
             print(f"  {a['scene']:6s} <= {a['target']:.0%}: {a['name']} "
-                  f"({a['cpu_s']:.0f} CPU s, error {a['robust_error']:.2%} at the worst "
-                  f"alignment measured, {a['error']:.2%} as run)")
+                  f"({a['cpu_s']:.0f} CPU s, error {a['robust_error']:.2%} on the worst "
+                  f"grid measured, {a['error']:.2%} as run)")
         else:
             print(f"  {a['scene']:6s} <= {a['target']:.0%}: none within the study")
     print(f"wrote figures to {out}")
