@@ -193,7 +193,7 @@ def fig_accuracy_runtime(rows, adv, out: Path) -> None:
             e = [r["error"]] + errs
             ax.plot([r["cpu_s"]] * 2, [100 * min(e), 100 * max(e)], color="0.3", lw=2.5,
                     alpha=0.5, solid_capstyle="butt",
-                    label="the same at h x 0.97 and 1.03 (grid rows moved)" if k == 0 else None)
+                    label="the same on other grids (h x 0.96 to 1.04)" if k == 0 else None)
         for b, (col, mk) in BASIS_STYLE.items():
             sel = [r for r in rs if r["basis"] == b and volumetric(r) == "standard"]
             if sel:
@@ -211,7 +211,7 @@ def fig_accuracy_runtime(rows, adv, out: Path) -> None:
         if front:
             c, e = zip(*front)
             ax.step(c, 100 * np.array(e), where="post", color="k", lw=1.0, alpha=0.6,
-                    label="Pareto front (worst of 3 alignments)")
+                    label="Pareto front (worst over the grids)")
         for a, mk in zip([a for a in adv if a["scene"] == scene], ("*", "P", "X")):
             if "cpu_s" in a:
                 ax.plot(a["cpu_s"], 100 * a["robust_error"], mk, color="k", ms=13, mfc="gold",
@@ -396,7 +396,7 @@ def fig_fixed(rows, folder: Path, out: Path) -> None:
             if len(e) > 1:
                 ax2.plot([k + dx] * 2, [100 * min(e), 100 * max(e)], color=col, lw=2.5,
                          alpha=0.4, solid_capstyle="butt",
-                         label="h x 0.97 to 1.03 (grid rows moved)" if k == 0 and dx < 0
+                         label="the same on other grids (h x 0.96 to 1.04)" if k == 0 and dx < 0
                          else None)
             ax2.plot(k + dx, 100 * run["error"], mk, color=col, mfc=mfc,
                      label=label if k == 0 else None)

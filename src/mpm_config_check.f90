@@ -6,7 +6,7 @@ module mpm_config_check
   use mpm_constants, only: BASIS_CPDI2, SCHEME_MUSL, PLANE_STRAIN, SHAPE_RING, SHAPE_RECT, &
                            SECTOR_HALF, SECTOR_QUARTER, VOLUMETRIC_FBAR, VOLUMETRIC_FBARWALL, &
                            PLANE_STRESS, MODEL_NEOHOOKEAN
-  use mpm_config_types, only: config_t, material_cfg_t
+  use mpm_config_types, only: config_t
   use mpm_shapes, only: body_box
   use mpm_config_text, only: lower, itoa, quote, file_stem, fmt_short, fmt_vec, fmt_real
   use mpm_config_table, only: n_groups
@@ -214,39 +214,30 @@ contains
     type(config_t), intent(in) :: cfg
     integer, intent(in) :: io_run
     integer :: k, kc
-    real(wp) :: cd, c, vmax, dt_lim, ms
-    type(material_cfg_t) :: m
-    if (.not. cfg%run%dt > 0.0_wp) return
-    ms = cfg%solver%mass_scale
-    cd = 0.0_wp
-    kc = 1
-    do k = 1, size(cfg%materials)
-      m = cfg%materials(k)
-      c = sqrt(m%E*(1.0_wp - m%nu)/((1.0_wp + m%nu)*(1.0_wp - 2.0_wp*m%nu)) / (m%rho*ms))
-      if (c > cd) then
-        cd = c
-        kc = k
-      end if
+    real(wp) :: cds(size(cfg%materials)), cd, vmax, dt_lim
+    if (.not. cfg%run%dt > 0.0_wp .or. size(cfg%materials) == 0) return
+    do k = 1, size(cfg%materials)          ! dilatational wave speeds
+      associate (m => cfg%materials(k))
+        cds(k) = sqrt(m%E*(1.0_wp - m%nu)/((1.0_wp + m%nu)*(1.0_wp - 2.0_wp*m%nu)) / &
+                      (m%rho*cfg%solver%mass_scale))
+      end associate
     end do
-    vmax = 0.0_wp
-    do k = 1, size(cfg%bodies)
-      vmax = max(vmax, sqrt(sum(cfg%bodies(k)%velocity**2)))
-    end do
+    kc = maxloc(cds, dim=1)
+    cd = cds(kc)
+    vmax = max(0.0_wp, maxval([(norm2(cfg%bodies(k)%velocity), k = 1, size(cfg%bodies))]))
     dt_lim = cfg%grid%h/(cd + vmax)
     if (cfg%run%dt > dt_lim) call err_var(rd, io_run, 'dt', fmt_real(cfg%run%dt), &
       'above the stable limit h / (c_d + v_max) = '//fmt_short(dt_lim)//' s at cfl = 1 '// &
       '(h = '//fmt_short(cfg%grid%h)//' m; c_d = sqrt((lambda + 2 mu)/rho) = '// &
       fmt_short(cd)//' m/s of &material #'//itoa(kc)//'; v_max = '//fmt_short(vmax)// &
       ' m/s)', '0 < dt <= '//fmt_short(dt_lim)//' [s], or dt = 0 (time step from cfl)')
-    ! t_end / dt beyond what double precision counts: t + dt rounds to t before t_end, and
-    ! the run never ends (dt = 1e-200 was only warned of, as a run of 2.8e11 hours)
+    ! more steps than double precision counts: t + dt would round to t, the run never end
     if (cfg%run%dt < cfg%run%t_end*epsilon(1.0_wp)) call err_var(rd, io_run, 'dt', &
       fmt_real(cfg%run%dt), 't_end / dt = '//fmt_short(cfg%run%t_end/cfg%run%dt)// &
       ' steps, more than double precision counts: the time t + dt would round to t before '// &
-      't_end = '//fmt_short(cfg%run%t_end)//' s and the run would never end', &
-      't_end x '//fmt_short(epsilon(1.0_wp))//' = '// &
-      fmt_short(cfg%run%t_end*epsilon(1.0_wp))//' <= dt <= '//fmt_short(dt_lim)//' [s], '// &
-      'or dt = 0 (time step from cfl)')
+      't_end = '//fmt_short(cfg%run%t_end)//' s and the run would never end', 't_end x '// &
+      fmt_short(epsilon(1.0_wp))//' = '//fmt_short(cfg%run%t_end*epsilon(1.0_wp))// &
+      ' <= dt <= '//fmt_short(dt_lim)//' [s], or dt = 0 (time step from cfl)')
   end subroutine check_fixed_dt
 
   !> Advice that the set-up's advice (mpm_advice, advice_check) gives again in full: thin walls

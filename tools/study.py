@@ -30,8 +30,8 @@ out/study-quick/ instead: it checks the machinery, its coarse reference is no re
 `--tables-only` recomputes the table from existing run folders without running anything.
 
 Levels: ``quick`` (under 10 minutes on 2 cores: coarse sweeps, its own coarse reference),
-``full`` (176 runs, 2.5 CPU hours, about 75 minutes on 2 free cores; the committed table and
-figures; with the crush at a fixed platen and 30 settings at two more grid alignments),
+``full`` (211 runs, 2.8 CPU hours, about 85 minutes on 2 free cores; the committed table and
+figures; with the crush at a fixed platen, 31 settings on two more grids and 4 on ten),
 ``all`` (full plus n_t = 32 at h = t/8 for every scene, the crush's bases at h = t/4 and its
 aspect 1/2; several hours more).
 """
