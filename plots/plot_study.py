@@ -86,10 +86,15 @@ def variants(r: dict[str, Any], rows: list[dict[str, Any]]) -> list[dict[str, An
             and v["name"].rsplit("_hs", 1)[0] == r["name"]]
 
 
+def grid_errors(r: dict[str, Any], rows: list[dict[str, Any]]) -> list[float]:
+    """The errors of r's setting on every grid measured: r's, then its variants'."""
+    return [r["error"]] + [v["error"] for v in variants(r, rows)]
+
+
 def robust_error(r: dict[str, Any], rows: list[dict[str, Any]]) -> float:
     """The error of r's setting: the worst of r's and its alignment variants' (NaN if any of
     them has none), or r's own where it has no variants."""
-    errs = [r["error"]] + [v["error"] for v in variants(r, rows)]
+    errs = grid_errors(r, rows)
     return max(errs) if all(np.isfinite(errs)) else math.nan
 
 
@@ -188,9 +193,8 @@ def fig_accuracy_runtime(rows, adv, out: Path) -> None:
         rs = [r for r in rows if r["scene"] == scene and r["name"] != r["reference"]
               and nominal(r) and np.isfinite(r["error"]) and r["error"] > 0
               and not (scene == "impact" and r["speed"] != 30.0)]
-        spread = [(r, [v["error"] for v in variants(r, rows)]) for r in rs]
-        for k, (r, errs) in enumerate([x for x in spread if x[1]]):
-            e = [r["error"]] + errs
+        spread = [(r, grid_errors(r, rows)) for r in rs]
+        for k, (r, e) in enumerate([x for x in spread if len(x[1]) > 1]):
             ax.plot([r["cpu_s"]] * 2, [100 * min(e), 100 * max(e)], color="0.3", lw=2.5,
                     alpha=0.5, solid_capstyle="butt",
                     label="the same on other grids (h x 0.96 to 1.04)" if k == 0 else None)
@@ -392,7 +396,7 @@ def fig_fixed(rows, folder: Path, out: Path) -> None:
                 (q, 0.12, "s", "C0", "none", "quarter model, moving platen")):
             if run is None or not np.isfinite(run.get("error", math.nan)):
                 continue
-            e = [run["error"]] + [v["error"] for v in variants(run, rows)]
+            e = grid_errors(run, rows)
             if len(e) > 1:
                 ax2.plot([k + dx] * 2, [100 * min(e), 100 * max(e)], color=col, lw=2.5,
                          alpha=0.4, solid_capstyle="butt",

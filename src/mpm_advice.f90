@@ -593,7 +593,7 @@ contains
     text = ''
     if (.not. bal_max > 0.05_wp*scale) return
     if (100.0_wp*energy_error < 1.0e6_wp) then
-      write(pct, '(f0.2)') 100.0_wp*energy_error
+      pct = pct_text(energy_error)
     else
       pct = rtoa(100.0_wp*energy_error)
     end if

@@ -36,25 +36,29 @@ contains
   subroutine twin_walls(rd, cfg)
     type(reader_t), intent(inout) :: rd    !! the input's occurrences and messages
     type(config_t), intent(in) :: cfg      !! the case
-    integer :: j, k, io, jo
-    real(wp) :: nj(2), nk(2)
+    integer :: j, k, io(size(cfg%walls))
+    logical :: usable(size(cfg%walls))
+    real(wp) :: n(2, size(cfg%walls))
+    ! walls read without error and with a normal (one in error has been reported: no twin of
+    ! it; a &wall without a normal divided by zero here before), with their unit normals
+    do k = 1, size(cfg%walls)
+      io(k) = occurrence(rd, 'wall', k)
+      usable(k) = io(k) > 0
+      if (usable(k)) usable(k) = rd%occ(io(k))%ok .and. norm2(cfg%walls(k)%normal) > 0.0_wp
+      n(:, k) = 0.0_wp
+      if (usable(k)) n(:, k) = cfg%walls(k)%normal/norm2(cfg%walls(k)%normal)
+    end do
     do k = 2, size(cfg%walls)
-      io = occurrence(rd, 'wall', k)
-      if (io == 0) cycle
-      if (.not. rd%occ(io)%ok .or. .not. norm2(cfg%walls(k)%normal) > 0.0_wp) cycle
-      nk = cfg%walls(k)%normal/norm2(cfg%walls(k)%normal)
+      if (.not. usable(k)) cycle
       do j = 1, k - 1
-        ! (an earlier wall in error, e.g. without a normal, has been reported: no twin of it)
-        jo = occurrence(rd, 'wall', j)
-        if (jo == 0) cycle
-        if (.not. rd%occ(jo)%ok .or. .not. norm2(cfg%walls(j)%normal) > 0.0_wp) cycle
+        if (.not. usable(j)) cycle
         associate (a => cfg%walls(j), b => cfg%walls(k))
-          nj = a%normal/norm2(a%normal)
-          if (any(abs(nj - nk) > 1.0e-12_wp) .or. abs(dot_product(a%point - b%point, nk)) > &
+          if (any(abs(n(:, j) - n(:, k)) > 1.0e-12_wp) .or. &
+              abs(dot_product(a%point - b%point, n(:, k))) > &
               1.0e-9_wp*cfg%grid%h .or. any(a%velocity /= b%velocity) .or. &
               a%ramp /= b%ramp .or. a%n_motion /= b%n_motion) cycle
           if (any(a%motion_t /= b%motion_t) .or. any(a%motion_f /= b%motion_f)) cycle
-          call warn_var(rd, io, 'point', 'the same plane, normal and motion as &wall #'// &
+          call warn_var(rd, io(k), 'point', 'the same plane, normal and motion as &wall #'// &
             itoa(j)//': the two act together and share the contact force (give it once)')
           exit
         end associate

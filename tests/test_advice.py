@@ -14,6 +14,7 @@ them: it is the study's 5 % impact run, docs/validation.md) and each names an ad
 errors: they are checked against the committed table (docs/study/study_full.csv), each where
 the study measured it. Binary: TUBEMPM. Prints `test_advice: N passed, M failed`.
 """
+import functools
 import math
 import os
 import re
@@ -74,11 +75,17 @@ def advised(text: str, line: re.Match) -> str:
     return text
 
 
-def study_row(name: str) -> dict[str, str]:
-    """The row of the committed refinement study table (docs/study/study_full.csv) named so."""
+@functools.lru_cache(maxsize=1)
+def study_table() -> tuple[dict[str, str], ...]:
+    """The rows of the committed refinement study table (docs/study/study_full.csv)."""
     import csv
     with open(ROOT / "docs" / "study" / "study_full.csv", newline="") as fh:
-        return next(r for r in csv.DictReader(fh) if r["name"] == name)
+        return tuple(csv.DictReader(fh))
+
+
+def study_row(name: str) -> dict[str, str]:
+    """The row of the committed refinement study table named so."""
+    return next(r for r in study_table() if r["name"] == name)
 
 
 def check_volumetric_warnings(scratch: Path, crush: str) -> None:
@@ -146,10 +153,8 @@ def check_volumetric_warnings(scratch: Path, crush: str) -> None:
     # and the worst of the grids measured (h x 0.97, 1.03, some 0.96 ... 1.04), here and at
     # a fixed platen (crush_fixed)
     def grids(name: str) -> list[dict[str, str]]:
-        import csv
-        with open(ROOT / "docs" / "study" / "study_full.csv", newline="") as fh:
-            return [r for r in csv.DictReader(fh)
-                    if r["name"] == name or r["name"].startswith(name + "_hs")]
+        return [r for r in study_table()
+                if r["name"] == name or r["name"].startswith(name + "_hs")]
 
     def worst(name: str) -> float:
         return max(l2(r["name"]) for r in grids(name))

@@ -79,17 +79,17 @@ def study_include(rows: list[dict[str, Any]], adv: list[dict[str, Any]], source:
     lines.append(arr("study_volumetric", "character(len=8)",
                      [f"'{volumetric(r):8s}'" for r in runs]))
     # (a variant that failed makes the setting's error unknown: written as 999 %, never picked)
+    var = {r["name"]: variants(r, rows) for r in runs}
     errs = [robust_error(r, rows) for r in runs]
     lines.append(arr("study_error", "real(wp)", [real(e if math.isfinite(e) else 9.99)
                                                  for e in errs]))
     # the error as run, the number of grids measured (1: as run only) and how far their
     # spacing strays from the run's (0.03: h x 0.97 and 1.03)
     lines.append(arr("study_error_run", "real(wp)", [real(r["error"]) for r in runs]))
-    lines.append(arr("study_alignments", "integer",
-                     [str(1 + len(variants(r, rows))) for r in runs]))
+    lines.append(arr("study_alignments", "integer", [str(1 + len(var[r["name"]])) for r in runs]))
     lines.append(arr("study_h_spread", "real(wp)",
-                     [real(max([abs(v["h_scale"] - 1.0) for v in variants(r, rows)],
-                               default=0.0)) for r in runs]))
+                     [real(max([abs(v["h_scale"] - 1.0) for v in var[r["name"]]], default=0.0))
+                      for r in runs]))
     lines.append(arr("study_cpu_s", "real(wp)", [real(r["cpu_s"]) for r in runs]))
     lines.append(arr("study_particles", "integer", [str(int(r["particles"])) for r in runs]))
     # the relative approach speed of the study's (quasi-static) crush platens

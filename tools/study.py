@@ -336,17 +336,15 @@ def design(level: str) -> dict[str, list[Point]]:
                           for v in ("fbarwall", "fbar", "standard")]
     out["crush_fixed"] += [P("crush_fixed", h_over_t=0.5, n_t=4, volumetric="fbarwall"),
                            P("crush_fixed", h_over_t=0.25, n_t=8)]
-    # the alignment variants of the settings the advice rests on (h x 0.97 and 1.03: the rows
-    # fall elsewhere on the ring): a setting's error is the worst of its variants
-    # (plots/plot_study.py robust_error), and the advice picks by that
-    for scene, kws in ALIGNED.items():
-        out[scene] += [P(scene, **{"cfl": CENTRE_CFL[scene], **kw}, h_scale=f)
-                       for kw in kws for f in H_SCALES]
-    # and four settings on eight grids more (h x 0.96 ... 1.04): three grids are a lower
-    # bound on the worst case (docs/validation.md, "The grid's alignment ...")
-    for scene, kws in SCANNED.items():
-        out[scene] += [P(scene, **{"cfl": CENTRE_CFL[scene], **kw}, h_scale=f)
-                       for kw in kws for f in H_SCAN]
+    # the same settings on other grids: those the advice rests on at h x 0.97 and 1.03 (the
+    # rows fall elsewhere on the ring), four of them at eight h scales more (three grids are a
+    # lower bound on the worst case: docs/validation.md, "The grid's alignment ..."); a
+    # setting's error is the worst of them (plots/plot_study.py robust_error), and the advice
+    # picks by that
+    for settings, scales in ((ALIGNED, H_SCALES), (SCANNED, H_SCAN)):
+        for scene, kws in settings.items():
+            out[scene] += [P(scene, **{"cfl": CENTRE_CFL[scene], **kw}, h_scale=f)
+                           for kw in kws for f in scales]
     return out
 
 
