@@ -7,7 +7,8 @@ module mpm_sys
   use mpm_strings, only: itoa, plural
   implicit none
   private
-  public :: sys_mkdir_p, sys_dir_creatable, sys_lock_dir, sys_install_signals, sys_signal_received, sys_stdout_isatty, &
+  public :: sys_mkdir_p, sys_dir_creatable, sys_lock_dir, sys_install_signals, sys_signal_received, &
+            sys_signal_name, sys_stdout_isatty, &
             sys_rename, sys_exit, sys_memory_available, sys_cores_busy, sys_free_threads
 
   interface
@@ -268,6 +269,20 @@ contains
   integer function sys_signal_received() result(sig)
     sig = int(c_signal_received())
   end function sys_signal_received
+
+  !> A signal as a person knows it: 'SIGINT (Ctrl-C)', 'SIGTERM', else 'signal N'.
+  pure function sys_signal_name(sig) result(name)
+    integer, intent(in) :: sig             !! the signal number
+    character(len=:), allocatable :: name
+    select case (sig)
+    case (2)
+      name = 'SIGINT (Ctrl-C)'
+    case (15)
+      name = 'SIGTERM'
+    case default
+      name = 'signal '//itoa(sig)
+    end select
+  end function sys_signal_name
 
   !> True when standard output is a terminal.
   logical function sys_stdout_isatty() result(tty)

@@ -24,7 +24,7 @@ program tubempm
   use mpm_restart, only: checkpoint_write, checkpoint_read, ckpt_extra_t
   use mpm_release, only: release_t, release_observe, release_due, in_contact
   use mpm_walls, only: wall_t
-  use mpm_sys, only: sys_mkdir_p, sys_dir_creatable, sys_install_signals, sys_signal_received, &
+  use mpm_sys, only: sys_mkdir_p, sys_dir_creatable, sys_install_signals, sys_signal_received, sys_signal_name, &
                      sys_stdout_isatty, sys_free_threads, sys_lock_dir
   use mpm_strings, only: itoa, rtoa, hms
   implicit none
@@ -181,8 +181,8 @@ contains
     character(len=*), intent(in) :: stage  !! what was being done
     integer :: sig
     sig = sys_signal_received()
-    if (sig /= 0) call fatal('run', 'stopped by signal '//itoa(sig)//' during '//stage// &
-      ', before the run started: nothing was written', 128 + sig)
+    if (sig /= 0) call fatal('run', 'stopped by '//sys_signal_name(sig)//' during '//stage// &
+      ': nothing written, nothing lost', 128 + sig)
   end subroutine stop_if_signalled
 
   !> The threads of the run: `&run threads` when given; with 0 and no OMP_NUM_THREADS, the
@@ -304,8 +304,8 @@ contains
       end if
       if (sig /= 0) then
         r%sm%status = 'interrupted'
-        r%sm%message = 'stopped by signal '//itoa(sig)//' at t = '//rtoa(s%t)//' s, step '// &
-                       itoa(s%step)//'; continue with: tubempm --restart '//r%dir
+        r%sm%message = 'stopped by '//sys_signal_name(sig)//' at t = '//rtoa(s%t)//' s, step '// &
+                       itoa(s%step)
         exit
       end if
     end do
@@ -313,8 +313,8 @@ contains
       rtoa(r%rel%t_first)//' to '//rtoa(r%rel%t_last)//' s, none since (&run end_at_release)'
     ! 3. close the outputs, summary, end-of-run report
     call close_outputs(s, r, final_snapshot=sig == 0)
-    if (sig /= 0) call fatal('run', trim(r%sm%message)//'; a checkpoint is in '//r%dir// &
-      '/checkpoint.bin and the outputs are complete up to that time', 128 + sig)   ! as shells report it
+    if (sig /= 0) call fatal('run', 'stopped by '//sys_signal_name(sig)//': checkpoint saved, continue with '// &
+      'tubempm --restart '//r%dir, 128 + sig)   ! exit status as shells report it
   end subroutine run_case
 
   !> Open the outputs of a new run (folder, input.nml, history, particles.h5 with the first

@@ -65,6 +65,9 @@ wait $pid
 expect 'SIGTERM' 143 $? "$scratch/sig.err"
 grep -q '^stopped: ' "$scratch/sig.out" && ! grep -q '^done:' "$scratch/sig.out" && ok \
   || bad "an interrupted run's end line: $(grep -E '^(done|stopped)' "$scratch/sig.out")"
+# the stop says which signal, that the checkpoint is saved and how to continue, on one line
+grep -q "stopped by SIGTERM: checkpoint saved, continue with tubempm --restart $scratch/sig\$" "$scratch/sig.err" && ok \
+  || bad "the SIGTERM line does not name the signal, the checkpoint and --restart DIR: $(cat "$scratch/sig.err")"
 # one interrupt delivered twice (coreutils timeout signals the child and then its group; a
 # shell's Ctrl-C and scancel reach every process of the group): the echo is ignored and the run
 # stops cleanly with its checkpoint (before: the second copy killed it outright, no checkpoint)
@@ -127,7 +130,7 @@ kill -TERM $pid 2>/dev/null
 wait $pid
 expect 'SIGTERM during the set-up' 143 $? "$scratch/early.err"
 # (a machine fast enough to be past the set-up stops in the loop, with a checkpoint)
-if grep -q 'during the set-up, before the run started: nothing was written' "$scratch/early.err"; then
+if grep -q 'during the set-up.*nothing written' "$scratch/early.err"; then
   [ ! -e "$scratch/early" ] && ok || bad "a stop during the set-up wrote $scratch/early"
 else
   [ -s "$scratch/early/checkpoint.bin" ] && ok || bad "SIGTERM early: neither a stop in the set-up nor a checkpoint: $(cat "$scratch/early.err")"
