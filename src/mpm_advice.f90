@@ -69,8 +69,37 @@ module mpm_advice
   integer, parameter :: fbarwall_nt_max = 5
   !> ... and with about square particles: outside this particle aspect --check warns [-]
   real(wp), parameter :: fbarwall_aspect_lo = 0.8_wp, fbarwall_aspect_hi = 1.25_wp
+  !> Where each warning's evidence is (the doc sections the warnings end with)
+  character(len=*), parameter :: doc_thin = 'docs/stability.md#thin-walls', &
+    doc_ppc = 'docs/stability.md#particles', &
+    doc_spacing = 'docs/validation.md#spacing', &
+    doc_volumetric = 'docs/validation.md#locking', &
+    doc_schemes = 'docs/stability.md#schemes', doc_bases = 'docs/stability.md#bases', &
+    doc_fold = 'docs/stability.md#full-crush', &
+    doc_self_contact = 'docs/method.md#self-contact', &
+    doc_quasi_static = 'docs/validation.md#quasi-static', &
+    doc_energy = 'docs/stability.md#energy'
 
 contains
+
+  !> The n_thick that gives two particles per cell through a wall of thickness t [-]
+  pure integer function n_thick_for(h, t) result(nt)
+    real(wp), intent(in) :: h              !! cell size [m]
+    real(wp), intent(in) :: t              !! wall thickness [m]
+    nt = max(2, ceiling(2.0_wp*t/h - 1.0e-9_wp))
+  end function n_thick_for
+
+  !> The thickness of the thinnest ring wall of the case (0 without rings) [m]
+  pure real(wp) function ring_t(cfg) result(t)
+    type(config_t), intent(in) :: cfg      !! the case
+    integer :: ib
+    t = 0.0_wp
+    do ib = 1, size(cfg%bodies)
+      if (cfg%bodies(ib)%shape_id /= SHAPE_RING) cycle
+      if (t == 0.0_wp .or. cfg%bodies(ib)%r_outer - cfg%bodies(ib)%r_inner < t) &
+        t = cfg%bodies(ib)%r_outer - cfg%bodies(ib)%r_inner
+    end do
+  end function ring_t
 
   !> Whether cells of size h are too coarse for a wall of thickness t: both faces of the wall
   !! share grid nodes (docs/stability.md).
@@ -357,10 +386,9 @@ contains
       vwall = abs(dot_product(cfg%walls(k)%velocity, cfg%walls(k)%normal))
       which = ''
       if (count(cfg%bodies%shape_id == SHAPE_RING) > 1) which = ' of body '//itoa(worst(k))
-      write(line, '(a,i0,a,f6.3,a)') 'wall ', k, ': speed '//sci(vwall, 3)//' m/s is ', &
-        top(k), ' of D * omega_2 (ring ovalling mode'//which//'); above 0.05 the crush '// &
-        'is not quasi-static: inertia adds to the force. Lower the speed or mass_scale, '// &
-        'or check kinetic/plastic in history.csv'
+      write(line, '(a,i0,a,f4.2,a)') 'wall ', k, ': '//sci(vwall, 2)//' m/s = ', &
+        top(k), ' D omega_2'//which//': not quasi-static. Set speed <= '// &
+        sci(0.05_wp*vwall/top(k), 2)//' m/s ('//doc_quasi_static//')'
       call append_msg(warnings, line)
     end do
   end subroutine advice_walls
@@ -376,34 +404,29 @@ contains
     associate (b => cfg%bodies(ib))
       t = b%r_outer - b%r_inner
       if (wall_too_thin(cfg%grid%h, t)) then
-        write(line, '(a,i0,a)') 'body ', ib, ': h = '//sci(cfg%grid%h, 3)// &
-          ' m is not below the wall thickness t = '//sci(t, 3)//' m: both faces of the '// &
-          'wall share nodes, so the wall bends wrongly (crush force +25 % at h = t, +90 % at '// &
-          'h = 2t) and opposite walls stick when they come within about 2h (docs/stability.md). '// &
-          'Use h <= t/2'
+        write(line, '(a,i0,a)') 'body ', ib, ': h >= t = '//sci(t, 2)// &
+          ' m: wall faces share nodes. Set h = '//sci(0.25_wp*t, 2)// &
+          ', n_thick = 8 ('//doc_thin//')'
         call append_msg(warnings, line)
       else if (cfg%grid%h > 0.5_wp*t*(1.0_wp + 1.0e-9_wp)) then
-        write(line, '(a,i0,a,f5.2,a)') 'body ', ib, ': h/t = ', cfg%grid%h/t, &
-          ': between t/2 and t the crush force comes out 7 to 25 % too high '// &
-          '(docs/stability.md). Use h <= t/2 with n_thick >= 2 t/h'
+        write(line, '(a,i0,a,f4.2,a)') 'body ', ib, ': h/t = ', cfg%grid%h/t, &
+          ': crush force 7-25 % high. Set h = '//sci(0.25_wp*t, 2)//', n_thick = 8 ('// &
+          doc_thin//')'
         call append_msg(warnings, line)
       end if
       if (b%n_thick <= 2) then
         write(line, '(a,i0,a,i0,a)') 'body ', ib, ': n_thick = ', b%n_thick, &
-          ': with 1 or 2 particles through the wall the wall cannot bend freely (it locks): '// &
-          'the crush force came out 1.6 to 2.7 times (n_thick = 2) and 20 times (1) too high '// &
-          '(docs/stability.md). Use n_thick >= 4'
+          ' locks the wall (crush force x1.6-2.7). Set n_thick = '// &
+          itoa(max(4, n_thick_for(cfg%grid%h, t)))//' ('//doc_ppc//')'
         call append_msg(warnings, line)
       end if
       ! (from 1.045 t/4: the study's h = t/4 settings were run up to h x 1.04, the crush's 2 %
       ! setting 1.60 % there; 'fbarwall' at h = t/2, n_thick = 4, once excepted as the crush's
       ! 5 % setting, is 3.5 % on the study's grid but 7.4 % on one 3 % finer)
       if (cfg%grid%h > 1.045_wp*0.25_wp*t .and. cfg%grid%h <= 0.5_wp*t*(1.0_wp + 1.0e-9_wp)) then
-        write(line, '(a,i0,a,f5.2,a)') 'body ', ib, ': h/t = ', cfg%grid%h/t, &
-          ': the refinement study found errors of 10 to 12 % (crush force against the '// &
-          'finite element curve; 3.5 to 7.4 % with ''fbarwall'' and n_thick = 4) and 27 to '// &
-          '30 % (impact) at h = t/2 against 2 to 4 % at h = t/4 (docs/validation.md). Use '// &
-          'h <= t/4 with n_thick >= 2 t/h for 2 to 4 %'
+        write(line, '(a,i0,a,f4.2,a)') 'body ', ib, ': h/t = ', cfg%grid%h/t, &
+          ': crush 10-12 %, impact 27-30 % off. Set h = '// &
+          sci(0.25_wp*t, 2)//', n_thick = 8 ('//doc_spacing//')'
         call append_msg(warnings, line)
       end if
     end associate
@@ -433,49 +456,36 @@ contains
     wall_off = cfg%solver%volumetric_id == VOLUMETRIC_FBARWALL .and. &
                ring_n_thick(cfg, .false.) <= 2
     if (ppc < 0.75_wp) then
-      write(line, '(a,f5.2,a)') 'only ', ppc, ' particle(s) per cell through the wall '// &
-        '(n_thick h / t): each particle spans more than a cell, and CPDI2 then deforms it '// &
-        'like a four-node element that cannot bend within itself: the study''s crush at '// &
-        'h = t/8, n_thick = 4 is 2.40 times the finite element force with ''standard'' '// &
-        '(L2 error 151.7 %), 15.5 % from it with ''fbar'' and 20.5 % with ''fbarwall'' '// &
-        '(docs/validation.md). Use n_thick >= 2 t/h'
+      write(line, '(f4.2,a)') ppc, ' particles per cell through the wall '// &
+        '(crush x2.4). Set n_thick = '// &
+        itoa(n_thick_for(cfg%grid%h, ring_t(cfg)))//' ('//doc_ppc//')'
       call append_msg(warnings, line)
     else if (ppc < ppc_low .and. cfg%solver%volumetric_id == VOLUMETRIC_FBAR) then
-      write(line, '(a,f5.2,a)') 'only ', ppc, ' particle(s) per cell through the wall '// &
-        '(n_thick h / t): with volumetric = ''fbar'' the crush force at h = t/4, n_thick = 4 '// &
-        'is still 9 % above the finite element reference (+32 % without it; L2 error 9.7 % '// &
-        'against 32.9 %; the force at a fixed platen 4.4 %, 6.7 % on the worst of 11 grids '// &
-        'with h within 4 %; docs/validation.md). Use n_thick >= 2 t/h for errors of a few %'
+      write(line, '(f4.2,a)') ppc, ' particles per cell through the wall '// &
+        'with ''fbar'': crush 9 % above FE. Set n_thick = '// &
+        itoa(n_thick_for(cfg%grid%h, ring_t(cfg)))//' ('//doc_ppc//')'
       call append_msg(warnings, line)
     else if (ppc < ppc_low .and. cfg%solver%volumetric_id == VOLUMETRIC_FBARWALL .and. &
              .not. wall_off) then
-      write(line, '(a,f5.2,a)') 'only ', ppc, ' particle(s) per cell through the wall '// &
-        '(n_thick h / t): with volumetric = ''fbarwall'' the crush force at h = t/4, '// &
-        'n_thick = 4 is 2 % above the finite element reference (L2 error 6.0 %; 32.9 % '// &
-        'without it), 8.6 % on the worst of 3 grids with h within 3 % (the force at a fixed '// &
-        'platen 4.0 %, 6.1 % on the worst; docs/validation.md). Use ''standard'' with '// &
-        'n_thick >= 2 t/h (2.3 % on the worst grid)'
+      write(line, '(f4.2,a)') ppc, ' particles per cell through the wall '// &
+        'with ''fbarwall'': crush 6-9 % off. Set ''standard'', n_thick = '// &
+        itoa(n_thick_for(cfg%grid%h, ring_t(cfg)))//' ('//doc_ppc//')'
       call append_msg(warnings, line)
     else if (ppc < ppc_low) then
-      write(line, '(a,f5.2,a)') 'only ', ppc, ' particle(s) per cell through the wall '// &
-        '(n_thick h / t): the wall comes out too stiff (crush force +28 to +32 % with CPDI '// &
-        'and uGIMP, +174 % linear, at h = t/4, n_thick = 4; +146 to +425 % at h = t/2, '// &
-        'n_thick = 2) and the force noisy (docs/stability.md). Use n_thick >= 2 t/h'
+      write(line, '(f4.2,a)') ppc, ' particles per cell through the wall: '// &
+        'too stiff (crush +28-32 %). Set n_thick = '// &
+        itoa(n_thick_for(cfg%grid%h, ring_t(cfg)))//' ('//doc_ppc//')'
       call append_msg(warnings, line)
     end if
     if (wall_off) then
       write(line, '(a,i0,a)') 'volumetric = ''fbarwall'' changes nothing with n_thick = ', &
-        ring_n_thick(cfg, .false.), ': the line through one or two particles is exact, so '// &
-        'the volume changes stay those of ''standard'' (the study''s crush at h = t/2, '// &
-        'n_thick = 2: the same force curve to 1e-9; docs/validation.md). Use n_thick = 4 '// &
-        'or ''fbar'''
+        ring_n_thick(cfg, .false.), ' (it acts as ''standard''). Set n_thick = 4 or '// &
+        'volumetric = ''fbar'' ('//doc_volumetric//')'
       call append_msg(warnings, line)
     else if (cfg%solver%volumetric_id == VOLUMETRIC_FBARWALL) then
       if (ring_n_thick(cfg, .true.) > fbarwall_nt_max) then
-        write(line, '(a,i0,a)') 'volumetric = ''fbarwall'' is made for about four '// &
-          'particles through the wall; here n_thick = ', ring_n_thick(cfg, .true.), ': at '// &
-          'h = t/4, n_thick = 8 the crush force is 16 % below the finite element reference '// &
-          '(L2 error 16.6 %; standard: 2.3 %; docs/validation.md). Use ''standard'''
+        write(line, '(a,i0,a)') '''fbarwall'' with n_thick = ', ring_n_thick(cfg, .true.), &
+          ': crush 16 % low (made for 4). Set volumetric = ''standard'' ('//doc_volumetric//')'
         call append_msg(warnings, line)
       end if
       call fbarwall_aspect(cfg, warnings)
@@ -484,7 +494,7 @@ contains
     ! cfl 0.34, was the half ring's mirror plane's: the re-run study finds CPDI1 and CPDI2 with
     ! MUSL stable to 1.94-1.97 there; what is left, e.g. CPDI2 with USF failing at every cfl,
     ! is in the 1-per-cell table below)
-    write(flip_text, '(f6.4)') flip
+    write(flip_text, '(g0.4)') flip
     if (cfl_stable(scheme, basis) <= 0.0_wp) then
       call append_msg(warnings, 'basis '''//trim(basis_names(basis))//''' with scheme '''// &
         trim(scheme_names(scheme))//''' failed on the impact scene at every cfl tried '// &
@@ -497,15 +507,13 @@ contains
         trim(scheme_names(scheme))//''' (impact scene, docs/stability.md): expect energy '// &
         'growth and exit 4. Use cfl = 0 (automatic: '//cfl_text(cfl_auto)//')')
     end if
-    if (scheme == SCHEME_USL) call append_msg(warnings, 'scheme ''usl'' loses 5 to 8 % of '// &
-      'the energy in an impact at any cfl (docs/stability.md). Use scheme = ''musl''')
-    if (basis == BASIS_LINEAR) call append_msg(warnings, 'basis ''linear'': particles '// &
-      'crossing cell boundaries make the wall force noisy (RMS 0.5 of the crush plateau, 2 to '// &
-      '9 times cpdi2; docs/stability.md). Use basis = ''cpdi2'' for forces')
+    if (scheme == SCHEME_USL) call append_msg(warnings, 'scheme ''usl'' loses 5-8 % of '// &
+      'an impact''s energy. Set scheme = ''musl'' ('//doc_schemes//')')
+    if (basis == BASIS_LINEAR) call append_msg(warnings, 'basis ''linear'': '// &
+      'cell-crossing noise in the wall force. Set basis = ''cpdi2'' ('//doc_bases//')')
     if (flip < flip_trusted) call append_msg(warnings, 'flip = '//trim(adjustl(flip_text))// &
-      ': the PIC part damps every step: an elastic impact lost 26 % of its energy at flip = '// &
-      '0.999, 49 % at 0.99 and 98 % at 0, against 8 % at flip = 1 (docs/stability.md). '// &
-      'Use flip = 1 and smooth the force curve afterwards if it is too noisy')
+      ': the PIC part damps (49 % of an impact lost at 0.99). Set flip = 1 ('// &
+      doc_schemes//')')
   end subroutine advice_stability
 
   !> volumetric = 'fbarwall' with particles far from square: the study's crush at n_thick = 4
@@ -522,11 +530,8 @@ contains
       if (cfg%bodies(ib)%shape_id /= SHAPE_RING) cycle
       aspect = ring_aspect(cfg, ib)
       if (aspect >= fbarwall_aspect_lo .and. aspect <= fbarwall_aspect_hi) cycle
-      write(line, '(a,i0,a,f5.2,a)') 'body ', ib, ': particle aspect ', aspect, ' with '// &
-        'volumetric = ''fbarwall'': the crush at n_thick = 4 is measured near the finite '// &
-        'element curve only with about square particles (h = t/4: 5.0 and 6.0 % at aspect '// &
-        '0.85 and 1, 8.5 to 11.3 % at 0.5, 0.75 and 2; h = t/2: 3.5 % at 1, 6.6 % at 0.75, '// &
-        '16 % at 1.5 and 2; docs/validation.md). Use n_circ = 0 (square particles)'
+      write(line, '(a,i0,a,f4.2,a)') 'body ', ib, ': aspect ', aspect, ' with '// &
+        '''fbarwall'': crush 8-16 % off. Set n_circ = 0 ('//doc_volumetric//')'
       call append_msg(warnings, line)
     end do
   end subroutine fbarwall_aspect
@@ -560,19 +565,15 @@ contains
         ratio = delta/(2.0_wp*b%r_outer)
         if (.not. ratio > delta_fold) cycle
         if (cfg%solver%basis_id == BASIS_CPDI2) then
-          write(line, '(a,i0,a,f5.2,a)') 'body ', ib, ': the platens approach to delta/D = ', &
-            ratio, ': near full crush the side hinges close and CPDI2 domains there can fold '// &
-            '(at delta/D = 0.85 with n_thick = 2 and h = t/2 at 50 m/s per platen; the run '// &
-            'stops with exit 4; docs/stability.md). Use basis = ''cpdi1'' (its parallelograms '// &
-            'cannot fold: it carries namelists/contact/densify.nml to delta/D = 0.95), or stop '// &
-            'at delta/D <= 0.8'
+          write(line, '(a,i0,a,f4.2,a)') 'body ', ib, ': delta/D reaches ', ratio, &
+            ': CPDI2 can fold. Set basis = ''cpdi1'' or '// &
+            'delta/D <= 0.8 ('//doc_fold//')'
           call append_msg(warnings, line)
         end if
         if (b%sector_id /= SECTOR_QUARTER .and. .not. b%self_contact) then
-          write(line, '(a,i0,a,f5.2,a)') 'body ', ib, ': the platens approach to delta/D = ', &
-            ratio, ': the inner walls meet (at the centre first) and one velocity field welds '// &
-            'them a cell apart, passing the platen force across an open gap. Set '// &
-            'self_contact = .true. in this &body (docs/theory.md, "Self-contact")'
+          write(line, '(a,i0,a,f4.2,a,i0,a)') 'body ', ib, ': delta/D reaches ', ratio, &
+            ': inner walls weld. Set self_contact = .true. in &body ', ib, &
+            ' ('//doc_self_contact//')'
           call append_msg(warnings, line)
         end if
       end associate
@@ -597,15 +598,16 @@ contains
     else
       pct = rtoa(100.0_wp*energy_error)
     end if
-    text = 'energy error '//trim(pct)//' % is above 5 %: the energy balance does not close, '// &
-      'so forces and energies are not to be trusted'
-    if (bodies) text = text//'. The loss of the contact between bodies, its friction and '// &
-      'inelastic normal impulse, is part of the error (docs/theory.md, "Energies")'
-    if (musl_flip) then
-      text = text//'. Use a finer grid or a smaller cfl (docs/stability.md)'
+    text = 'energy error '//trim(pct)//' % > 5 %'
+    if (bodies) then
+      text = text//' (body contact incl.). Set '
     else
-      text = text//'. USL, PIC blending and coarse walls lose energy (docs/stability.md): '// &
-        'use scheme = ''musl'', flip = 1 and a finer grid'
+      text = text//': results in doubt. Set '
+    end if
+    if (musl_flip) then
+      text = text//'a smaller h or cfl ('//doc_energy//')'
+    else
+      text = text//'scheme = ''musl'', flip = 1 ('//doc_energy//')'
     end if
   end function advice_end_of_run
 

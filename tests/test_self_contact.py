@@ -145,7 +145,7 @@ def advice(scratch: Path) -> None:
             ("weld", CASE.replace("SELF", ""), "Set self_contact = .true.", "can fold"),
             ("cpdi2", CASE.replace("SELF", ", self_contact = .true.").replace("'cpdi1'",
                                                                              "'cpdi2'"),
-             "Use basis = 'cpdi1'", "Set self_contact"),
+             "Set basis = 'cpdi1'", "Set self_contact"),
             ("quarter", CASE.replace("SELF", "").replace("'half'", "'quarter'"), None,
              "self_contact")]:
         nml = folder / f"{name}.nml"
