@@ -9,6 +9,7 @@ module mpm_output
   use mpm_kinds, only: wp, i8
   use mpm_solver, only: sim_t
   use mpm_walls, only: wall_travel
+  use mpm_results, only: results_t, results_write_group
   use mpm_material, only: material_energy_density
   use mpm_strings, only: itoa
   implicit none
@@ -231,7 +232,10 @@ contains
   subroutine history_close(h)
     type(history_t), intent(inout) :: h    !! the history file
     integer :: ios
-    if (h%unit > 0) close(h%unit, iostat=ios)
+    logical :: op
+    op = .false.
+    if (h%unit /= -1) inquire(unit=h%unit, opened=op)   ! (newunit numbers are negative)
+    if (op) close(h%unit, iostat=ios)
     h%unit = -1
   end subroutine history_close
 
@@ -279,10 +283,11 @@ contains
   end subroutine com_full
 
   !> Write summary.nml (group &summary).
-  subroutine write_summary(path, s, sm, stat, errmsg)
+  subroutine write_summary(path, s, sm, stat, errmsg, res)
     character(len=*), intent(in) :: path   !! file path
     type(sim_t), intent(in) :: s           !! simulation
     type(summary_t), intent(in) :: sm      !! run figures
+    type(results_t), intent(in), optional :: res  !! &results, written when valid
     integer, intent(out) :: stat           !! 0 or iostat
     character(len=:), allocatable, intent(out) :: errmsg  !! the I/O problem
     integer :: u
@@ -317,6 +322,9 @@ contains
     write(u, '(3a)', iostat=stat, iomsg=msg) '  message = ''', &
       trim(quote_free(sm%message)), ''''
     write(u, '(a)', iostat=stat, iomsg=msg) '/'
+    if (present(res) .and. stat == 0) then
+      if (res%valid) call results_write_group(u, res, stat, msg)
+    end if
     if (stat /= 0) errmsg = 'cannot write '//trim(path)//': '//trim(msg)
     close(u, iostat=stat, iomsg=msg)
     if (stat /= 0 .and. len(errmsg) == 0) errmsg = 'cannot close '//trim(path)//': '//trim(msg)

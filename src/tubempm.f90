@@ -20,6 +20,7 @@ program tubempm
   use mpm_output, only: history_t, history_open, history_write, history_close, write_summary, &
                         summary_t
   use mpm_images, only: images_of_walls
+  use mpm_results, only: results_t, results_compute, results_write_csv, loading_walls
   use mpm_io_hdf5, only: snapfile_t, snap_create, snap_reopen, snap_write, snap_close, xdmf_write
   use mpm_restart, only: checkpoint_write, checkpoint_read, ckpt_extra_t
   use mpm_release, only: release_t, release_observe, release_due, in_contact
@@ -56,6 +57,10 @@ program tubempm
     real(wp) :: last_ckpt = 0.0_wp         !! elapsed at the last checkpoint [s]
     type(release_t) :: rel                 !! the contact seen so far (end_at_release)
     logical :: done = .false.              !! the step just taken is the last
+    character(len=:), allocatable :: title !! the case's title (results.csv)
+    real(wp) :: depth = 1.0_wp             !! &run depth [m]
+    real(wp) :: factor = 1.0_wp            !! the sector factor (whole structure / modelled)
+    real(wp) :: mass_scale = 1.0_wp        !! &solver mass_scale (the unscaled mass of &results)
   end type run_t
   character(len=*), parameter :: usage = 'tubempm [--check | --scene] [--quiet] CASE.nml | '// &
     '--restart DIR | --defaults | --help | --version'
@@ -279,6 +284,10 @@ contains
     integer :: st, sig
     character(len=:), allocatable :: msg
     r%quiet = quiet
+    r%title = trim(cfg%run%title)
+    r%depth = cfg%run%depth
+    r%factor = sector_factor(cfg)
+    r%mass_scale = cfg%solver%mass_scale
     ! 1. outputs: new, or continued from the checkpoint (a signal from here on stops the loop
     ! after its first step, with a checkpoint)
     call stop_if_signalled('the report')
@@ -563,6 +572,7 @@ contains
     type(run_t), intent(inout) :: r
     logical, intent(in) :: final_snapshot
     character(len=:), allocatable :: msg
+    type(results_t) :: res
     integer :: st
     integer(i8) :: c1
     call system_clock(c1)
@@ -572,7 +582,10 @@ contains
     call snap_close(r%snaps, st, msg)
     if (st /= 0) call fatal('output', msg, EXIT_IO)
     call history_close(r%hist)
-    call write_summary(r%dir//'/summary.nml', s, r%sm, st, msg)
+    call results_of_run(s, r, res)
+    call write_summary(r%dir//'/summary.nml', s, r%sm, st, msg, res)
+    if (st /= 0) call fatal('output', msg, EXIT_IO)
+    if (res%valid) call results_write_csv(r%dir//'/results.csv', r%title, res, st, msg)
     if (st /= 0) call fatal('output', msg, EXIT_IO)
     msg = advice_end_of_run(s%bal_max, max(s%e0, s%ext_max, s%prm%e_floor), s%energy_error, &
       s%prm%scheme == SCHEME_MUSL .and. s%prm%flip == 1.0_wp, s%prm%nf > 1)
@@ -588,6 +601,25 @@ contains
       write(output_unit, '(a)') 'outputs in '//r%dir
     end if
   end subroutine close_outputs
+
+  !> The run's &results (mpm_results) from its history.csv, its loading walls' work, the stored
+  !! elastic energy and the bodies' unscaled mass, for depth and the whole structure. A history
+  !! that cannot be read back leaves the results out, with a warning.
+  subroutine results_of_run(s, r, res)
+    type(sim_t), intent(in) :: s
+    type(run_t), intent(in) :: r
+    type(results_t), intent(out) :: res
+    character(len=:), allocatable :: msg
+    logical :: loading(s%nwall)
+    real(wp) :: scale
+    integer :: st
+    scale = r%depth*r%factor
+    loading = loading_walls(s%walls(1:s%nwall))
+    call results_compute(r%dir//'/history.csv', s%walls(1:s%nwall), &
+      sum(s%walls(1:s%nwall)%work, mask=loading)*scale, (s%e_strain + s%e_contact)*scale, &
+      sum(s%p%mass)/r%mass_scale*scale, s%prm%nbody, res, st, msg)
+    if (st /= 0) call warn('output', 'no &results: '//msg)
+  end subroutine results_of_run
 
   !> Keep the header and the first `rows` rows of a history file (restart).
   subroutine history_truncate(path, rows, stat, errmsg)
@@ -645,6 +677,7 @@ contains
     type(run_t), intent(inout) :: r
     character(len=:), allocatable :: crash, m2
     type(snapfile_t) :: cf
+    type(results_t) :: res
     integer :: st2
     integer(i8) :: c1
     call system_clock(c1)
@@ -660,7 +693,9 @@ contains
     call history_close(r%hist)
     r%sm%status = 'unstable'
     r%sm%message = what
-    call write_summary(r%dir//'/summary.nml', s, r%sm, st2, m2)
+    call results_of_run(s, r, res)
+    call write_summary(r%dir//'/summary.nml', s, r%sm, st2, m2, res)
+    if (st2 == 0 .and. res%valid) call results_write_csv(r%dir//'/results.csv', r%title, res, st2, m2)
     call fatal('run', what//new_line('a')//'the last good state (step '// &
       itoa(r%step_good)//', t = '//rtoa(r%t_good)//' s) is in '//crash// &
       '; history.csv holds every row up to the failure', code)

@@ -4,7 +4,8 @@
 git reference and with the binary of the work tree, and compare their outputs bit for bit.
 
 Compared: history.csv (the text, byte for byte; where the work tree adds columns, every common
-column's text, row by row, and the added columns are named), summary.nml (every entry but the timings),
+column's text, row by row, and the added columns are named), summary.nml (every entry but the timings,
+group by group; a group that only the work tree writes is named, not a difference),
 input.nml (byte for byte) and every dataset of particles.h5 (exact equality of the arrays,
 NaN equal to NaN). Each binary is the release build, run on one thread. Where only one side
 writes the mirror images of a half or quarter model (the subgroup `mirrored` of each snapshot,
@@ -73,8 +74,17 @@ def run(binary, nml, folder):
                                stdout=f, stderr=subprocess.STDOUT, env=env)
 
 
-def summary_lines(path):
-    return [ln.rstrip() for ln in open(path) if not TIMING_KEYS.match(ln)]
+def summary_groups(path):
+    """summary.nml's groups as {name: [lines]}, without the timing entries."""
+    groups, name = {}, None
+    for ln in open(path):
+        ln = ln.rstrip()
+        if ln.startswith('&'):
+            name = ln[1:].split()[0].lower() if ln[1:].split() else ''
+            groups[name] = []
+        elif name is not None and not TIMING_KEYS.match(ln):
+            groups[name].append(ln)
+    return groups
 
 
 def compare_h5(a, b):
@@ -161,11 +171,19 @@ def compare(out_a, out_b, notes=None):
             diffs.append('%s: differs from line %d' % (name, first + 1))
     pa, pb = os.path.join(out_a, 'summary.nml'), os.path.join(out_b, 'summary.nml')
     if os.path.exists(pa) and os.path.exists(pb):
-        sa, sb = summary_lines(pa), summary_lines(pb)
-        if sa != sb:
-            extra = [ln for ln in sb if ln not in sa]
-            gone = [ln for ln in sa if ln not in sb]
-            diffs.append('summary.nml: differs: %s -> %s' % (gone[:3], extra[:3]))
+        ga, gb = summary_groups(pa), summary_groups(pb)
+        for g in ga:
+            sa, sb = ga[g], gb.get(g)
+            if sb is None:
+                diffs.append('summary.nml: group &%s missing' % g)
+            elif sa != sb:
+                extra = [ln for ln in sb if ln not in sa]
+                gone = [ln for ln in sa if ln not in sb]
+                diffs.append('summary.nml &%s: differs: %s -> %s' % (g, gone[:3], extra[:3]))
+        added = [g for g in gb if g not in ga]
+        if added:
+            if notes is not None:
+                notes.append('summary.nml adds ' + ', '.join('&' + g for g in added))
     else:
         diffs.append('summary.nml: missing')
     pa, pb = os.path.join(out_a, 'particles.h5'), os.path.join(out_b, 'particles.h5')

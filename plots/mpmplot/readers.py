@@ -89,6 +89,13 @@ def read_summary(path: str | os.PathLike) -> dict[str, Any]:
     return groups["summary"][0]
 
 
+def read_results(path: str | os.PathLike) -> dict[str, Any]:
+    """Read summary.nml's ``&results`` group (the absorber results, docs/output.md) as a flat
+    dict; {} for a run without a loading wall."""
+    groups = read_namelist(path)
+    return groups["results"][0] if "results" in groups else {}
+
+
 def run_failure(outdir: str | os.PathLike) -> str:
     """'' for a run whose summary.nml says 'completed', else one line saying how it ended
     (the status and message of summary.nml, or that there is no summary.nml yet)."""

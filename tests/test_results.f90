@@ -1,0 +1,146 @@
+!> The absorber results of a run (mpm_results): stroke, peak and mean force, CFE, SEA and the
+!! densification stroke by the energy-efficiency method, from a history.csv written here with a
+!! force-approach curve of closed form.
+!! Oracle: F(d) = F0 up to d1, F0 + K (d - d1)^2 beyond (a plateau, then densification), so
+!! E(d) = F0 d + K (d - d1)^3 / 3 and the efficiency E/F is largest where F^2 = E dF/dd, found
+!! here by bisection; the peak is F at the end; a platen driven against a parallel mirror plane
+!! (a quarter model) doubles the approach; a platen pair shares it.
+!!   usage: test_results [SCRATCH]
+! SPDX-License-Identifier: MIT
+program test_results
+  use mpm_kinds, only: wp
+  use mpm_walls, only: wall_t
+  use mpm_results, only: results_t, results_compute
+  use testing, only: begin_test, check, check_close, finish_tests
+  implicit none
+  real(wp), parameter :: f0 = 1.0e4_wp, d1 = 0.02_wp, kk = 4.0e8_wp, dmax = 0.04_wp
+  character(len=:), allocatable :: dir
+  character(len=512) :: arg
+
+  dir = '/tmp'
+  if (command_argument_count() > 0) then
+    call get_command_argument(1, arg)
+    dir = trim(arg)
+  end if
+  call execute_command_line('mkdir -p '//dir)
+
+  call begin_test('one platen against a fixed one')
+  call case_one(.false.)
+  call begin_test('a platen against a parallel mirror plane (quarter model)')
+  call case_one(.true.)
+  call begin_test('two platens approaching each other')
+  call case_two()
+  call finish_tests('test_results')
+
+contains
+
+  pure real(wp) function force(d)
+    real(wp), intent(in) :: d
+    force = f0 + kk*max(d - d1, 0.0_wp)**2
+  end function force
+
+  pure real(wp) function energy(d)
+    real(wp), intent(in) :: d
+    energy = f0*d + kk*max(d - d1, 0.0_wp)**3/3.0_wp
+  end function energy
+
+  !> The stroke of the largest E/F, by bisection on F^2 - E F' (positive before, negative after).
+  real(wp) function densification() result(d)
+    real(wp) :: a, b, g
+    integer :: it
+    a = d1
+    b = dmax
+    do it = 1, 200
+      d = 0.5_wp*(a + b)
+      g = force(d)**2 - energy(d)*2.0_wp*kk*(d - d1)
+      if (g > 0.0_wp) then
+        a = d
+      else
+        b = d
+      end if
+    end do
+  end function densification
+
+  subroutine write_history(path, nwall, adv)
+    character(len=*), intent(in) :: path
+    integer, intent(in) :: nwall
+    real(wp), intent(in) :: adv            !! each loading wall's share of the approach [-]
+    integer :: u, i, k, n
+    real(wp) :: d
+    n = 4001
+    open(newunit=u, file=path, status='replace', action='write')
+    write(u, '(a)', advance='no') 'time'
+    do k = 1, nwall
+      write(u, '(a,i0,a,i0,a,i0,a,i0,a)', advance='no') ',wall', k, '_disp,wall', k, &
+        '_force,wall', k, '_fx,wall', k, '_fy'
+    end do
+    write(u, '(a)') ',kinetic,strain,plastic,external'
+    do i = 1, n
+      d = dmax*real(i - 1, wp)/real(n - 1, wp)
+      write(u, '(es24.16e3)', advance='no') 1.0e-3_wp*d
+      do k = 1, nwall
+        write(u, '(4(",",es24.16e3))', advance='no') -adv*d, force(d), 0.0_wp, force(d)
+      end do
+      write(u, '(4(",",es24.16e3))') 0.0_wp, 0.0_wp, 0.5_wp*energy(d), energy(d)
+    end do
+    close(u)
+  end subroutine write_history
+
+  subroutine expect(res, dd)
+    type(results_t), intent(in) :: res
+    real(wp), intent(in) :: dd             !! closed-form densification stroke
+    real(wp) :: e
+    e = energy(dmax)
+    call check(res%valid, 'results valid')
+    call check_close(res%stroke, dmax, 'stroke = the largest approach', rtol=1.0e-12_wp)
+    call check_close(res%peak_force, force(dmax), 'peak force = F at the end', rtol=1.0e-12_wp)
+    call check_close(res%absorbed_energy, e - 0.1_wp*e, 'absorbed = work - stored', rtol=1.0e-12_wp)
+    call check_close(res%mean_force, 0.9_wp*e/dmax, 'mean force = absorbed / stroke', rtol=1.0e-12_wp)
+    call check_close(res%cfe, 0.9_wp*e/dmax/force(dmax), 'cfe = mean / peak', rtol=1.0e-12_wp)
+    call check_close(res%sea, 0.9_wp*e/2.5_wp, 'sea = absorbed / mass', rtol=1.0e-12_wp)
+    ! the curve is sampled every 1e-5 m and its force averaged over +-1 % of the stroke
+    call check(abs(res%densification_stroke - dd) <= 0.01_wp*dmax, &
+               'densification stroke within 1 % of the stroke of the closed form')
+    call check(dd > d1 .and. dd < dmax, 'the closed form densifies within the stroke')
+  end subroutine expect
+
+  subroutine case_one(mirror)
+    logical, intent(in) :: mirror
+    type(wall_t) :: walls(2)
+    type(results_t) :: res
+    integer :: st
+    character(len=:), allocatable :: msg, path
+    real(wp) :: e
+    walls(1)%normal = [0.0_wp, -1.0_wp]
+    walls(1)%velocity = [0.0_wp, -1.0_wp]
+    walls(2)%normal = [0.0_wp, 1.0_wp]
+    walls(2)%mirror = mirror              ! a quarter model's lower mirror plane, or a platen
+    path = dir//'/history_one.csv'
+    call write_history(path, 2, merge(0.5_wp, 1.0_wp, mirror))
+    e = energy(dmax)
+    call results_compute(path, walls, e, 0.1_wp*e, 2.5_wp, 1, res, st, msg)
+    call check(st == 0, 'history read: '//msg)
+    call check(res%loading_wall == 1, 'the moving platen loads, the other wall does not')
+    call expect(res, densification())
+  end subroutine case_one
+
+  subroutine case_two()
+    type(wall_t) :: walls(2)
+    type(results_t) :: res
+    integer :: st
+    character(len=:), allocatable :: msg, path
+    real(wp) :: e
+    walls(1)%normal = [0.0_wp, -1.0_wp]
+    walls(1)%velocity = [0.0_wp, -1.0_wp]
+    walls(2)%normal = [0.0_wp, 1.0_wp]
+    walls(2)%velocity = [0.0_wp, 1.0_wp]
+    path = dir//'/history_two.csv'
+    call write_history(path, 2, 0.5_wp)    ! each advances half the approach
+    e = energy(dmax)
+    call results_compute(path, walls, e, 0.1_wp*e, 2.5_wp, 1, res, st, msg)
+    call check(st == 0, 'history read: '//msg)
+    call check(res%n_loading == 2, 'both platens load')
+    call expect(res, densification())
+  end subroutine case_two
+
+end program test_results
