@@ -211,12 +211,30 @@ def plot_crush(history: History, inputs: Inputs, outdir: str, experiment: str | 
         absorbed = float(np.sum(0.5 * (force[1:] + force[:-1]) * np.diff(disp)))
         numbers.append(f"work on platen    {absorbed:.6g} J (integral of F d delta); plastic "
                        f"{history['plastic'][-1]:.6g} J")
+    res = _results(outdir)
+    if res:
+        metrics = (f"stroke {res['stroke'] * 1e3:.4g} mm, absorbed {res['absorbed_energy']:.4g} J\n"
+                   f"mean force {res['mean_force'] * 1e-3:.4g} kN, CFE {res['cfe']:.3f}\n"
+                   f"SEA {res['sea'] * 1e-3:.4g} kJ/kg (mass {res['mass']:.4g} kg)")
+        ratio_text = metrics if ratio_text is None else metrics + "\n" + ratio_text
+        numbers.append(f"results           stroke {res['stroke']:.6g} m, peak {res['peak_force']:.6g} N, "
+                       f"mean {res['mean_force']:.6g} N, CFE {res['cfe']:.4g}, absorbed "
+                       f"{res['absorbed_energy']:.6g} J, SEA {res['sea']:.6g} J/kg, densification "
+                       f"{res['densification_stroke']:.6g} m (summary.nml &results)")
     ax2.set_xlabel(r"platen approach $\delta$ [mm]")
     ax2.set_ylabel(f"energy [J] (depth {depth:g} m)")
     ax2.set_title("energies")
     ax2.set_xlim(left=0.0)
     _left_legend(ax2, ratio_text)
     return fig, numbers
+
+
+def _results(outdir: str) -> dict[str, Any]:
+    """summary.nml's &results of the run ({} when absent or unreadable)."""
+    try:
+        return readers.read_results(os.path.join(outdir, "summary.nml"))
+    except (OSError, ValueError):
+        return {}
 
 
 # ----------------------------------------------------------------------------------------------
