@@ -32,10 +32,15 @@ HDF5_LIBS   ?= $(shell pkg-config --libs-only-L hdf5 2>/dev/null) -lhdf5_fortran
 CFLAGS_shim := -O2 -std=c99 -Wall -Wextra $(CFLAGS_$(BUILD))
 
 BLD     ?= build/$(BUILD)
-SRC     := $(wildcard src/*.f90)
-CSRC    := $(wildcard src/*.c)
-LIBOBJ  := $(patsubst src/%.f90,$(BLD)/%.o,$(filter-out src/tubempm.f90,$(SRC))) \
-           $(patsubst src/%.c,$(BLD)/%.o,$(CSRC))
+# the sources: src/ and every folder below it (one folder per layer, docs/architecture.md);
+# the objects and modules of a build sit side by side in $(BLD), found by file name (vpath)
+rwildcard = $(foreach d,$(wildcard $(1:=/*)),$(call rwildcard,$d,$2) $(filter $(subst *,%,$2),$d))
+SRC     := $(sort $(call rwildcard,src,*.f90))
+CSRC    := $(sort $(call rwildcard,src,*.c))
+LIBOBJ  := $(patsubst %.f90,$(BLD)/%.o,$(notdir $(filter-out %/tubempm.f90,$(SRC)))) \
+           $(patsubst %.c,$(BLD)/%.o,$(notdir $(CSRC)))
+vpath %.f90 $(sort $(dir $(SRC)))
+vpath %.c $(sort $(dir $(CSRC)))
 TESTSRC := $(wildcard tests/test_*.f90)
 TESTS   := $(patsubst tests/%.f90,$(BLD)/%,$(TESTSRC))
 FC_ALL  := $(FC) $(FFLAGS_common) $(FFLAGS_$(BUILD))
@@ -61,10 +66,10 @@ bin:
 $(BLD):
 	mkdir -p $@
 
-$(BLD)/%.o: src/%.f90 | $(BLD)
+$(BLD)/%.o: %.f90 | $(BLD)
 	$(FC_ALL) $(HDF5_FFLAGS) -J$(BLD) -c -o $@ $<
 
-$(BLD)/%.o: src/%.c | $(BLD)
+$(BLD)/%.o: %.c | $(BLD)
 	$(CC) $(CFLAGS_shim) -c -o $@ $<
 
 $(BLD)/tubempm: $(LIBOBJ) $(BLD)/tubempm.o
@@ -120,7 +125,7 @@ run: all
 
 ## bench: release build, then the fixed benchmark scenes (4-6 min, run it on an idle machine);
 ##        table and plot in docs/bench/ (BENCH_FLAGS=--quick: up to 1e5 particles only), and
-##        --check's throughput (tools/advice_tables.py writes src/mpm_bench_table.inc)
+##        --check's throughput (tools/advice_tables.py writes src/advice/mpm_bench_table.inc)
 BENCH_BLD := $(if $(filter command line,$(origin BLD)),$(BLD),build/release)
 bench: deps
 	@$(MAKE) --no-print-directory BUILD=release BLD=$(BENCH_BLD) $(BENCH_BLD)/bench
@@ -143,7 +148,7 @@ study: all
 	@$(MAKE) --no-print-directory all    # --check's advice table may have changed
 
 ## figures: regenerate the study's figures (docs/study/) from the committed table and curves,
-##          and --check's advice table (tools/advice_tables.py writes src/mpm_advice_table.inc;
+##          and --check's advice table (tools/advice_tables.py writes src/advice/mpm_advice_table.inc;
 ##          rebuilt when it changed); the stability study's figures (docs/stability/) from its
 ##          committed tables
 figures: deps
@@ -165,7 +170,7 @@ fe-reference: deps
 ##            thread): LEVEL=quick (default, < 10 min; tables and figures in out/stability-quick/)
 ##            or LEVEL=full (docs/stability/); runs in build/stability/ (reused when unchanged);
 ##            then --check's cfl limits from docs/stability/ (tools/advice_tables.py writes
-##            src/mpm_stability_table.inc); BACKEND=slurm and BATCH_FLAGS as for study
+##            src/advice/mpm_stability_table.inc); BACKEND=slurm and BATCH_FLAGS as for study
 stability: all
 	$(PYTHON) tools/stability.py --level $(LEVEL) --backend $(BACKEND) $(BATCH_FLAGS)
 	$(PYTHON) plots/plot_stability.py --level $(LEVEL)

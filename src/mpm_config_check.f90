@@ -7,7 +7,7 @@ module mpm_config_check
                            SECTOR_HALF, SECTOR_QUARTER, VOLUMETRIC_FBAR, VOLUMETRIC_FBARWALL, &
                            PLANE_STRESS, MODEL_NEOHOOKEAN
   use mpm_config_types, only: config_t
-  use mpm_shapes, only: body_box
+  use mpm_bodies, only: body_box
   use mpm_config_text, only: lower, itoa, quote, file_stem, fmt_short, fmt_vec, fmt_real
   use mpm_config_table, only: n_groups
   use mpm_config_lexer, only: reader_t, occurrence

@@ -7,7 +7,7 @@ module mpm_config_types
   use mpm_kinds, only: wp
   use mpm_constants, only: name_len, path_len, max_table
   use mpm_material, only: material_cfg_t   ! &material: the model owns its parameters
-  use mpm_shapes, only: body_cfg_t         ! &body: the shapes own theirs
+  use mpm_bodies, only: body_cfg_t         ! &body: the shapes own theirs
   implicit none
   private
   public :: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, body_cfg_t, &

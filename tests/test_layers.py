@@ -1,12 +1,14 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
-"""The layers of docs/architecture.md hold: read its layer table and the `use` lines of
-src/*.f90; no module uses a module of a lower layer (a later row of the table), and every
-module and program of src/ is in the table. The checker is first run on a made-up table and
-sources with one upward and one downward use, so that it is seen to catch the wrong one.
-Prints `test_layers: N passed, M failed` last. Standard library only.
+"""The layers of src/ hold, read from its folders: every module's `use` lines reach only
+modules of its own layer or of a lower one (LAYERS, lowest first; docs/architecture.md's layer
+table names the same folders in the same order). Every source of src/ lies in a folder of a
+layer, and no two sources share a file name (the build puts every object in one folder).
+Files at the top of src/ count as the input layer for now (the input reader,
+src/mpm_config*.f90, and the files added beside it). The checker is first run on a made-up
+tree with one use of a lower layer and one of a higher one, so that it is seen to catch the
+wrong one. Prints `test_layers: N passed, M failed` last. Standard library only.
 """
-import fnmatch
 import re
 import sys
 from pathlib import Path
@@ -19,85 +21,117 @@ from pycheck import Checks  # noqa: E402
 T = Checks("test_layers")
 check = T.check
 
-ROW = re.compile(r"^\|\s*([^|]+?)\s*\|\s*([^|]+?)\s*\|")
+# (layer, its folders under src/), lowest first; "" is the top of src/. A layer may use itself
+# and the layers before it. method and contact are one layer in two folders: the state holds
+# the contact's work arrays, and the contact's phases take the state. input and advice are one
+# too: the advice reads the case (config_t), and the reader's checks call the advice's unit
+# rule and wall-thickness warning.
+LAYERS = [
+    ("base", ["base"]),
+    ("method", ["method", "contact"]),
+    ("bodies", ["bodies"]),
+    ("input", ["", "input", "advice"]),
+    ("io", ["io"]),
+    ("driver", ["driver"]),
+]
+
 UNIT = re.compile(r"^\s*(module|program)\s+(\w+)\s*(!.*)?$", re.IGNORECASE)
 USE = re.compile(r"^\s*use\s*(?:,\s*\w+\s*::)?\s*(\w+)", re.IGNORECASE)
+ROW = re.compile(r"^\|\s*([^|]+?)\s*\|\s*([^|]+?)\s*\|")
 
 
-def layers(markdown: str) -> list[tuple[str, list[str]]]:
-    """The rows of the table under '## Layers' (Python's excepted): layer name, name patterns
-    (`mpm_config*`; a program by its file name, `tubempm.f90`)."""
-    out = []
-    part = markdown.split("## Layers", 1)[1].split("\n## ", 1)[0]
-    for line in part.splitlines():
-        m = ROW.match(line)
-        if not m or m.group(1) in ("layer", "Python") or set(m.group(1)) <= set("-"):
-            continue
-        out.append((m.group(1), [p.removesuffix(".f90") for p in re.findall(r"`([^`]+)`",
-                                                                            m.group(2))]))
-    return out
+def folder_of(rel: str) -> str:
+    """The layer folder of a path relative to src/: its first folder, "" at the top."""
+    parts = rel.split("/")
+    return parts[0] if len(parts) > 1 else ""
 
 
-def units(sources: dict[str, str]) -> dict[str, list[str]]:
-    """Module or program name -> the modules it uses, from the text of each file."""
-    out: dict[str, list[str]] = {}
-    for text in sources.values():
+def units(sources: dict[str, str]) -> dict[str, tuple[str, list[str]]]:
+    """Module or program name -> (its file, the modules it uses), from each file's text."""
+    out: dict[str, tuple[str, list[str]]] = {}
+    for rel, text in sources.items():
         name = None
         for line in text.splitlines():
             m = UNIT.match(line)
             if m and m.group(2).lower() != "procedure":
                 name = m.group(2).lower()
-                out.setdefault(name, [])
+                out.setdefault(name, (rel, []))
             u = USE.match(line)
             if u and name:
-                out[name].append(u.group(1).lower())
+                out[name][1].append(u.group(1).lower())
     return out
 
 
-def violations(table: list[tuple[str, list[str]]], used: dict[str, list[str]]
-               ) -> tuple[list[str], list[str]]:
-    """The uses of a lower layer's module, and the units that are in no layer."""
-    def layer_of(name: str) -> int | None:
-        for k, (_, pats) in enumerate(table):
-            if any(fnmatch.fnmatchcase(name, p.lower()) for p in pats):
-                return k
-        return None
-    down, missing = [], []
-    for name, uses in sorted(used.items()):
-        k = layer_of(name)
+def violations(layers, sources: dict[str, str]) -> tuple[list[str], list[str]]:
+    """The uses of a higher layer's module, and the files in no layer's folder."""
+    rank = {f: k for k, (_, folders) in enumerate(layers) for f in folders}
+    up, stray = [], []
+    used = units(sources)
+    for rel in sorted(sources):
+        if folder_of(rel) not in rank:
+            stray.append(rel)
+    for name, (rel, uses) in sorted(used.items()):
+        k = rank.get(folder_of(rel))
         if k is None:
-            missing.append(name)
             continue
         for u in uses:
-            j = layer_of(u) if u in used else None     # intrinsic and library modules: no layer
+            if u not in used:           # intrinsic and library modules (hdf5): no layer
+                continue
+            j = rank.get(folder_of(used[u][0]))
             if j is not None and j > k:
-                down.append(f"{name} ({table[k][0]}) uses {u} ({table[j][0]})")
-    return down, missing
+                up.append(f"{name} (src/{rel}, {layers[k][0]}) uses {u} "
+                          f"(src/{used[u][0]}, {layers[j][0]})")
+    return up, stray
 
 
 def main() -> int:
-    # the checker on a made-up case: b (kernels) may use a (base); a using b is the wrong way
-    toy = "## Layers\n\n| layer | modules | what |\n|---|---|---|\n" \
-          "| base | `m_a` | x |\n| kernels | `m_b*` | y |\n\n## Next\n"
-    down, missing = violations(layers(toy), units({
-        "a.f90": "module m_a\n  use m_b2, only: f\nend module m_a\n",
-        "b.f90": "module m_b2\n  use m_a\n  use iso_c_binding\nend module m_b2\n",
-        "c.f90": "module m_c\nend module m_c\n"}))
-    check(down == ["m_a (base) uses m_b2 (kernels)"], f"the made-up downward use: {down}")
-    check(missing == ["m_c"], f"the made-up module in no layer: {missing}")
+    # the checker on a made-up tree: b (kernels) may use a (base); a using b is the wrong way
+    toy = [("base", ["base"]), ("kernels", ["kern", ""])]
+    up, stray = violations(toy, {
+        "base/a.f90": "module m_a\n  use m_b2, only: f\nend module m_a\n",
+        "kern/b.f90": "module m_b2\n  use m_a\n  use iso_c_binding\nend module m_b2\n",
+        "top.f90": "module m_t\n  use m_a\n  use m_b2\nend module m_t\n",
+        "other/c.f90": "module m_c\nend module m_c\n"})
+    check(up == ["m_a (src/base/a.f90, base) uses m_b2 (src/kern/b.f90, kernels)"],
+          f"the made-up use of a higher layer: {up}")
+    check(stray == ["other/c.f90"], f"the made-up file in no layer's folder: {stray}")
 
-    table = layers((ROOT / "docs" / "architecture.md").read_text())
-    check(len(table) >= 6, f"docs/architecture.md: layer table of {len(table)} rows")
-    sources = {p.name: p.read_text() for p in sorted((ROOT / "src").glob("*.f90"))}
+    src = ROOT / "src"
+    paths = sorted(p for p in src.rglob("*") if p.suffix in (".f90", ".c", ".inc"))
+    rel = {p.relative_to(src).as_posix(): p for p in paths}
+    sources = {r: p.read_text() for r, p in rel.items() if p.suffix == ".f90"}
     used = units(sources)
     check(len(used) >= 40, f"src/: {len(used)} modules and programs found")
-    down, missing = violations(table, used)
-    for v in down:
-        check(False, f"a use of a lower layer: {v} (docs/architecture.md, Layers)")
-    for name in missing:
-        check(False, f"src/: {name} is in no layer of docs/architecture.md")
-    check(not down and not missing, f"{len(used)} units in {len(table)} layers, every use "
-          "of its own layer or one above")
+    up, stray = violations(LAYERS, {r: (p.read_text() if p.suffix == ".f90" else "")
+                                    for r, p in rel.items()})
+    for v in up:
+        check(False, f"a use of a higher layer: {v} (tests/test_layers.py, LAYERS)")
+    for r in stray:
+        check(False, f"src/{r} is in no layer's folder (tests/test_layers.py, LAYERS)")
+    check(not up and not stray, f"{len(used)} units in {len(LAYERS)} layers, every use of "
+          "its own layer or a lower one")
+
+    names: dict[str, list[str]] = {}
+    for r, p in rel.items():
+        if p.suffix != ".inc":
+            names.setdefault(p.stem, []).append(r)
+    twins = {n: rs for n, rs in names.items() if len(rs) > 1}
+    check(not twins, f"sources of one file name in two folders (one build folder): {twins}")
+    for r, text in sources.items():
+        for inc in re.findall(r"^\s*include\s+['\"]([^'\"]+)['\"]", text, re.M | re.I):
+            check((rel[r].parent / inc).is_file(), f"src/{r} includes {inc}: not beside it")
+
+    # docs/architecture.md's layer table: the same folders in the same order
+    part = (ROOT / "docs" / "architecture.md").read_text().split("## Layers", 1)[1]
+    part = part.split("\n## ", 1)[0]
+    listed = []
+    for line in part.splitlines():
+        m = ROW.match(line)
+        if m:
+            listed += [f.strip("/").removeprefix("src").strip("/")
+                       for f in re.findall(r"`(src/[\w/]*)`", m.group(2))]
+    want = [f for _, folders in LAYERS for f in folders]
+    check(listed == want, f"docs/architecture.md, Layers: folders {listed}, expected {want}")
     return T.summary()
 
 

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MIT
-"""`&run end_at_release` (src/mpm_release.f90): a run ends when its contact is over.
+"""`&run end_at_release` (src/driver/mpm_release.f90): a run ends when its contact is over.
 
 Scenes (debug build, one thread, about 20 s in all):
 

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
 """Self-contact of a ring crushed to densification (`&body self_contact = .true.`,
-src/mpm_self_contact.f90, docs/theory.md "Self-contact"), run with the binary under test. The
-oracles come from the particle domains in particles.h5 and from closed forms, not from the
+src/contact/mpm_self_contact.f90, docs/theory.md "Self-contact"), run with the binary under test.
+The oracles come from the particle domains in particles.h5 and from closed forms, not from the
 contact code.
 
 A thick steel ring (r 8.75/10 mm, t/D = 0.0625, half model, CPDI1, h = t/2, n_thick = 4,

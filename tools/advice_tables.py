@@ -2,18 +2,18 @@
 # SPDX-License-Identifier: MIT
 """Write the tables that `tubempm --check` compiles in, from the studies' committed results.
 
-    src/mpm_advice_table.inc     the refinement study's runs and the scenes and error targets
-                                 of its advice (docs/study/study_full.csv; plots/plot_study.py's
-                                 `advice`); tubempm picks the cheapest run per target among
-                                 those its own warnings do not condemn
-    src/mpm_stability_table.inc  the largest cfl at which the stability study's impact scene
-                                 completes, and the largest at which it is stable (the basis of
-                                 the automatic cfl), per scheme and basis, at 2 and at 1 particle
-                                 per cell through the wall (docs/stability/cfl_limits_ppc*.csv),
-                                 and the smallest cfl the study tried (cfl_runs_ppc*.csv)
-    src/mpm_bench_table.inc      the throughput per basis on 1 and 2 threads (particle-steps
-                                 per second, the median over the scenes and sizes of the newest
-                                 docs/bench/bench_*.csv): --check's wall-time estimate
+    src/advice/mpm_advice_table.inc     the refinement study's runs and the scenes and error targets
+                                        of its advice (docs/study/study_full.csv; plots/plot_study.py's
+                                        `advice`); tubempm picks the cheapest run per target among
+                                        those its own warnings do not condemn
+    src/advice/mpm_stability_table.inc  the largest cfl at which the stability study's impact scene
+                                        completes, and the largest at which it is stable (the basis of
+                                        the automatic cfl), per scheme and basis, at 2 and at 1 particle
+                                        per cell through the wall (docs/stability/cfl_limits_ppc*.csv),
+                                        and the smallest cfl the study tried (cfl_runs_ppc*.csv)
+    src/advice/mpm_bench_table.inc      the throughput per basis on 1 and 2 threads (particle-steps
+                                        per second, the median over the scenes and sizes of the newest
+                                        docs/bench/bench_*.csv): --check's wall-time estimate
 
 A file is rewritten only when its text changes (no rebuild otherwise). `make study`,
 `make figures` and `make stability` call this script; plots/ writes nothing into src/.
@@ -197,22 +197,22 @@ def bench_include(folder: Path) -> str:
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--study", action="store_true", help="only src/mpm_advice_table.inc")
-    ap.add_argument("--stability", action="store_true", help="only src/mpm_stability_table.inc")
-    ap.add_argument("--bench", action="store_true", help="only src/mpm_bench_table.inc")
+    ap.add_argument("--study", action="store_true", help="only src/advice/mpm_advice_table.inc")
+    ap.add_argument("--stability", action="store_true", help="only src/advice/mpm_stability_table.inc")
+    ap.add_argument("--bench", action="store_true", help="only src/advice/mpm_bench_table.inc")
     args = ap.parse_args(argv)
     both = not (args.study or args.stability or args.bench)
     if args.study or both:
         from plot_study import advice, read_table
         table = ROOT / "docs" / "study" / "study_full.csv"
         rows = read_table(table)
-        write_if_changed(ROOT / "src" / "mpm_advice_table.inc",
+        write_if_changed(ROOT / "src" / "advice" / "mpm_advice_table.inc",
                          study_include(rows, advice(rows), "docs/study/study_full.csv"))
     if args.stability or both:
-        write_if_changed(ROOT / "src" / "mpm_stability_table.inc",
+        write_if_changed(ROOT / "src" / "advice" / "mpm_stability_table.inc",
                          stability_include(ROOT / "docs" / "stability"))
     if args.bench or both:
-        write_if_changed(ROOT / "src" / "mpm_bench_table.inc",
+        write_if_changed(ROOT / "src" / "advice" / "mpm_bench_table.inc",
                          bench_include(ROOT / "docs" / "bench"))
     return 0
 

@@ -50,7 +50,7 @@ def routines(text):
 def measure(root=ROOT):
     """{'modules': [(path, lines)], 'routines': [(path, name, lines)], 'reader': lines}."""
     modules, rows = [], []
-    for path in sorted(glob.glob(os.path.join(root, "src", "*.f90"))):
+    for path in sorted(glob.glob(os.path.join(root, "src", "**", "*.f90"), recursive=True)):
         with open(path) as f:
             text = f.read()
         rel = os.path.relpath(path, root)

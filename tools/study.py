@@ -115,8 +115,8 @@ FE_REFERENCE = "fe_reference/crush_fe.csv"
 #: The automatic cfl (``&run cfl = 0``, docs/input.md) is CFL_MARGIN times the largest cfl at
 #: which the stability study found the basis and scheme stable (docs/stability/
 #: cfl_limits_ppc*.csv: at 1 particle per cell through the wall below PPC_LOW, else at 2), or
-#: CFL_MARGIN times the smallest cfl it tried where it found none stable: src/mpm_advice.f90's
-#: cfl_automatic, which tests/test_study.py holds this to.
+#: CFL_MARGIN times the smallest cfl it tried where it found none stable:
+#: src/advice/mpm_advice.f90's cfl_automatic, which tests/test_study.py holds this to.
 CFL_MARGIN = 0.5
 PPC_LOW = 1.5
 STABILITY = ROOT / "docs" / "stability"

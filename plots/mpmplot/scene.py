@@ -199,7 +199,7 @@ def scene_kind(outdir: str | os.PathLike | None = None,
                case: str | os.PathLike | None = None) -> str:
     """Which scenario a case is: 'crush', 'wave', 'impact' or 'generic'.
 
-    The answer is always tubempm's own (one classifier, ``scene_of`` in src/mpm_advice.f90):
+    The answer is always tubempm's own (one classifier, ``scene_of`` in src/advice/mpm_advice.f90):
     the ``scene`` entry of ``<outdir>/summary.nml``; for a case not run yet, or an output
     written before summary.nml had that entry, what ``tubempm --scene`` prints for
     ``<outdir>/input.nml`` (the resolved input) or else for the case file. FileNotFoundError

@@ -9,7 +9,7 @@ module mpm_setup
                            VOLUMETRIC_STANDARD, CONTACT_FRICTIONLESS, contact_names
   use mpm_config, only: config_t
   use mpm_particles, only: particles_allocate, basis_reach
-  use mpm_shapes, only: body_counts, body_fill, body_report
+  use mpm_bodies, only: body_counts, body_fill, body_report
   use mpm_grid, only: grid_init
   use mpm_tiles, only: tiles_init
   use mpm_walls, only: wall_t

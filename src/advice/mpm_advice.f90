@@ -5,8 +5,8 @@
 !! run nearest to the input's resolution.
 !!
 !! The data are compiled in from two generated tables (tools/advice_tables.py writes both):
-!! src/mpm_advice_table.inc (the refinement study, docs/study/study_full.csv) and
-!! src/mpm_stability_table.inc (the largest stable cfl per scheme and basis,
+!! src/advice/mpm_advice_table.inc (the refinement study, docs/study/study_full.csv) and
+!! src/advice/mpm_stability_table.inc (the largest stable cfl per scheme and basis,
 !! docs/stability/cfl_limits_ppc*.csv), which also gives the automatic cfl (`cfl = 0`:
 !! cfl_margin times the largest stable cfl). The errors hold for the studies' scenes; for other
 !! tubes they are a guide in the dimensionless settings (h/t, n_t, particle aspect ratio), not a
@@ -326,7 +326,7 @@ contains
   end subroutine push
 
   !> The wall time of a run of `work` particle-steps on `threads` threads of the release build
-  !! at the throughput `make bench` measured (src/mpm_bench_table.inc, docs/performance.md)
+  !! at the throughput `make bench` measured (src/advice/mpm_bench_table.inc, docs/performance.md)
   !! [s], and a warning line when it is beyond an hour ('' otherwise).
   subroutine advice_wall_time(work, basis, threads, seconds, rate, warning)
     real(wp), intent(in) :: work           !! particles x steps [-]
@@ -434,7 +434,7 @@ contains
 
   !> Where the stability study (docs/stability.md, tools/stability.py) found the method
   !! failing: particles per cell through the wall, cfl against the measured limit for the
-  !! scheme and basis (src/mpm_stability_table.inc), USL, linear weights, PIC blending.
+  !! scheme and basis (src/advice/mpm_stability_table.inc), USL, linear weights, PIC blending.
   subroutine advice_stability(cfg, cfl, warnings)
     type(config_t), intent(in) :: cfg
     real(wp), intent(in) :: cfl              !! the cfl in use [-]

@@ -22,7 +22,7 @@ module mpm_budget
                            SECTOR_QUARTER, BASIS_CPDI2, VOLUMETRIC_FBAR, &
                            VOLUMETRIC_FBARWALL, CONTACT_SLIP
   use mpm_config, only: config_t
-  use mpm_shapes, only: body_box, body_estimate
+  use mpm_bodies, only: body_box, body_estimate
   use mpm_particles, only: basis_reach, basis_block
   use mpm_advice, only: advice_units
   use mpm_strings, only: itoa, sci

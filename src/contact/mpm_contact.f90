@@ -6,16 +6,16 @@
 ! SPDX-License-Identifier: MIT
 !
 ! The node velocity update (momentum and force over mass, damping) runs in the same pass over
-! the live nodes as the mirror planes, so both grid loops live here: grid_velocity_walls (the
-! USF velocity and the MUSL re-map: no reactions) and grid_update_walls (step 3: the momentum
-! the walls add is their impulse). Node sums (impulses, damping) are formed per live span and
-! added in span order, so they do not depend on the thread count; the surface points are
-! gathered and pushed in corner (or particle) order.
+! the live nodes as the mirror planes: mpm_grid_update's loops call row_walls here on each
+! row they update (grid_velocity_walls, the USF velocity and the MUSL re-map: no reactions;
+! grid_update_walls, step 3: the momentum the walls add is their impulse). Node sums
+! (impulses) are formed per live span and added in span order, so they do not depend on the
+! thread count; the surface points are gathered and pushed in corner (or particle) order.
 module mpm_contact
   use mpm_kinds, only: wp
   use mpm_constants, only: CONTACT_SLIP, EXIT_NUMERIC
   use mpm_grid, only: grid_t
-  use mpm_tiles, only: tiles_t, tiles_span
+  use mpm_tiles, only: tiles_t
   use mpm_walls, only: wall_velocity, wall_mirror_node, wall_travel
   use mpm_surface_contact, only: surface_points, surface_push, surface_friction, surface_energy, &
                                  contact_alpha
@@ -25,8 +25,10 @@ module mpm_contact
   use mpm_strings, only: itoa, rtoa
   implicit none
   private
-  public :: grid_velocity_walls, grid_update_walls, contact_begin_step, contact_reactions, &
-            contact_energy, contact_check, slip_span_columns
+  public :: contact_begin_step, contact_reactions, contact_energy, contact_check, &
+            slip_span_columns
+  ! for the node loops of mpm_grid_update
+  public :: wall_setup, surface_forces, surface_friction_walls, slip_columns, row_walls
 
 contains
 
@@ -56,84 +58,6 @@ contains
                          wall_velocity(st%walls(k), st%t - 0.5_wp*dt))
     end do
   end subroutine contact_reactions
-
-  !> Steps 2 (USF) and 5 (MUSL): node velocity = momentum / mass on active nodes (zero
-  !! elsewhere), then the mirror planes on each active node (no reactions recorded; the
-  !! other walls act by forces, in step 3 only).
-  subroutine grid_velocity_walls(st, g, tl, wk, dt)
-    type(state_t), intent(in) :: st        !! state (walls, time)
-    type(grid_t), intent(inout) :: g       !! grid: velocities
-    type(tiles_t), intent(inout) :: tl     !! live spans (span sums untouched)
-    type(work_t), intent(inout) :: wk      !! per-wall data of the step
-    real(wp), intent(in) :: dt             !! time step [s]
-    integer :: k, i0, i1, j0, j1, j, n0, f, ib, ia
-    real(wp) :: tol
-    call wall_setup(st, g, wk, dt, tol)
-    !$omp parallel do default(none) schedule(static) shared(st, g, tl, wk, dt, tol) &
-    !$omp   private(k, i0, i1, j0, j1, j, n0, f, ib, ia) if(wk%par)
-    do k = 1, tl%nspan
-      call tiles_span(tl, k, i0, i1, j0, j1)
-      call slip_columns(st, wk, g, i0, i1, j0, j1, ib, ia)
-      do f = 0, g%nf - 1
-        do j = j0, j1
-          n0 = g%nx*j + f*g%nn                 ! node (i, j) of field f is n0 + 1 + i
-          call velocity_row(i0, i1, n0, size(g%mass), g%mass, g%mom, g%mass_cut, g%vel)
-          call row_walls(st, wk, g, tl, i0, i1, ib, ia, j, n0, tol, 0, 0.0_wp)
-        end do
-      end do
-    end do
-    !$omp end parallel do
-  end subroutine grid_velocity_walls
-
-  !> Step 3: momentum update with the nodal force, the walls' surface forces and mass-
-  !! proportional damping, then the mirror planes node by node and the walls' friction.
-  !! vel = new velocity, dvel = its change (with the walls' part, so that FLIP sees the
-  !! contact); the momentum the walls add is their impulse on the material.
-  subroutine grid_update_walls(prm, st, g, tl, wk, dt)
-    type(params_t), intent(in) :: prm      !! parameters (damping, basis, wave speed)
-    type(state_t), intent(inout) :: st     !! state: wall impulses, damped energy
-    type(grid_t), intent(inout) :: g       !! grid: forces, velocities
-    type(tiles_t), intent(inout) :: tl     !! live spans, partial sums per span
-    type(work_t), intent(inout) :: wk      !! per-wall data, surface points
-    real(wp), intent(in) :: dt             !! time step [s]
-    integer :: k, i0, i1, j0, j1, j, n0, nact, iw, f, ib, ia
-    real(wp) :: fac, edamp, damping, tol, flip
-    call wall_setup(st, g, wk, dt, tol)
-    call surface_forces(prm, st, g, wk, dt)
-    flip = prm%flip
-    fac = 1.0_wp/(1.0_wp + prm%damping*dt)      ! implicit decay of the damping term
-    damping = prm%damping
-    nact = 0
-    !$omp parallel do default(none) schedule(static) &
-    !$omp   shared(st, g, tl, wk, dt, fac, damping, tol, flip) &
-    !$omp   private(k, i0, i1, j0, j1, j, n0, edamp, f, ib, ia) reduction(+: nact) &
-    !$omp   if(wk%par)
-    do k = 1, tl%nspan
-      call tiles_span(tl, k, i0, i1, j0, j1)
-      call slip_columns(st, wk, g, i0, i1, j0, j1, ib, ia)
-      edamp = 0.0_wp
-      tl%span_sum(:, k) = 0.0_wp
-      do f = 0, g%nf - 1
-        do j = j0, j1
-          n0 = g%nx*j + f*g%nn                 ! node (i, j) of field f is n0 + 1 + i
-          call update_row(i0, i1, n0, size(g%mass), g%mass, g%mom, g%force, g%mass_cut, dt, &
-                          damping, fac, g%vel, g%dvel, edamp, nact)
-          call row_walls(st, wk, g, tl, i0, i1, ib, ia, j, n0, tol, k, flip)
-        end do
-      end do
-      tl%span_sum(1, k) = edamp
-    end do
-    !$omp end parallel do
-    g%nactive = nact
-    st%e_damped = st%e_damped + sum(tl%span_sum(1, 1:tl%nspan))
-    do iw = 1, st%nwall                     ! tile order: independent of the thread count
-      if (st%walls(iw)%contact /= CONTACT_SLIP) cycle
-      do k = 1, tl%nspan
-        st%walls(iw)%impulse = st%walls(iw)%impulse + tl%span_sum(2*iw:2*iw + 1, k)
-      end do
-    end do
-    call surface_friction_walls(st, g, wk, tol)
-  end subroutine grid_update_walls
 
   !> The penalty forces of every wall but 'slip' on the surface points behind it at the start
   !! of the step, added to the node forces; their momentum over dt is the wall's impulse. The
@@ -381,69 +305,6 @@ contains
       ib = i1
     end if
   end subroutine slip_span_columns
-
-  !> Node velocities of one span row (nodes n0 + 1 + i, i = i0..i1): momentum / mass on the
-  !! active nodes, zero on the others (steps 2 and 5). Plain arrays: the loop keeps its
-  !! scalars in registers.
-  pure subroutine velocity_row(i0, i1, n0, nt, mass, mom, mass_cut, vel)
-    integer, intent(in) :: i0, i1          !! columns of the row
-    integer, intent(in) :: n0              !! node of column i is n0 + 1 + i
-    integer, intent(in) :: nt              !! nodes of all fields
-    real(wp), intent(in) :: mass(nt)       !! node mass [kg/m]
-    real(wp), intent(in) :: mom(2, nt)     !! node momentum [kg/s]
-    real(wp), intent(in) :: mass_cut       !! active-node cut-off [kg/m]
-    real(wp), intent(inout) :: vel(2, nt)  !! node velocity [m/s]
-    integer :: n
-    do n = n0 + 1 + i0, n0 + 1 + i1
-      if (mass(n) > mass_cut) then
-        vel(:, n) = mom(:, n)/mass(n)
-      else
-        vel(1, n) = 0.0_wp
-        vel(2, n) = 0.0_wp
-      end if
-    end do
-  end subroutine velocity_row
-
-  !> Step 3 on one span row (nodes n0 + 1 + i, i = i0..i1): the momentum update with the
-  !! nodal force and the damping on the active nodes (their count into nact, the damped
-  !! energy into edamp, in node order), vel and dvel zero on the others.
-  pure subroutine update_row(i0, i1, n0, nt, mass, mom, force, mass_cut, dt, damping, fac, &
-                             vel, dvel, edamp, nact)
-    integer, intent(in) :: i0, i1          !! columns of the row
-    integer, intent(in) :: n0              !! node of column i is n0 + 1 + i
-    integer, intent(in) :: nt              !! nodes of all fields
-    real(wp), intent(in) :: mass(nt)       !! node mass [kg/m]
-    real(wp), intent(in) :: mom(2, nt)     !! node momentum [kg/s]
-    real(wp), intent(in) :: force(2, nt)   !! node force [N/m]
-    real(wp), intent(in) :: mass_cut       !! active-node cut-off [kg/m]
-    real(wp), intent(in) :: dt             !! time step [s]
-    real(wp), intent(in) :: damping        !! mass-proportional damping [1/s]
-    real(wp), intent(in) :: fac            !! its decay over the step [-]
-    real(wp), intent(inout) :: vel(2, nt)  !! node velocity [m/s]
-    real(wp), intent(inout) :: dvel(2, nt) !! its change over the step [m/s]
-    real(wp), intent(inout) :: edamp       !! damped energy [J/m]
-    integer, intent(inout) :: nact         !! active nodes
-    integer :: n
-    real(wp) :: v0(2), v1(2)
-    do n = n0 + 1 + i0, n0 + 1 + i1
-      if (.not. mass(n) > mass_cut) then
-        vel(1, n) = 0.0_wp                   ! (element by element: no memset call)
-        vel(2, n) = 0.0_wp
-        dvel(1, n) = 0.0_wp
-        dvel(2, n) = 0.0_wp
-        cycle
-      end if
-      nact = nact + 1
-      v0 = mom(:, n)/mass(n)
-      v1 = v0 + dt*force(:, n)/mass(n)
-      if (damping > 0.0_wp) then
-        edamp = edamp + 0.5_wp*mass(n)*(1.0_wp - fac*fac)*dot_product(v1, v1)
-        v1 = fac*v1
-      end if
-      vel(:, n) = v1
-      dvel(:, n) = v1 - v0
-    end do
-  end subroutine update_row
 
   !> The 'slip' mirror planes on the active nodes of a span row (node (i, j) is n0 + 1 + i,
   !! i = i0..i1) in the columns they can reach (i <= ib or i >= ia, slip_columns), in order.

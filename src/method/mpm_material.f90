@@ -307,12 +307,7 @@ contains
       end if
       s = scaled_deviator(p, dev, fac)
     else
-      ! Plane stress in (A, B, C) = ((sxx+syy)/2, (sxx-syy)/2, sxy): q^2 = A^2 + 3 (B^2 + C^2).
-      fa = 0.5_wp*(s(1) + s(2))
-      fb = 0.5_wp*(s(1) - s(2))
-      t1 = fa**2
-      t2 = 3.0_wp*(fb**2 + s(3)**2)
-      q = sqrt(t1 + t2)
+      call abc_split(s, fa, fb, t1, t2, q)
       if (q <= k0) return
       if (rate .and. dt == 0.0_wp) return
       a = mat%E/(2.0_wp*(1.0_wp - mat%nu))          ! plane-stress modulus of A: E / (2 (1 - nu))
@@ -323,14 +318,8 @@ contains
       if (.not. rate) x = min((q - k0)/(q*mat%hardening + three_mu*k0), 0.5_wp*x_hi)
       call solve_multiplier(mat, dt, k0, a, t1, t2, x_hi, rate, x, stat)
       if (stat /= MATERIAL_OK) return
-      fa = fa/(1.0_wp + a*x)                 ! A = A_trial / (1 + a x), Simo & Taylor (1986)
       fac = 1.0_wp/(1.0_wp + three_mu*x)     ! B, C = trial / (1 + 3 mu x)
-      fb = fb*fac
-      s(3) = s(3)*fac
-      s(1) = fa + fb
-      s(2) = fa - fb
-      s(4) = 0.0_wp
-      deqps = x*sqrt(fa**2 + 3.0_wp*(fb**2 + s(3)**2))   ! deqps = x q_end
+      call abc_return(a, x, fac, fa, fb, s, deqps)
       k_end = k0 + mat%hardening*deqps
       if (rate) k_end = k_end*cs_factor(mat, deqps, dt)
     end if
@@ -435,6 +424,38 @@ contains
     end if
   end subroutine multiplier_residual
 
+  !> Plane stress: the trial stress s in (A, B, C) = ((sxx+syy)/2, (sxx-syy)/2, sxy), with
+  !! q^2 = A^2 + 3 (B^2 + C^2) = t1 + t2 (j2_return and flow_return).
+  pure subroutine abc_split(s, fa, fb, t1, t2, q)
+    real(wp), intent(in) :: s(4)         !! trial stress [Pa]
+    real(wp), intent(out) :: fa, fb      !! A, B [Pa]
+    real(wp), intent(out) :: t1, t2      !! A^2, 3 (B^2 + C^2) [Pa^2]
+    real(wp), intent(out) :: q           !! von Mises stress [Pa]
+    fa = 0.5_wp*(s(1) + s(2))
+    fb = 0.5_wp*(s(1) - s(2))
+    t1 = fa**2
+    t2 = 3.0_wp*(fb**2 + s(3)**2)
+    q = sqrt(t1 + t2)
+  end subroutine abc_split
+
+  !> Plane stress: the returned stress at the multiplier x, A = A_trial / (1 + a x) and
+  !! B, C = trial fac (Simo & Taylor 1986), and deqps = x q_end.
+  pure subroutine abc_return(a, x, fac, fa, fb, s, deqps)
+    real(wp), intent(in) :: a            !! modulus of A, E / (2 (1 - nu)) [Pa]
+    real(wp), intent(in) :: x            !! multiplier deqps / q_end [1/Pa]
+    real(wp), intent(in) :: fac          !! 1 / (1 + 3 mu x) [-]
+    real(wp), intent(inout) :: fa, fb    !! trial A, B in, returned out [Pa]
+    real(wp), intent(inout) :: s(4)      !! trial stress in (C = s(3)), returned out [Pa]
+    real(wp), intent(out) :: deqps       !! equivalent plastic strain increment [-]
+    fa = fa/(1.0_wp + a*x)
+    fb = fb*fac
+    s(3) = s(3)*fac
+    s(1) = fa + fb
+    s(2) = fa - fb
+    s(4) = 0.0_wp
+    deqps = x*sqrt(fa**2 + 3.0_wp*(fb**2 + s(3)**2))
+  end subroutine abc_return
+
   !> Plane strain: the pressure p, the deviator dev (xx, yy, xy, zz) and q = sqrt(3 J2) of the
   !! stress s (xx, yy, xy, zz) [Pa].
   pure subroutine split_deviator(s, p, dev, q)
@@ -500,11 +521,7 @@ contains
       t2 = q*q
       x_hi = (q/k0 - 1.0_wp)/(3.0_wp*mat%mu)
     else
-      fa = 0.5_wp*(s(1) + s(2))          ! (A, B, C) as in j2_return
-      fb = 0.5_wp*(s(1) - s(2))
-      t1 = fa**2
-      t2 = 3.0_wp*(fb**2 + s(3)**2)
-      q = sqrt(t1 + t2)
+      call abc_split(s, fa, fb, t1, t2, q)
       a = mat%E/(2.0_wp*(1.0_wp - mat%nu))
       x_hi = (q/k0 - 1.0_wp)/min(a, 3.0_wp*mat%mu)
     end if
@@ -518,13 +535,7 @@ contains
       deqps = x*q*fac
       s = scaled_deviator(p, dev, fac)
     else
-      fa = fa/(1.0_wp + a*x)
-      fb = fb*fac
-      s(3) = s(3)*fac
-      s(1) = fa + fb
-      s(2) = fa - fb
-      s(4) = 0.0_wp
-      deqps = x*sqrt(fa**2 + 3.0_wp*(fb**2 + s(3)**2))
+      call abc_return(a, x, fac, fa, fb, s, deqps)
     end if
     call flow_stress(mat, eqps, deqps, dt, k_end, dk)
     dwp = k_end*deqps    ! sigma_end : d eps_p = q_end deqps = yield_end deqps

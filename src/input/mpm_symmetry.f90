@@ -25,7 +25,7 @@ module mpm_symmetry
   use mpm_config_text, only: itoa, fmt_short, fmt_vec
   use mpm_config_lexer, only: reader_t, occurrence
   use mpm_config_values, only: err_var
-  use mpm_shapes, only: body_low
+  use mpm_bodies, only: body_low
   implicit none
   private
   public :: symmetry_checks

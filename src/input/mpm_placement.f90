@@ -11,7 +11,7 @@ module mpm_placement
   use mpm_kinds, only: wp
   use mpm_constants, only: CONTACT_SLIP
   use mpm_config_types, only: config_t
-  use mpm_shapes, only: body_low, body_overlap
+  use mpm_bodies, only: body_low, body_overlap
   use mpm_config_text, only: itoa, fmt_short, fmt_vec
   use mpm_config_lexer, only: reader_t, occurrence
   use mpm_config_values, only: err_var, warn_var

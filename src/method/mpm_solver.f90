@@ -7,11 +7,12 @@
 !   1. mpm_weights      basis: node block, weights and gradients of every particle
 !      mpm_tiles        binning: live tiles (the grid region with material), colour groups
 !   2. mpm_transfer     P2G: mass, momentum, internal and body forces
-!   3. mpm_contact      grid update, damping and walls (reaction = momentum added / dt)
+!   3. mpm_grid_update  grid update and damping; mpm_contact: the walls on it (reaction =
+!                       momentum added / dt)
 !      mpm_body_contact contact between bodies (several velocity fields: detected after the
 !                       P2G of step 2, applied in steps 2 (USF), 3 and 5)
 !   4. mpm_transfer     G2P: FLIP/PIC velocity blend, positions
-!   5. mpm_transfer, mpm_contact   MUSL: momenta mapped back, walls re-applied
+!   5. mpm_transfer, mpm_grid_update   MUSL: momenta mapped back, walls re-applied
 !   6. mpm_deformation  L, F, volume, stress; CPDI domains (corners, centroids)
 !   7. here             time, wall reactions, energy balance and the growth check
 ! Everything is per unit depth inside; outputs scale by depth (and the sector factor).
@@ -33,8 +34,8 @@ module mpm_solver
   use mpm_state, only: sim_t, params_t, state_t, diag_t
   use mpm_weights, only: weights_compute
   use mpm_transfer, only: transfer_p2g, transfer_g2p, transfer_g2p_coloured
-  use mpm_contact, only: grid_velocity_walls, grid_update_walls, contact_begin_step, &
-                         contact_reactions, contact_energy, contact_check
+  use mpm_grid_update, only: grid_velocity_walls, grid_update_walls
+  use mpm_contact, only: contact_begin_step, contact_reactions, contact_energy, contact_check
   use mpm_body_contact, only: body_contact_detect, body_contact_apply, body_contact_reactions
   use mpm_self_contact, only: self_contact_mark, self_contact_weld
   use mpm_deformation, only: deformation_update, domains_update

@@ -1,15 +1,15 @@
-!> The body shapes of mpm_shapes against closed forms, for rings (full, half, quarter; n_circ
+!> The body shapes of mpm_bodies against closed forms, for rings (full, half, quarter; n_circ
 !! automatic and given) and rectangles: the particles body_fill makes number what body_counts
 !! says and the real-valued body_estimate of the memory budget says; their areas add up to the
 !! polygon's closed form (ring: n/2 sin(2 pi/n) (r_o^2 - r_i^2) over the sector's share, which
 !! is below pi (r_o^2 - r_i^2) by the chords; rectangle: a b) and their masses to rho times it;
 !! every corner lies in body_box; and body_report names the counts.
 ! SPDX-License-Identifier: MIT
-program test_shapes
+program test_bodies
   use mpm_kinds, only: wp
   use mpm_constants, only: pi, SHAPE_RING, SHAPE_RECT, SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER
   use mpm_particles, only: particles_t, particles_allocate
-  use mpm_shapes, only: body_cfg_t, body_counts, body_fill, body_box, body_estimate, body_report
+  use mpm_bodies, only: body_cfg_t, body_counts, body_fill, body_box, body_estimate, body_report
   use testing, only: begin_test, check, check_close, finish_tests
   implicit none
   type(body_cfg_t) :: b
@@ -38,7 +38,7 @@ program test_shapes
   b%n_y = 4
   b%material_id = 1
   call check_body(b)
-  call finish_tests('test_shapes')
+  call finish_tests('test_bodies')
 
 contains
 
@@ -85,4 +85,4 @@ contains
                'body_report names the body and its particles: '//trim(line))
   end subroutine check_body
 
-end program test_shapes
+end program test_bodies

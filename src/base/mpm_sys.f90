@@ -1,4 +1,4 @@
-!> Fortran side of the C shim src/mpm_sys_c.c: directories and their locks, signals, terminal,
+!> Fortran side of the C shim src/base/mpm_sys_c.c: directories and their locks, signals, terminal,
 !! rename, the memory available and the cores other work keeps busy (the thread count of a run).
 ! SPDX-License-Identifier: MIT
 module mpm_sys
