@@ -87,7 +87,7 @@ def slow_loading(scratch: Path) -> None:
           f"damped slow loading: damped {d[-1]:.4g} J below the platen's work "
           f"{h['external'][-1]:.4g} J")
     print(f"  damped slow loading: energy error {100 * err:.3f} %, damped {d[-1]:.4g} J, "
-          f"external {h['external'][-1]:.4g} J, dt {np.median(h["dt"]):.3e} s")
+          f"external {h['external'][-1]:.4g} J, dt {np.median(h['dt']):.3e} s")
 
 
 def main() -> int:
