@@ -2,8 +2,9 @@
 !! (r 24 / 26 mm, 4 through the wall, 96 around): the force is the gradient of the contact
 !! energy (central difference in the wall position); the contact point moves continuously
 !! along the surface as the wall turns (the corners' contact hops by a corner spacing), and
-!! lies where the wall touches the circle; a half ring with its mirror plane has half the full
-!! ring's energy and force, to round-off.
+!! lies where the wall touches the circle; the curve first touches a wall where the circle
+!! does (it passes through the corners: a wall touching the material surface pushes at once);
+!! a half ring with its mirror plane has half the full ring's energy and force, to round-off.
 ! SPDX-License-Identifier: MIT
 program test_surface_curve
   use mpm_kinds, only: wp
@@ -12,7 +13,7 @@ program test_surface_curve
   use mpm_surface_contact, only: surface_work_t, surface_points, surface_energy
   use mpm_surface_curve, only: surface_curve_points
   use testing, only: begin_test, check, check_close, finish_tests
-  use mpm_strings, only: itoa
+  use mpm_strings, only: itoa, rtoa
   implicit none
   real(wp), parameter :: kf = 1.0e6_wp         ! stiffness per unit point mass [1/s^2]
   real(wp), parameter :: ri = 0.024_wp, ro = 0.026_wp, cen(2) = [0.0_wp, 0.026_wp]
@@ -31,10 +32,27 @@ program test_surface_curve
   sheared%xc(2, :) = 0.8_wp*full%xc(2, :)
   nrm = [0.0_wp, 1.0_wp]
 
-  ! the curve lies inside the corners' circle by about r dth^2 / 8 (14 um): the B-spline of
-  ! a regular polygon is nearly the circle of radius r (1 - dth^2 / 8)
+  ! the chords between corners lie inside the corners' circle by up to r dth^2 / 8 (14 um);
+  ! the curve, whose control points are shifted out by an eighth of the corners' second
+  ! difference, passes through the corners and lies on the circle between them
   dth = 2.0_wp*pi/real(nkf, wp)              ! the corner spacing in angle
   sag = ro*dth**2/8.0_wp
+
+  ! the wall's first contact, as it turns over a corner spacing: the depth of the plane
+  ! (distance from the centre ro - d) at which the curve's energy starts, by bisection, is
+  ! the circle's, d = 0, within 2 % of the chord's sag (the B-spline of the corners lies
+  ! inside the circle by a sag, at the corners and between them: a wall touching the
+  ! material surface at t = 0 would push only after moving that far)
+  call begin_test('the curve touches a wall where the circle does')
+  off = 0.0_wp
+  do i = 0, 10
+    theta = dth*real(i, wp)/10.0_wp
+    nrm = [sin(theta), cos(theta)]
+    off = max(off, abs(onset_depth(nrm)))
+  end do
+  call check(off < 0.02_wp*sag, 'first contact within 2 % of the sag r dth^2 / 8 of the '// &
+             'circle, at every wall angle over a spacing (largest '//rtoa(off/sag)//' sag)')
+  nrm = [0.0_wp, 1.0_wp]
 
   call begin_test('the force is the gradient of the energy')
   eps = 1.0e-9_wp
@@ -131,6 +149,26 @@ program test_surface_curve
   call finish_tests('test_surface_curve')
 
 contains
+
+  !> Depth d of the plane with unit normal nrm, at distance ro - d from the centre, at which
+  !! the full ring's curve first has energy [m] (bisection between -3 and 3 sag).
+  function onset_depth(nrm) result(dd)
+    real(wp), intent(in) :: nrm(2)
+    real(wp) :: dd, lo, hi
+    integer :: it
+    lo = -3.0_wp*sag
+    hi = 3.0_wp*sag
+    do it = 1, 60
+      dd = 0.5_wp*(lo + hi)
+      call surface_curve_points(full, cen - (ro - dd)*nrm, nrm, kf, none, 1.0e-9_wp, wk)
+      if (surface_energy(wk) > 0.0_wp) then
+        hi = dd
+      else
+        lo = dd
+      end if
+    end do
+    dd = 0.5_wp*(lo + hi)
+  end function onset_depth
 
   !> Ring of CPDI2 corners, centre cen, of sector `sector`.
   subroutine ring(p, sector)

@@ -13,7 +13,7 @@
 ! and the span sums per tile of 16 nodes); the snapshot writer's temporaries (corners, quads, F,
 ! columns: 128 per particle), with volumetric = 'fbar' or 'fbarwall' mpm_fbar's work arrays (80
 ! bytes per particle, 16 per node; 'fbarwall' 8 more per particle), the wall contact's work (per
-! wall that is not a mirror plane: CPDI2 32 bytes per corner, the other bases 8 per particle),
+! wall that is not a mirror plane: CPDI2 48 bytes per corner, the other bases 8 per particle),
 ! and a fixed 32 MiB for the program and its libraries. Counts are reals, so that a length typed
 ! in the wrong unit cannot overflow an integer.
 module mpm_budget
@@ -119,11 +119,12 @@ contains
                                                    4.0_wp*b%particles  ! mpm_self_contact: bonds
     end if
     ! the wall contact's work per wall that is not a mirror plane (mpm_surface_contact,
-    ! mpm_surface_curve): CPDI2 each corner's gap, boundary neighbours and list, and mass share
-    ! (32 bytes), the other bases each particle's deepest corner gap (8)
+    ! mpm_surface_curve): CPDI2 each corner's gap and its control point's, boundary neighbours
+    ! and list, the neighbours that shift its control point, and mass share (48 bytes), the
+    ! other bases each particle's deepest corner gap (8)
     ncw = real(count(cfg%walls%contact_id /= CONTACT_SLIP), wp)
     if (cfg%solver%basis_id == BASIS_CPDI2) then
-      b%particle_bytes = b%particle_bytes + ncw*32.0_wp*b%corners
+      b%particle_bytes = b%particle_bytes + ncw*48.0_wp*b%corners
     else
       b%particle_bytes = b%particle_bytes + ncw*8.0_wp*b%particles
     end if

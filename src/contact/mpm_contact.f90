@@ -18,7 +18,7 @@ module mpm_contact
   use mpm_tiles, only: tiles_t
   use mpm_walls, only: wall_velocity, wall_mirror_node, wall_travel
   use mpm_surface_contact, only: surface_points, surface_push, surface_friction, surface_energy, &
-                                 contact_alpha
+                                 surface_slip_loss, contact_alpha
   use mpm_surface_curve, only: surface_curve_points
   use mpm_constants, only: BASIS_CPDI2
   use mpm_state, only: params_t, state_t, work_t
@@ -103,7 +103,7 @@ contains
     type(work_t), intent(inout) :: wk      !! per-wall data, surface points
     real(wp), intent(in) :: tol            !! tolerance on the node distance [m]
     integer :: iw, jw, c, a, n, i, j
-    real(wp) :: imp(2), xn(2), dist, dp(2), v0(2)
+    real(wp) :: imp(2), xn(2), dist, dp(2)
     do iw = 1, st%nwall
       if (st%walls(iw)%contact == CONTACT_SLIP) cycle
       if (wk%surf(iw)%npt == 0) cycle
@@ -111,9 +111,6 @@ contains
                             wk%wall_work(5:6, iw), wk%wall_work(1:2, iw), g%vel, g%dvel, imp)
       if (wk%surf(iw)%sweeps == 0) cycle
       st%walls(iw)%impulse = st%walls(iw)%impulse + imp
-      ! the friction's loss: the wall's work on the material less its kinetic energy change
-      st%e_contact_loss = st%e_contact_loss + dot_product(imp, wk%wall_work(1:2, iw)) - &
-                          wk%surf(iw)%de
       do jw = 1, st%nwall
         if (st%walls(jw)%contact /= CONTACT_SLIP) cycle
         do c = 1, wk%surf(iw)%npt
@@ -125,16 +122,17 @@ contains
             xn = g%origin + g%h*[real(i, wp), real(j, wp)]
             dist = dot_product(xn - wk%wall_work(3:4, jw), wk%wall_work(5:6, jw)) - tol
             if (dist > 0.0_wp) cycle
-            v0 = g%vel(:, n)
             call wall_mirror_node(wk%wall_work(5:6, jw), wk%wall_work(1:2, jw), dist, &
                                   g%mass(n), g%vel(:, n), dp)
             g%dvel(:, n) = g%dvel(:, n) + dp/g%mass(n)
             st%walls(jw)%impulse = st%walls(jw)%impulse + dp
-            st%e_contact_loss = st%e_contact_loss + dot_product(dp, wk%wall_work(1:2, jw)) - &
-              0.5_wp*g%mass(n)*(dot_product(g%vel(:, n), g%vel(:, n)) - dot_product(v0, v0))
           end do
         end do
       end do
+      ! the friction's loss: its impulses times the slip they leave (wall less point
+      ! velocity after the solve and the mirror planes; docs/theory.md, "Energies")
+      st%e_contact_loss = st%e_contact_loss + &
+        surface_slip_loss(wk%surf(iw), wk%wall_work(5:6, iw), wk%wall_work(1:2, iw), g%vel)
     end do
   end subroutine surface_friction_walls
 
@@ -212,6 +210,21 @@ contains
       return
     end do
   end subroutine contact_check
+
+  !> The damping's node velocity changes (wk%vdamp): one per node with damping, none without.
+  subroutine damping_allocate(damping, nt, wk)
+    real(wp), intent(in) :: damping        !! mass-proportional damping [1/s]
+    integer, intent(in) :: nt              !! nodes of all fields
+    type(work_t), intent(inout) :: wk      !! vdamp allocated
+    integer :: n
+    n = 0
+    if (damping > 0.0_wp) n = nt
+    if (allocated(wk%vdamp)) then
+      if (size(wk%vdamp, 2) == n) return
+      deallocate(wk%vdamp)
+    end if
+    allocate(wk%vdamp(2, n))
+  end subroutine damping_allocate
 
   !> One set of surface points per wall.
   subroutine surface_allocate(st, wk)

@@ -49,12 +49,14 @@ module mpm_surface_contact
   implicit none
   private
   public :: surface_work_t, surface_points, surface_energy, surface_push, surface_friction, &
+            surface_slip_loss, &
             contact_alpha, surface_reserve, corner_masses
 
   real(wp), parameter :: contact_alpha = 1.0_wp  !! penalty stiffness over the material's [-]
   integer, parameter :: max_sweeps = 200     !! Gauss-Seidel sweeps at most [-]
   integer, parameter :: scan_chunk = 1024    !! particles per task of the corner scan [-]
   real(wp), parameter :: sweep_tol = 1.0e-13_wp  !! relative change that ends the sweeps [-]
+  integer, parameter, public :: curve_nc = 5  !! corners per curve point [-]
 
   !> Points in contact with one wall and the work arrays of their solve, grown as needed (no
   !! allocation in a steady run). A point is a corner behind the plane (CPDI2: a shared
@@ -78,11 +80,12 @@ module mpm_surface_contact
     real(wp) :: de = 0.0_wp                !! the nodes' kinetic energy change by that solve
                                            !! (with the wall's work, the friction loss) [J/m]
     ! CPDI2 surface curve (mpm_surface_curve): a point is a quadrature point of the curve,
-    ! a combination of three domain corners
+    ! a combination of up to five domain corners
     logical :: curve = .false.             !! the points are curve points (cid, phi, xq set)
-    integer, allocatable :: cid(:,:)       !! the corners of each point, or 0 (3, n)
-    real(wp), allocatable :: phi(:,:)      !! their coefficients: x = sum phi x_corner (3, n) [-]
-    real(wp), allocatable :: xq(:,:,:)     !! their positions (2, 3, n) [m]
+    integer, allocatable :: cid(:,:)       !! the corners of each point, or 0 (curve_nc, n)
+    real(wp), allocatable :: phi(:,:)      !! their coefficients: x = sum phi x_corner
+                                           !! (curve_nc, n) [-]
+    real(wp), allocatable :: xq(:,:,:)     !! their positions (2, curve_nc, n) [m]
     integer, allocatable :: nxt(:), prv(:) !! the next and previous corner along the body's
                                            !! boundary (counter-clockwise), 0 inside, -1 at a
                                            !! pinch (nc)
@@ -90,6 +93,9 @@ module mpm_surface_contact
     real(wp), allocatable :: dmin(:)       !! linear, uGIMP, CPDI1: each particle's deepest
                                            !! corner gap (np) [m]
     real(wp), allocatable :: dc(:)         !! gap of every corner to the wall (nc) [m]
+    real(wp), allocatable :: dp(:)         !! gap of every corner's control point (nc) [m]
+    integer, allocatable :: la(:), lb(:)   !! the neighbours that shift each corner's control
+                                           !! point, or 0 (nc)
   end type surface_work_t
 
 contains
@@ -200,7 +206,7 @@ contains
     if (wk%npt == 0) return
     wk%nnode = 4
     if (wk%owner(1) > 0) wk%nnode = nb*nb
-    if (wk%curve) wk%nnode = 12
+    if (wk%curve) wk%nnode = 4*curve_nc
     call grow_nodes(wk, size(wk%fn))
     off = 0
     do k = 1, wk%npt
@@ -263,7 +269,7 @@ contains
       integer, intent(in) :: k
       integer :: m, q, r, c, i0c, j0c
       real(wp) :: wc(4)
-      do m = 1, 3
+      do m = 1, curve_nc
         c = wk%cid(m, k)
         if (c == 0 .or. wk%phi(m, k) == 0.0_wp) cycle
         call bilinear_at(wk%xq(:, m, k), origin, h, i0c, j0c, wc)
@@ -273,7 +279,7 @@ contains
                                    1 + i0c + nx*(j0c + 1), 2 + i0c + nx*(j0c + 1)] + off
         wk%nw(4*m - 3:4*m, k) = wk%phi(m, k)*wc
       end do
-      do q = 2, 12                         ! merge repeated nodes into their first slot
+      do q = 2, 4*curve_nc                 ! merge repeated nodes into their first slot
         if (wk%node(q, k) == 0) cycle
         do r = 1, q - 1
           if (wk%node(r, k) /= wk%node(q, k)) cycle
@@ -347,6 +353,36 @@ contains
     end do
   end subroutine surface_friction
 
+  !> The energy the friction of the points took over the step [J/m]: each point's
+  !! tangential impulse times the slip it leaves, sum_k lambda_k t . sum_i N_i (v_wall -
+  !! v_i) over the node velocities v_i after the solve, which is the wall's work through
+  !! the friction less the work on the material's velocity as the step leaves it (the
+  !! velocity the stress update and the positions see). 'stick' leaves no slip and takes
+  !! nothing; 'coulomb' takes mu times the normal impulse times the slip. (The nodes' kinetic
+  !! energy change, wk%de, is not the loss: a stick point re-stopped every step would count
+  !! the velocity the internal forces give its nodes in each step, which the stress update
+  !! never sees, as lost.)
+  pure function surface_slip_loss(wk, normal, vwall, vel) result(e)
+    type(surface_work_t), intent(in) :: wk !! points, weights, impulses (after the solve)
+    real(wp), intent(in) :: normal(2)      !! unit normal into the material [-]
+    real(wp), intent(in) :: vwall(2)       !! wall velocity over the step [m/s]
+    real(wp), intent(in) :: vel(:,:)       !! node velocity (2, nn) [m/s]
+    real(wp) :: e
+    integer :: k, a
+    real(wp) :: tang(2), slip
+    tang = [-normal(2), normal(1)]
+    e = 0.0_wp
+    do k = 1, wk%npt
+      if (.not. wk%s(k) > 0.0_wp .or. wk%lam(2, k) == 0.0_wp) cycle
+      slip = 0.0_wp
+      do a = 1, wk%nnode
+        if (wk%nw(a, k) /= 0.0_wp) slip = slip + wk%nw(a, k)* &
+                                         dot_product(vwall - vel(:, wk%node(a, k)), tang)
+      end do
+      e = e + wk%lam(2, k)*slip
+    end do
+  end function surface_slip_loss
+
   !> CPDI2: each corner's share of the particle mass, a quarter of each particle it belongs
   !! to (computed once: particle masses do not change).
   subroutine corner_masses(p, wk)
@@ -398,7 +434,7 @@ contains
       call move_alloc(to, wk%owner)
     end if
     if (.not. wk%curve) return
-    allocate(tc(3, m), tp(3, m), tq(2, 3, m))
+    allocate(tc(curve_nc, m), tp(curve_nc, m), tq(2, curve_nc, m))
     if (wk%npt > 0) then
       tc(:, 1:wk%npt) = wk%cid(:, 1:wk%npt)
       tp(:, 1:wk%npt) = wk%phi(:, 1:wk%npt)

@@ -18,7 +18,22 @@
 !     x(u) = B0(u) x_a + B1(u) x_c + B2(u) x_b,   B0 = (1-u)^2/2, B1 = 1/2 + u - u^2, B2 = u^2/2,
 !
 ! from the middle of a-c (u = 0) to the middle of c-b (u = 1): the pieces join with a common
-! tangent (C1), and on a straight row of equally spaced corners the curve is that row. A sharp
+! tangent (C1), and on a straight row of equally spaced corners the curve is that row.
+!
+! The control point of a smooth corner is not the corner itself but P_c = x_c - (x_a - 2 x_c +
+! x_b) / 8: with the corners as control points the curve passes (x_a + 6 x_c + x_b) / 8, inside
+! a convex surface by an eighth of the corners' second difference (on a ring of radius R with
+! corners dtheta apart, R dtheta^2 / 8, as far as the chords' midpoints), so that a wall
+! touching the corners would touch no curve and transmit nothing until it had moved that far
+! (a wave pulse rising from zero speed, 1 m/s peak, would start 1.1 us late at h = t/8,
+! n_thick = 8). With the shifted control points the curve passes through
+! the corners to O(dtheta^4) (and through the midpoints of the arc between them), so that a
+! wall touching the material surface at t = 0 pushes from the first step after it moves. A
+! control point is a fixed combination of three corners, so a curve point is one of at most
+! five (cid, phi) and the force stays the exact gradient of the energy. Sharp corners, chain
+! ends and corners on a mirror plane whose piece is not the mirrored whole keep P_c = x_c; a
+! corner whose piece is the mirrored whole takes the mirror image of its neighbour as its other
+! neighbour. A sharp
 ! corner (the boundary turns by more than 45 degrees, e.g. the corner of a block, or where the
 ! ring's surface meets a cut face) is kept sharp: its piece is split at c into two straight
 ! halves, each the B-spline of c and one neighbour with the other replaced by its mirror
@@ -67,7 +82,7 @@ contains
     real(wp), intent(in) :: mirror(:,:)    !! the mirror planes: point, unit normal (4, nm) [m, -]
     real(wp), intent(in) :: tol            !! distance under which a corner is on a plane [m]
     type(surface_work_t), intent(inout) :: wk  !! work arrays: the points
-    integer :: ic, a, b, mc, q, k
+    integer :: ic, a, b, mc, q, k, la, lb
     real(wp) :: e1(2), e2(2), l1, l2
     logical :: sharp, ma, mb, clear
     wk%npt = 0
@@ -75,10 +90,10 @@ contains
     wk%curve = .true.
     call corner_masses(p, wk)
     call boundary_chain(p, wk)
-    if (.not. allocated(wk%dc)) allocate(wk%dc(p%nc))
+    if (.not. allocated(wk%dc)) allocate(wk%dc(p%nc), wk%dp(p%nc), wk%la(p%nc), wk%lb(p%nc))
     if (size(wk%dc) /= p%nc) then
-      deallocate(wk%dc)
-      allocate(wk%dc(p%nc))
+      deallocate(wk%dc, wk%dp, wk%la, wk%lb)
+      allocate(wk%dc(p%nc), wk%dp(p%nc), wk%la(p%nc), wk%lb(p%nc))
     end if
     ! only the boundary corners carry pieces, and only they are read below; the deepest
     ! corner of a mesh that is not folded (the basis stops a run that folds) is one of them
@@ -87,6 +102,15 @@ contains
       wk%dc(ic) = (p%xc(1, ic) - xw(1))*normal(1) + (p%xc(2, ic) - xw(2))*normal(2)
       wk%gmin = min(wk%gmin, wk%dc(ic))
     end do
+    ! the control points' gaps (dp): a smooth corner's shifted by its second difference / 8
+    do k = 1, size(wk%bnd)
+      ic = wk%bnd(k)
+      call smooth_pair(p, wk, normal, mirror, tol, ic, la, lb)
+      wk%la(ic) = la
+      wk%lb(ic) = lb
+      wk%dp(ic) = wk%dc(ic)
+      if (la > 0) wk%dp(ic) = wk%dc(ic) - 0.125_wp*(wk%dc(la) - 2.0_wp*wk%dc(ic) + wk%dc(lb))
+    end do
     do k = 1, size(wk%bnd)
       ic = wk%bnd(k)
       a = wk%prv(ic)
@@ -94,10 +118,10 @@ contains
       if (a <= 0 .and. b <= 0) cycle       ! pinched both ways, or a pinch and a chain end
       ! every piece below needs a gap < 0 among c and its neighbours: none when all are >= 0
       ! (a NaN gap goes on, as before)
-      if (wk%dc(ic) >= 0.0_wp) then
+      if (wk%dp(ic) >= 0.0_wp) then
         clear = .true.
-        if (a > 0) clear = wk%dc(a) >= 0.0_wp
-        if (b > 0 .and. clear) clear = wk%dc(b) >= 0.0_wp
+        if (a > 0) clear = wk%dp(a) >= 0.0_wp
+        if (b > 0 .and. clear) clear = wk%dp(b) >= 0.0_wp
         if (clear) cycle
       end if
       ! a cut face on a mirror plane is no surface; where it ends at the surface, the piece
@@ -113,14 +137,14 @@ contains
       if (ma .or. mb) then
         q = merge(b, a, ma)
         if (q > 0 .and. abs(dot_product(normal, mirror(3:4, mc))) < 1.0e-9_wp) then
-          if (min(wk%dc(q), wk%dc(ic)) < 0.0_wp) call piece(p, kf, ic, q, q, 0, 1.0_wp, wk)
+          if (min(wk%dp(q), wk%dp(ic)) < 0.0_wp) call piece(p, kf, ic, q, q, 0, 1.0_wp, wk)
           cycle
         end if
         if (ma) a = 0
         if (mb) b = 0
       end if
       if (a > 0 .and. b > 0) then          ! the piece lies in the hull of a, c, b
-        if (min(wk%dc(a), wk%dc(ic), wk%dc(b)) >= 0.0_wp) cycle
+        if (min(wk%dp(a), wk%dp(ic), wk%dp(b)) >= 0.0_wp) cycle
         e1 = p%xc(:, ic) - p%xc(:, a)
         e2 = p%xc(:, b) - p%xc(:, ic)
         l1 = sqrt(e1(1)**2 + e1(2)**2)
@@ -132,13 +156,53 @@ contains
         end if
       end if
       if (a > 0) then
-        if (min(wk%dc(a), wk%dc(ic)) < 0.0_wp) call piece(p, kf, ic, a, b, 1, 2.0_wp, wk)
+        if (min(wk%dp(a), wk%dp(ic)) < 0.0_wp) call piece(p, kf, ic, a, b, 1, 2.0_wp, wk)
       end if
       if (b > 0) then
-        if (min(wk%dc(ic), wk%dc(b)) < 0.0_wp) call piece(p, kf, ic, a, b, 2, 2.0_wp, wk)
+        if (min(wk%dp(ic), wk%dp(b)) < 0.0_wp) call piece(p, kf, ic, a, b, 2, 2.0_wp, wk)
       end if
     end do
   end subroutine surface_curve_points
+
+  !> The neighbours whose second difference shifts corner c's control point (la, lb; 0, 0
+  !! when it keeps P_c = x_c): a smooth corner's two neighbours; for a corner on a mirror plane
+  !! whose piece is the mirrored whole (the wall square to the plane), its neighbour off the
+  !! plane twice (its mirror image has the same gap). The same cases as surface_curve_points.
+  subroutine smooth_pair(p, wk, normal, mirror, tol, c, la, lb)
+    type(particles_t), intent(in) :: p     !! particles (corners)
+    type(surface_work_t), intent(in) :: wk !! boundary chain (nxt, prv)
+    real(wp), intent(in) :: normal(2)      !! the wall's unit normal [-]
+    real(wp), intent(in) :: mirror(:,:)    !! the mirror planes: point, unit normal (4, nm)
+    real(wp), intent(in) :: tol            !! distance under which a corner is on a plane [m]
+    integer, intent(in) :: c               !! corner
+    integer, intent(out) :: la, lb         !! its neighbours for the shift, or 0
+    integer :: a, b, mc
+    logical :: ma, mb
+    real(wp) :: e1(2), e2(2)
+    la = 0
+    lb = 0
+    a = wk%prv(c)
+    b = wk%nxt(c)
+    if (a <= 0 .or. b <= 0) return
+    mc = plane_of(p, mirror, tol, c)
+    ma = .false.
+    mb = .false.
+    if (mc > 0) ma = plane_of(p, mirror, tol, a) == mc
+    if (mc > 0) mb = plane_of(p, mirror, tol, b) == mc
+    if (ma .and. mb) return
+    if (ma .or. mb) then
+      if (abs(dot_product(normal, mirror(3:4, mc))) >= 1.0e-9_wp) return
+      la = merge(b, a, ma)
+      lb = la
+      return
+    end if
+    e1 = p%xc(:, c) - p%xc(:, a)
+    e2 = p%xc(:, b) - p%xc(:, c)
+    if (.not. (e1(1)*e2(1) + e1(2)*e2(2) > sharp_cos*sqrt(e1(1)**2 + e1(2)**2)* &
+                                            sqrt(e2(1)**2 + e2(2)**2))) return
+    la = a
+    lb = b
+  end subroutine smooth_pair
 
   !> The first mirror plane corner c lies on, or 0.
   pure integer function plane_of(p, mirror, tol, c)
@@ -166,19 +230,19 @@ contains
     type(surface_work_t), intent(inout) :: wk  !! points added
     real(wp) :: gc(3), qa, qb, qc, u0, u1, br(4), rt(2), disc, q, um, lo, len, u, bs(3), g, phi(3), k
     integer :: ids(3), nb, i, j, iq, m
-    ! control gaps: the corners', or a mirrored neighbour's 2 g_c - g_n
+    ! control gaps: the control points', or a mirrored neighbour's 2 g_c - g_n
     select case (kind)
     case (0)
       ids = [a, c, b]
-      gc = [wk%dc(a), wk%dc(c), wk%dc(b)]
+      gc = [wk%dp(a), wk%dp(c), wk%dp(b)]
       u0 = 0.0_wp; u1 = 1.0_wp
     case (1)
       ids = [a, c, 0]
-      gc = [wk%dc(a), wk%dc(c), 2.0_wp*wk%dc(c) - wk%dc(a)]
+      gc = [wk%dp(a), wk%dp(c), 2.0_wp*wk%dp(c) - wk%dp(a)]
       u0 = 0.0_wp; u1 = 0.5_wp
     case default
       ids = [0, c, b]
-      gc = [2.0_wp*wk%dc(c) - wk%dc(b), wk%dc(c), wk%dc(b)]
+      gc = [2.0_wp*wk%dp(c) - wk%dp(b), wk%dp(c), wk%dp(b)]
       u0 = 0.5_wp; u1 = 1.0_wp
     end select
     ! g(u) = qa u^2 + qb u + qc; break points: the ends and the roots inside
@@ -234,19 +298,43 @@ contains
         wk%npt = wk%npt + 1
         j = wk%npt
         wk%owner(j) = -c
-        wk%cid(:, j) = ids
-        wk%phi(:, j) = phi
-        wk%xs(:, j) = 0.0_wp
-        do m = 1, 3
-          wk%xq(:, m, j) = 0.0_wp
+        wk%cid(:, j) = 0
+        wk%phi(:, j) = 0.0_wp
+        do m = 1, 3                        ! the control points' corners (P_c, smooth_pair)
           if (ids(m) == 0) cycle
-          wk%xq(:, m, j) = p%xc(:, ids(m))
-          wk%xs(:, j) = wk%xs(:, j) + phi(m)*p%xc(:, ids(m))
+          if (wk%la(ids(m)) > 0) then
+            call add(j, ids(m), 1.25_wp*phi(m))
+            call add(j, wk%la(ids(m)), -0.125_wp*phi(m))
+            call add(j, wk%lb(ids(m)), -0.125_wp*phi(m))
+          else
+            call add(j, ids(m), phi(m))
+          end if
+        end do
+        wk%xs(:, j) = 0.0_wp
+        do m = 1, size(wk%cid, 1)
+          wk%xq(:, m, j) = 0.0_wp
+          if (wk%cid(m, j) == 0) cycle
+          wk%xq(:, m, j) = p%xc(:, wk%cid(m, j))
+          wk%xs(:, j) = wk%xs(:, j) + wk%phi(m, j)*p%xc(:, wk%cid(m, j))
         end do
         wk%fn(j) = -k*0.5_wp*len*gauss_w(iq)*g
         wk%en(j) = 0.5_wp*k*0.5_wp*len*gauss_w(iq)*g*g
       end do
     end do
+  contains
+    !> Coefficient f of corner id on point j, merged with an earlier entry of the same corner.
+    subroutine add(j, id, f)
+      integer, intent(in) :: j, id
+      real(wp), intent(in) :: f
+      integer :: r
+      do r = 1, size(wk%cid, 1)
+        if (wk%cid(r, j) == id .or. wk%cid(r, j) == 0) then
+          wk%cid(r, j) = id
+          wk%phi(r, j) = wk%phi(r, j) + f
+          return
+        end if
+      end do
+    end subroutine add
   end subroutine piece
 
 

@@ -250,9 +250,8 @@ contains
     emech = st%e_kin + st%e_strain + st%e_plastic + st%e_damped + st%e_contact
     ! energy_error as docs/output.md defines it: the largest imbalance over the run divided by
     ! max(E0, the largest external work), both maxima over the run so far; with the walls'
-    ! friction loss, which the growth check below leaves out: friction only takes energy, and
-    ! its loss, measured on the grid, runs a few per cent above what the particles lose at
-    ! the automatic time step (docs/theory.md, "Energies"), which must not stop a run
+    ! friction loss, which the growth check below leaves out: friction only takes energy
+    ! (docs/theory.md, "Energies"), and its loss must not stop a run
     excess = emech - st%e_external - st%e0
     st%bal_max = max(st%bal_max, abs(excess + st%e_contact_loss))
     st%ext_max = max(st%ext_max, abs(st%e_external))

@@ -119,7 +119,9 @@ module mpm_state
     logical :: par = .false.               !! loops run in parallel this step
     integer, allocatable :: tile(:)        !! grid tile of each particle's block (np)
     integer, allocatable :: perm(:)        !! particles sorted by tile (deterministic) (np)
-    real(wp), allocatable :: chunk_sum(:,:) !! partial sums per chunk (2, nchunk)
+    real(wp), allocatable :: chunk_sum(:,:) !! partial sums per chunk (3, nchunk)
+    real(wp), allocatable :: vdamp(:,:)    !! damping's change of each node velocity in
+                                           !! step 3 (2, nn*nf; damping > 0 only) [m/s]
     ! volumetric = 'fbar' only (mpm_fbar; allocated by the first step)
     real(wp), allocatable :: dj(:)         !! volume change over the step det(I + dt L) - 1 (np)
     real(wp), allocatable :: djbar(:)      !! its average over the neighbourhood (np) [-]

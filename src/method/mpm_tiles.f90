@@ -39,7 +39,7 @@ module mpm_tiles
     integer :: ngroup = 0                !! groups (band, colour) of colour_tiles
     integer, allocatable :: group_start(:) !! group i holds colour_tiles(group_start(i):..(i+1)-1)
     integer, allocatable :: group_pos(:) !! work array of the grouping (ngroup)
-    real(wp), allocatable :: colour_sum(:,:) !! (2, ntiles) partial sums per listed tile
+    real(wp), allocatable :: colour_sum(:,:) !! (3, ntiles) partial sums per listed tile
     real(wp), allocatable :: span_sum(:,:) !! partial sums per span (nsum, ntiles)
   end type tiles_t
 
@@ -72,7 +72,7 @@ contains
                                            tl%colour_tiles, tl%colour_sum)
     if (allocated(tl%span_sum)) deallocate(tl%span_sum)
     allocate(tl%occupied(ntiles), tl%span(4, ntiles), tl%tile_start(ntiles + 1), &
-             tl%colour_tiles(ntiles), tl%colour_sum(2, ntiles))
+             tl%colour_tiles(ntiles), tl%colour_sum(3, ntiles))
     tl%occupied = 0
     tl%stamp = 0
     tl%nspan = 0

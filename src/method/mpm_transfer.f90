@@ -302,8 +302,9 @@ contains
     logical, intent(in) :: remap           !! also map the new momenta to the grid
     integer :: it, nt, c0, c1, c, k, nchunk, np
     real(wp) :: vmax
-    logical :: has_bacc
+    logical :: has_bacc, damp
     has_bacc = allocated(prm%bacc)
+    damp = prm%damping > 0.0_wp
     np = st%p%np
     nchunk = (np + chunk - 1)/chunk
     if (remap) then
@@ -313,7 +314,8 @@ contains
       call grid_thread_buffers(bf, g%nn*g%nf, nt)
     end if
     vmax = 0.0_wp
-    !$omp parallel default(none) shared(prm, st, g, tl, bf, wk, dt, remap, has_bacc, nchunk, np) &
+    !$omp parallel default(none) &
+    !$omp   shared(prm, st, g, tl, bf, wk, dt, remap, has_bacc, damp, nchunk, np) &
     !$omp   private(it, nt, c0, c1, c, k) reduction(max: vmax) if(wk%par)
     it = 0
     nt = 1
@@ -325,13 +327,13 @@ contains
       if (it == 0 .or. .not. remap) then
         call g2p_kernel(1 + (c - 1)*chunk, min(c*chunk, np), .false., wk%perm, np, g%nn, &
                g%nf, prm%field, wk%nb, g%nx, wk%blk, wk%w, g%vel, g%dvel, prm%flip, dt, &
-               prm%gravity, has_bacc, prm%bacc, st%p%mass, st%p%v, st%p%x, remap, g%mom, &
-               wk%chunk_sum(:, c), vmax)
+               prm%gravity, has_bacc, prm%bacc, damp, wk%vdamp, st%p%mass, st%p%v, st%p%x, &
+               remap, g%mom, wk%chunk_sum(:, c), vmax)
       else
         call g2p_kernel(1 + (c - 1)*chunk, min(c*chunk, np), .false., wk%perm, np, g%nn, &
                g%nf, prm%field, wk%nb, g%nx, wk%blk, wk%w, g%vel, g%dvel, prm%flip, dt, &
-               prm%gravity, has_bacc, prm%bacc, st%p%mass, st%p%v, st%p%x, remap, &
-               bf%buf_mom(:, :, it), wk%chunk_sum(:, c), vmax)
+               prm%gravity, has_bacc, prm%bacc, damp, wk%vdamp, st%p%mass, st%p%v, st%p%x, &
+               remap, bf%buf_mom(:, :, it), wk%chunk_sum(:, c), vmax)
       end if
     end do
     if (remap .and. nt > 1) then
@@ -346,6 +348,7 @@ contains
     st%e_kin = sum(wk%chunk_sum(1, 1:nchunk))
     st%vmax = sqrt(vmax)
     st%w_gravity = st%w_gravity + sum(wk%chunk_sum(2, 1:nchunk))
+    st%e_damped = st%e_damped + sum(wk%chunk_sum(3, 1:nchunk))
   end subroutine transfer_g2p
 
   !> Deterministic G2P with the MUSL momentum map: the particles tile by tile, group by group
@@ -360,12 +363,14 @@ contains
     real(wp), intent(in) :: dt             !! time step [s]
     integer :: i, k, t, np, ntile
     real(wp) :: vmax
-    logical :: has_bacc
+    logical :: has_bacc, damp
     has_bacc = allocated(prm%bacc)
+    damp = prm%damping > 0.0_wp
     np = st%p%np
     call zero_momentum(g, tl, wk%par)
     vmax = 0.0_wp
-    !$omp parallel default(none) shared(prm, st, g, tl, wk, dt, np, has_bacc) private(i, k, t) &
+    !$omp parallel default(none) shared(prm, st, g, tl, wk, dt, np, has_bacc, damp) &
+    !$omp   private(i, k, t) &
     !$omp   reduction(max: vmax) if(wk%par)
     do i = 1, tl%ngroup
       !$omp do schedule(dynamic, 2)
@@ -373,8 +378,8 @@ contains
         t = tl%colour_tiles(k)
         call g2p_kernel(tl%tile_start(t), tl%tile_start(t + 1) - 1, .true., wk%perm, np, &
                g%nn, g%nf, prm%field, wk%nb, g%nx, wk%blk, wk%w, g%vel, g%dvel, prm%flip, dt, &
-               prm%gravity, has_bacc, prm%bacc, st%p%mass, st%p%v, st%p%x, .true., g%mom, &
-               tl%colour_sum(:, k), vmax)
+               prm%gravity, has_bacc, prm%bacc, damp, wk%vdamp, st%p%mass, st%p%v, st%p%x, &
+               .true., g%mom, tl%colour_sum(:, k), vmax)
       end do
       !$omp end do
     end do
@@ -383,12 +388,17 @@ contains
     st%e_kin = sum(tl%colour_sum(1, 1:ntile))
     st%vmax = sqrt(vmax)
     st%w_gravity = st%w_gravity + sum(tl%colour_sum(2, 1:ntile))
+    st%e_damped = st%e_damped + sum(tl%colour_sum(3, 1:ntile))
   end subroutine transfer_g2p_coloured
 
   !> G2P of particles k0..k1 (perm(k0..k1) when sorted); their kinetic energy and work of
-  !! body forces in csum; with remap also m_p v_p phi into gmom.
+  !! body forces in csum, and (damp) the kinetic energy the damping took from them: each
+  !! particle's new velocity less the damping's share of its change, sum_i N_i vdamp_i,
+  !! against the new velocity (docs/theory.md, "Energies"); with remap also m_p v_p phi
+  !! into gmom.
   subroutine g2p_kernel(k0, k1, sorted, perm, np, nn, nf, fld, nb, nx, blk, w, vel, dvel, &
-                        flip, dt, gravity, has_bacc, bacc, mass, v, x, remap, gmom, csum, vmax)
+                        flip, dt, gravity, has_bacc, bacc, damp, vdamp, mass, v, x, remap, gmom, &
+                        csum, vmax)
     integer, intent(in) :: k0, k1          !! range of particles (or of perm)
     logical, intent(in) :: sorted          !! particles are perm(k0..k1)
     integer, intent(in) :: np, nn, nb, nx  !! particles, nodes, block width, nodes along x
@@ -404,19 +414,23 @@ contains
     real(wp), intent(in) :: gravity(2)     !! gravity [m/s^2]
     logical, intent(in) :: has_bacc        !! per-particle body acceleration given
     real(wp), intent(in), allocatable :: bacc(:,:)  !! body acceleration (2, np) [m/s^2]
+    logical, intent(in) :: damp            !! damping on: vdamp is set
+    real(wp), intent(in), allocatable :: vdamp(:,:)  !! damping's node velocity change
+                                           !! (2, nn*nf) [m/s]
     real(wp), intent(in) :: mass(np)       !! particle mass [kg/m]
     real(wp), intent(inout) :: v(2, np)    !! particle velocity [m/s]
     real(wp), intent(inout) :: x(2, np)    !! particle position [m]
     logical, intent(in) :: remap           !! map the new momenta
     real(wp), intent(inout) :: gmom(2, nn*nf) !! node momentum [kg/s]
-    real(wp), intent(out) :: csum(2)       !! kinetic energy, body-force work [J/m]
+    real(wp), intent(out) :: csum(3)       !! kinetic energy, body-force work, damped [J/m]
     real(wp), intent(inout) :: vmax        !! largest squared speed [m^2/s^2]
     integer :: kp, ip, a, b, k, n, off
-    real(wp) :: vpic(2), dv(2), vnew(2), fb(2), ekin, wgrav, wm
+    real(wp) :: vpic(2), dv(2), vnew(2), fb(2), ekin, wgrav, wm, vd(2), edamp
     logical :: body
     body = has_bacc .or. any(gravity /= 0.0_wp)
     ekin = 0.0_wp
     wgrav = 0.0_wp
+    edamp = 0.0_wp
     off = 0
     do kp = k0, k1
       ip = kp
@@ -433,6 +447,17 @@ contains
         end do
       end do
       vnew = flip*(v(:, ip) + dv) + (1.0_wp - flip)*vpic
+      if (damp) then                         ! FLIP and PIC both carry sum_i N_i vdamp_i
+        vd = 0.0_wp
+        do b = 0, nb - 1
+          n = 1 + blk(1, ip) + nx*(blk(2, ip) + b) + off
+          do a = 0, nb - 1
+            vd = vd + w(1 + a + nb*b, ip)*vdamp(:, n + a)
+          end do
+        end do
+        edamp = edamp + 0.5_wp*mass(ip)*(dot_product(vnew - vd, vnew - vd) - &
+                                         dot_product(vnew, vnew))
+      end if
       if (body) then                         ! work of body forces (0 without)
         fb = gravity
         if (has_bacc) fb = fb + bacc(:, ip)
@@ -453,7 +478,7 @@ contains
         end do
       end if
     end do
-    csum = [ekin, wgrav]
+    csum = [ekin, wgrav, edamp]
   end subroutine g2p_kernel
 
 end module mpm_transfer

@@ -178,7 +178,7 @@ contains
     allocate(wk%blk(2, np), wk%w(wk%nb*wk%nb, np), wk%gw(2, wk%nb*wk%nb, np))
     if (.not. allocated(wk%tile)) then
       allocate(wk%tile(np), wk%perm(np), &
-               wk%chunk_sum(2, (np + chunk - 1)/chunk))
+               wk%chunk_sum(3, (np + chunk - 1)/chunk))
     end if
   end subroutine allocate_cache
 end module mpm_weights

@@ -1,0 +1,132 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
+"""Wall contact from the first instant: a wall that touches the material surface at t = 0.
+
+* Plane impact of a block: an aluminium block (4 x 20 mm, E 70 GPa, nu 0.33, rho 2700, 32 x
+  160 particles, h = 0.25 mm) between two 'slip' side walls (lateral confinement: uniaxial
+  strain), struck from below by a wall that touches it at t = 0 and moves at v = 1 m/s. Until
+  the wave comes back from the top (2 L / c_d = 6.45 us) the contact stress is rho c_d v
+  (c_d = sqrt((lambda + 2 mu) / rho)): the wall's force is nonzero from the second step on
+  (the penalty acts on the gap at the start of a step, zero in the first), its impulse over
+  the first 5 us is rho c_d v A T within 5 % (the penalty's compliance, a layer of about
+  2 to 4 h / alpha of the material, delays the rise by tau = int (1 - f / F) dt, measured
+  0.18 us, about 4.5 h / c_d; the test allows 6 h / c_d), and it equals the block's
+  momentum (to 1e-9).
+* A ring touching a wall at one corner at t = 0 (namelists/wave.nml at h = t/8, n_thick = 8,
+  the wall's velocity a half-sine pulse of 1 m/s over 5 us, the first 0.5 us): the force is
+  nonzero from the second step on (the surface curve passes through the corners; through
+  the B-spline of the corners, inside the circle by R dtheta^2 / 8, the wall pushed nothing
+  for 1.09 us), and the impulse equals the ring's momentum (to 1e-9).
+
+    TUBEMPM=build/debug/tubempm python3 tests/test_first_contact.py SCRATCH
+"""
+from __future__ import annotations
+
+import math
+import re
+import sys
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "plots"))
+sys.path.insert(0, str(ROOT / "tests"))
+from pycheck import Checks  # noqa: E402
+from pyscene import run_scene  # noqa: E402
+
+T = Checks("test_first_contact")
+check = T.check
+
+V, RHO, E, NU, W, L, HC = 1.0, 2700.0, 70.0e9, 0.33, 4.0e-3, 20.0e-3, 0.25e-3
+CD = math.sqrt(E * (1.0 - NU) / (RHO * (1.0 + NU) * (1.0 - 2.0 * NU)))
+TW = 5.0e-6                                          # window, before 2 L / c_d [s]
+BLOCK = f"""&run
+  title = 'block', output_dir = 'OUT'
+  t_end = {TW}, cfl = 0.0, history_every = 1.0e-9, snapshot_every = 1.0
+/
+&solver basis = 'cpdi2', scheme = 'musl', plane = 'strain' /
+&grid h = {HC} /
+&material name = 'al', model = 'elastic', E = {E}, nu = {NU}, rho = {RHO} /
+&body shape = 'rect', material = 'al', center = 0.0, 0.0, size = {W}, {L}, n_x = 32,
+      n_y = 160 /
+&wall point = 0.0, {-L / 2}, normal = 0.0, 1.0, velocity = 0.0, {V} /
+&wall point = {-W / 2}, 0.0, normal = 1.0, 0.0, contact = 'slip' /
+&wall point = {W / 2}, 0.0, normal = -1.0, 0.0, contact = 'slip' /
+"""
+
+
+def step_impulse(h: dict, upto: float) -> float:
+    """Sum of force x dt over the steps that end at or before `upto` (one row per step)."""
+    m = (h["step"] >= 1) & (h["time"] <= upto * (1.0 + 1e-12))
+    return float(np.sum(-h["wall1_fy"][m] * h["dt"][m]))
+
+
+def block(scratch: Path) -> None:
+    h, _ = run_scene(T, scratch, "block", BLOCK)
+    if not h:
+        return
+    check(bool(np.all(np.diff(h["step"]) == 1)), "block: one history row per step")
+    f = -h["wall1_fy"]                                # the wall's force on the block
+    check(bool(f[1] == 0.0 and np.all(f[2:12] > 0.0)),
+          "block: no force in the first step (gap 0), a force from the second on")
+    force = RHO * CD * V * W                          # rho c_d v A per unit depth [N/m]
+    imp = step_impulse(h, TW)
+    tau = TW - imp / force
+    check(abs(imp / (force * TW) - 1.0) < 0.05,
+          f"block: impulse over 5 us {imp:.5g} N s/m vs rho c_d v A T {force * TW:.5g} "
+          f"({100 * (imp / (force * TW) - 1):+.2f} %, allowed 5 %)")
+    check(0.0 <= tau < 6.0 * HC / CD,
+          f"block: the penalty's lag {tau * 1e6:.3f} us under 6 h / c_d = "
+          f"{6e6 * HC / CD:.3f} us")
+    mom = RHO * W * L * h["com_vy"][-1]
+    check(abs(mom - imp) <= 1e-9 * abs(imp), f"block: impulse {imp:.12g} = momentum {mom:.12g}")
+    print(f"  block: impulse / (rho c_d v A T) = {imp / (force * TW):.4f}, lag {tau * 1e6:.3f} us"
+          f" ({tau * CD / HC:.2f} h / c_d), force of steps 2-4 / rho c_d v A: "
+          f"{', '.join(f'{x / force:.3f}' for x in f[2:5])}")
+
+
+def ring(scratch: Path) -> None:
+    text = (ROOT / "namelists" / "wave.nml").read_text()
+    ts = np.linspace(0.0, 5.0e-6, 26)
+    text = re.sub(r"motion_t = .*\n", "motion_t = " + ", ".join(f"{x:.6g}" for x in ts) + "\n",
+                  text)
+    text = re.sub(r"motion_f = .*\n", "motion_f = " + ", ".join(
+        f"{x:.6g}" for x in np.abs(np.sin(np.pi * ts / 5.0e-6))) + "\n", text)
+    for a, b in [("title = 'wave'", "title = 'ring', output_dir = 'OUT'"),
+                 ("t_end = 1.0e-4", "t_end = 5.0e-7"), ("cfl = 0.2 ", "cfl = 0.0 "),
+                 ("history_every = 2.0e-7", "history_every = 1.0e-10"),
+                 ("snapshot_every = 1.0e-5", "snapshot_every = 1.0"),
+                 ("h = 0.5e-3", "h = 0.25e-3"), ("velocity = 0.0, 10.0", "velocity = 0.0, 1.0")]:
+        check(a in text, f"ring: namelists/wave.nml has {a!r}")
+        text = text.replace(a, b)
+    h, s = run_scene(T, scratch, "ring", text)
+    if not h:
+        return
+    f = -h["wall1_fy"]                                # on the ring (the full ring's)
+    first = int(np.nonzero(f > 0.0)[0][0]) if np.any(f > 0.0) else -1
+    when = (f"step {h['step'][first]:.0f}, t = {h['time'][first] * 1e6:.3f} us" if first >= 0
+            else "none in 0.5 us")
+    check(first == 2 and bool(np.all(f[2:] > 0.0)),
+          f"ring: a force from the second step on (first: {when})")
+    imp = step_impulse(h, 1.0)
+    # the full ring's mass: its particles are quadrilaterals between the corner circles,
+    # 8 through the wall, n_k = 2 particles / 8 around the full ring (the half model's twice)
+    nk = 2 * int(s.get("particles", 0)) // 8
+    mass = RHO * 0.5 * (0.026 ** 2 - 0.024 ** 2) * nk * math.sin(2.0 * math.pi / nk)
+    mom = mass * h["com_vy"][-1]
+    check(abs(mom - imp) <= 1e-9 * abs(imp),
+          f"ring: impulse {imp:.12g} = momentum {mom:.12g} (mass {mass:.6g} kg/m)")
+    print(f"  ring: first force: {when}; impulse over 0.5 us {imp:.4g} N s/m")
+
+
+def main() -> int:
+    scratch = Path(sys.argv[1] if len(sys.argv) > 1 else "/tmp/test_first_contact").resolve()
+    block(scratch)
+    ring(scratch)
+    return 0
+
+
+if __name__ == "__main__":
+    main()
+    sys.exit(T.summary())
