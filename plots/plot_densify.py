@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
 """A ring crushed to densification: force against delta/D (D the outer diameter, log scale) of
-runs with and without self-contact, with the closed forms of docs/theory.md ("Self-contact"):
+runs with and without self-contact, with the closed forms of docs/method.md ("Self-contact"):
 DeRuntz-Hodge P0 / sqrt(1 - (delta/D_m)^2) (the four-hinge mechanism with geometry change) and,
 once the platen gap H = D - delta is below 2t, the densification bound (2/sqrt 3) sigma_y
 (pi D_m / 2 - pi H / 2) (the flattened double wall pressed as a plane-strain strip).

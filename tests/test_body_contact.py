@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
-"""Contact between bodies (multi-field MPM, docs/theory.md "Contact between bodies"), run with the
+"""Contact between bodies (multi-field MPM, docs/method.md "Contact between bodies"), run with the
 binary under test; every oracle is outside the contact code:
 
 0. the scenes of namelists/contact/ (two_rings, nested, nested_eccentric, stack, row3 and its

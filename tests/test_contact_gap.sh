@@ -5,7 +5,7 @@
 # (the impulse acts the step after the penetration): counted at the end of the step, the first
 # contact showed energy with no work yet, and the growth check stopped the run as "unstable"
 # (exit 4 at step 12041, the growth printed as 4.5e305 %). Oracles: the run completes (exit 0);
-# the energy balance error stays under 2 % of the work (the rule's own accounting, docs/theory.md);
+# the energy balance error stays under 2 % of the work (the rule's own accounting, docs/method.md);
 # the platens' work equals the force integrated over their approach (twice this platen's travel
 # in the full ring of this quarter model) (trapezoid over the history rows,
 # 2 %), an account independent of the solver's impulse . velocity sum.

@@ -3,7 +3,7 @@
 """Mass-proportional damping (`&solver damping`): its energy against what the scheme removes.
 
 Step 3 divides each node velocity by 1 + c dt; the particles receive that change through
-G2P, and the `damped` energy is the kinetic energy the particles lose by it (docs/theory.md,
+G2P, and the `damped` energy is the kinetic energy the particles lose by it (docs/method.md,
 "Energies"). Two scenes:
 
 * a free elastic block (10 x 5 mm, 20 x 10 particles) moving at v0 = 5 m/s with damping

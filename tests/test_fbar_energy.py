@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
-"""The energy balance with the volumetric treatments (src/method/mpm_fbar.f90, docs/theory.md
+"""The energy balance with the volumetric treatments (src/method/mpm_fbar.f90, docs/method.md
 "Volumetric locking and F-bar"), run with the binary under test.
 
 The stress update sees the averaged volume change ('fbar': through the nodes; 'fbarwall': the

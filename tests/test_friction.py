@@ -8,7 +8,7 @@ within a few hundred steps), and starts sliding at v0 = 5 m/s. Rigid-body Coulom
 decelerates it at mu g: it stops after v0 / (mu g) = 0.1 ms, having slid v0^2 / (2 mu g) =
 0.25 mm, and friction has taken all of its kinetic energy, m v0^2 / 2 = 0.625 J per m of depth.
 At cfl 0.1 (the friction's loss, its impulses times the slip they leave: 0.624, 0.615 and
-0.612 J at the automatic cfl, 0.4 and 0.1; docs/theory.md, "Energies"):
+0.612 J at the automatic cfl, 0.4 and 0.1; docs/method.md, "Energies"):
 
 * the distance slid at t = 0.2 ms (centre of mass) within 3 % of v0^2 / (2 mu g);
 * history's `contact_loss` at t = 0.2 ms within 3 % of m v0^2 / 2;

@@ -47,9 +47,11 @@ EXPECTED = {
     "namelists/contact/stack.nml": "crush",
     "namelists/contact/two_rings.nml": "impact",  # two rings flying at each other, no wall moves
     "tests/scenes/crush_quarter.nml": "crush",
+    "tests/scenes/damped_quarter.nml": "wave",    # a platen pulse (triangle back to 0)
     "tests/scenes/elastic_quarter.nml": "wave",   # a platen pulse, as the wave scene's
     "tests/scenes/impact_half.nml": "impact",
     "tests/scenes/stability_impact.nml": "impact",
+    "tests/scenes/stick_crush.nml": "crush",      # two 'stick' platens close on a full ring
     "tests/scenes/sym_full.nml": "crush",
     "tests/scenes/sym_half.nml": "crush",
     "tests/scenes/sym_quarter.nml": "crush",

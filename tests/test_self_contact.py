@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
 """Self-contact of a ring crushed to densification (`&body self_contact = .true.`,
-src/contact/mpm_self_contact.f90, docs/theory.md "Self-contact"), run with the binary under test.
+src/contact/mpm_self_contact.f90, docs/method.md "Self-contact"), run with the binary under test.
 The oracles come from the particle domains in particles.h5 and from closed forms, not from the
 contact code.
 

@@ -302,7 +302,7 @@ contains
     call check(stat == 0, 'run ok: '//errmsg)
     call check_close(momentum(s), p0, 'total momentum constant', atol=1.0e-10_wp*pscale)
     ! the rings are two bodies: each has its own velocity field and they meet by the contact
-    ! between bodies (docs/theory.md), which dissipates at impact: 5.5 % here (4.6 % at h/2;
+    ! between bodies (docs/method.md), which dissipates at impact: 5.5 % here (4.6 % at h/2;
     ! 1.8 % for the aluminium rings of tests/test_body_contact.py); when they shared one
     ! field (before the body-contact issue) they welded and kept energy within 2 %
     call check_close(emax_err, 0.0_wp, 'energy conserved within 7 %', atol=0.07_wp)

@@ -3,7 +3,7 @@
 """'stick' walls: a crush between stick platens, and a block dragged by a stick wall.
 
 The friction's loss (`contact_loss`) is each point's tangential impulse times the slip it
-leaves (docs/theory.md, "Energies"): 'stick' leaves none and takes nothing.
+leaves (docs/method.md, "Energies"): 'stick' leaves none and takes nothing.
 
 * A full steel ring crushed between two 'stick' platens (tests/scenes/stick_crush.nml: 2 m/s,
   mass_scale 16, h = t/2, 4 particles through the wall, automatic cfl, 0.5 ms): it completes

@@ -319,7 +319,7 @@ contains
   !> A bar of bilinear J2 steel (hardening H = 20 GPa) in uniaxial strain ('slip' mirror
   !! planes on both sides, 2 cells wide, 100 cells long) strikes a rigid frictionless wall at
   !! v. One-dimensional wave solution (Meyers, Dynamic Behavior of Materials, ch. 7; docs/
-  !! theory.md): elastic, sigma = rho c_e v with c_e = sqrt((K + 4/3 G) / rho), up to the
+  !! method.md): elastic, sigma = rho c_e v with c_e = sqrt((K + 4/3 G) / rho), up to the
   !! Hugoniot elastic limit sigma_HEL = sigma_y (1 - nu) / (1 - 2 nu); beyond, the elastic
   !! precursor at sigma_HEL runs ahead of a plastic wave of speed c_p = sqrt((K + 4/3 G_t) /
   !! rho), G_t = G H / (3 G + H), and the wall stress is sigma_HEL + rho c_p (v - v_HEL),

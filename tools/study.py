@@ -256,7 +256,7 @@ BASES = ("linear", "ugimp", "cpdi1", "cpdi2")
 #: h = t/4 twice as many)
 FBAR_NT = (2, 4)
 #: the volumetric treatments of the full level (&solver volumetric): 'fbarwall', the fit
-#: through a ring's wall, is measured where 'fbar' is (docs/theory.md, Volumetric locking)
+#: through a ring's wall, is measured where 'fbar' is (docs/method.md, Volumetric locking)
 VOLUMETRICS = ("standard", "fbar", "fbarwall")
 
 
@@ -299,7 +299,7 @@ def design(level: str) -> dict[str, list[Point]]:
         pts += [P(scene, h_over_t=0.25, n_t=8, cfl=c) for c in
                 ((0.2, 0.4) if CENTRE_CFL[scene] == 0.8 else (0.4, 0.8))]
         # anti-locking: F-bar at one and two particles per cell through the wall, at h = t/4
-        # and t/2 (docs/theory.md, Volumetric locking)
+        # and t/2 (docs/method.md, Volumetric locking)
         for h in (0.25, 0.5):
             for n in FBAR_NT:
                 pts += [P(scene, h_over_t=h, n_t=round(n * 0.5 / h), volumetric=v)

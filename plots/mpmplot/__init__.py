@@ -6,7 +6,7 @@ One module per concern (import the one you need: ``from mpmplot import readers``
 * :mod:`mpmplot.namelist`  the namelist reader (input.nml, summary.nml, case files)
 * :mod:`mpmplot.readers`   history.csv, summary.nml, particles.h5, measured curves
 * :mod:`mpmplot.scene`     what a case is: output folder, walls, ring, kind of scene
-* :mod:`mpmplot.theory`    closed forms of docs/theory.md (DeRuntz-Hodge, ring stiffness, waves)
+* :mod:`mpmplot.theory`    closed forms of docs/method.md (DeRuntz-Hodge, ring stiffness, waves)
 * :mod:`mpmplot.analysis`  post-processing of history columns (contact, rebound, arrivals)
 
 It needs numpy, and h5py only for the particle files (imported when first needed). It never

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MIT
-"""Closed forms of docs/theory.md, per ``depth`` metres of tube, SI units: the DeRuntz-Hodge
+"""Closed forms of docs/method.md, per ``depth`` metres of tube, SI units: the DeRuntz-Hodge
 crushing load and energy, the four-hinge collapse load, the elastic diametral stiffness of a
 ring between two line loads, and the wave speeds.
 """

@@ -1,4 +1,4 @@
-!> Wall contact on the grid (steps 3 and 5 of docs/algorithm.md): the walls other than 'slip'
+!> Wall contact on the grid (steps 3 and 5 of docs/method.md): the walls other than 'slip'
 !! act at the material surface (mpm_surface_contact: penalty forces on the surface points,
 !! friction as a bounded tangential impulse); the 'slip' mirror planes act on the nodes on or
 !! behind them; the reactions (impulse, force, work) of the walls and the energy stored in
@@ -130,7 +130,7 @@ contains
         end do
       end do
       ! the friction's loss: its impulses times the slip they leave (wall less point
-      ! velocity after the solve and the mirror planes; docs/theory.md, "Energies")
+      ! velocity after the solve and the mirror planes; docs/method.md, "Energies")
       st%e_contact_loss = st%e_contact_loss + &
         surface_slip_loss(wk%surf(iw), wk%wall_work(5:6, iw), wk%wall_work(1:2, iw), g%vel)
     end do
@@ -205,7 +205,7 @@ contains
       errmsg = 'wall '//itoa(iw)//': the material lies '//rtoa(-wk%surf(iw)%gmin)// &
         ' m behind the wall (more than half a cell, h = '//rtoa(h)//' m) at t = '// &
         rtoa(st%t)//' s: the wall moves into the material faster than its contact can push '// &
-        'the material away (it acts within about h / c; docs/theory.md). Lower the wall''s '// &
+        'the material away (it acts within about h / c; docs/method.md). Lower the wall''s '// &
         'speed, or cfl if the material itself moves that fast'
       return
     end do
@@ -350,7 +350,7 @@ contains
   !! model's mirror image cancels; taken as a velocity change, it pulled the normal velocity
   !! of the particles next to the plane towards zero at every step (a PIC-like damping: an
   !! elastic half ring lost 0.7 % of its energy in a millisecond of free vibration, the full
-  !! ring 0.1 %; docs/theory.md). The momentum added, including FLIP's share of that
+  !! ring 0.1 %; docs/method.md). The momentum added, including FLIP's share of that
   !! correction, is summed into the partial sums of span k: the impulse is exactly the
   !! momentum the particles receive. (Called per node: scalar derived-type dummies, so that no
   !! array descriptor is built per call.)

@@ -16,7 +16,7 @@
 ! friction P_n in length ('coulomb'). Where w <= max(gap, 0) / dt the fields move apart or
 ! have not met yet: nothing is exchanged, so bodies separate freely. The impulse on b is
 ! minus the one on a: momentum is exchanged, never created (Bardenhagen et al. 2000, 2001;
-! docs/theory.md, "Contact between bodies").
+! docs/method.md, "Contact between bodies").
 module mpm_contact_law
   use mpm_kinds, only: wp
   use mpm_constants, only: CONTACT_COULOMB, CONTACT_STICK

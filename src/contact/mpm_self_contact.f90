@@ -26,7 +26,7 @@
 ! that share a node (their velocities there are one), so a second field is needed where the
 ! walls meet, and with two fields the seam must be welded (Homel & Herbold 2017 and Nairn's
 ! cracks do the same with fields assigned per node from a damage or crack geometry; here the
-! geometry is the ring's, known at t = 0). docs/theory.md, "Self-contact".
+! geometry is the ring's, known at t = 0). docs/method.md, "Self-contact".
 module mpm_self_contact
   use mpm_kinds, only: wp
   use mpm_grid, only: grid_t

@@ -20,7 +20,7 @@
 !   into the plane as the particle compresses, with no force doing that work (5 % energy
 !   error).
 !
-! Normal contact (docs/theory.md, "Wall contact"): a point whose gap to the plane
+! Normal contact (docs/method.md, "Wall contact"): a point whose gap to the plane
 ! g_c = (x_c - x_w) . n is negative at the start of the step takes the force
 !
 !     f_c = k_c (-g_c) n,        k_c = alpha m_c c^2 / h^2,
@@ -32,7 +32,7 @@
 ! the gradient of the energy 1/2 k_c g_c^2: what the material puts into the contact it gets
 ! back at separation. A kinematic constraint (the velocity of the point cut to what closes its
 ! gap) loses the kinetic energy of the nodes it stops at every impact, which costs an elastic
-! bar a per cent of its rebound; that is why this code uses a penalty (docs/theory.md).
+! bar a per cent of its rebound; that is why this code uses a penalty (docs/method.md).
 !
 ! Friction acts on the points that carry a normal force, after the velocity update: the
 ! tangential impulse that stops the point's slip relative to the wall ('stick'), bounded by mu

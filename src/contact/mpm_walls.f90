@@ -1,5 +1,5 @@
 !> Rigid straight walls (platens, targets, mirror planes): the wall type, its prescribed motion,
-!! the mirror-plane rule on a node, and its checkpoint record (docs/theory.md).
+!! the mirror-plane rule on a node, and its checkpoint record (docs/method.md).
 ! SPDX-License-Identifier: MIT
 !
 ! A 'slip' mirror plane acts on the grid nodes on or behind it (the grid has nodes on every

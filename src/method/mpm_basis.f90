@@ -2,7 +2,7 @@
 !> CPDI1 (parallelogram domains) and CPDI2 / CPDI-Q4 (quadrilateral domains).
 ! SPDX-License-Identifier: MIT
 !
-! Conventions (docs/basis.md has the formulas and references):
+! Conventions (docs/method.md has the formulas and references):
 ! - Square cells of side h; node (i, j) sits at origin + h*(i, j). N_i is the tensor product of
 !   1-D hats of half-width h.
 ! - A particle's support is an nb x nb block of nodes with lower-left node (i0, j0); local index

@@ -1,4 +1,4 @@
-!> Deformation (step 6 of docs/algorithm.md): velocity gradient, deformation gradient, volume
+!> Deformation (step 6 of docs/method.md): velocity gradient, deformation gradient, volume
 !! and stress of every particle (the material model is mpm_material), and the CPDI2 domains:
 !! corners moved with the grid velocity, particles at their domains' centroids.
 ! SPDX-License-Identifier: MIT

@@ -1,4 +1,4 @@
-!> volumetric = 'fbar': the F-bar treatment of volumetric locking (docs/theory.md, Volumetric
+!> volumetric = 'fbar': the F-bar treatment of volumetric locking (docs/method.md, Volumetric
 !! locking). The volume change of each particle over a step is averaged over the particles that
 !! share its nodes, the stress update sees the step's deformation increment scaled to that
 !! average (the F-bar rate), and the internal forces see the in-plane mean stress averaged the

@@ -1,4 +1,4 @@
-!> The grid update (steps 2, 3 and 5 of docs/algorithm.md): node velocity = momentum / mass,
+!> The grid update (steps 2, 3 and 5 of docs/method.md): node velocity = momentum / mass,
 !! step 3's momentum update with the nodal force and mass-proportional damping, on the live
 !! nodes span by span; each row updated then gets the walls' mirror planes (mpm_contact), and
 !! step 3 the walls' surface forces before and their friction after.

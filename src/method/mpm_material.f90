@@ -5,7 +5,7 @@
 ! Stress storage: sig(4) = (xx, yy, xy, zz), Cauchy stress [Pa]; sig(3) is the tensor
 ! component sigma_xy. Plane stress keeps sig(4) = 0 exactly; plane strain carries sigma_zz.
 ! Strain increments from D = sym(L) are tensor components (de_xy = (L12 + L21)/2 dt).
-! On stat /= 0, sig and eqps are returned unchanged and dwp = 0. See docs/material.md.
+! On stat /= 0, sig and eqps are returned unchanged and dwp = 0. See docs/method.md.
 module mpm_material
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
   use mpm_kinds, only: wp
@@ -110,7 +110,7 @@ contains
   pure function material_wave_speed(mat) result(c)
     type(material_t), intent(in) :: mat  !! material [-]
     real(wp) :: c
-    c = sqrt((mat%lambda + 2.0_wp*mat%mu)/mat%rho)  ! c_d, docs/theory.md (time step)
+    c = sqrt((mat%lambda + 2.0_wp*mat%mu)/mat%rho)  ! c_d, docs/method.md (time step)
   end function material_wave_speed
 
   !> Update the Cauchy stress of one particle over one step.
@@ -687,7 +687,7 @@ contains
     b12 = F(1,1)*F(2,1) + F(1,2)*F(2,2)
     c = mat%lambda*lnj/jac
     m = mat%mu/jac
-    s(1) = c + m*(b11 - 1.0_wp)                 ! docs/material.md, Neo-Hookean
+    s(1) = c + m*(b11 - 1.0_wp)                 ! docs/method.md, Neo-Hookean
     s(2) = c + m*(b22 - 1.0_wp)
     s(3) = m*b12
     if (plane == PLANE_STRAIN) s(4) = c         ! B_zz = 1

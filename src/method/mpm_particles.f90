@@ -186,7 +186,7 @@ contains
     ! CPDI1 parallelogram: mean edge vectors (exact for parallelograms and isosceles trapezia)
     p%r10(:, ip) = 0.25_wp*(xq(:, 2) - xq(:, 1) + xq(:, 3) - xq(:, 4))
     p%r20(:, ip) = 0.25_wp*(xq(:, 4) - xq(:, 1) + xq(:, 3) - xq(:, 2))
-    p%half(:, ip) = 0.5_wp*sqrt(area)          ! uGIMP square of side sqrt(V0), docs/basis.md
+    p%half(:, ip) = 0.5_wp*sqrt(area)          ! uGIMP square of side sqrt(V0), docs/method.md
     p%mat(ip) = imat
     p%body(ip) = ibody
   end subroutine set_particle

@@ -1,5 +1,5 @@
-!> One explicit MPM time step (docs/theory.md), as a page of numbered calls that match
-!! docs/algorithm.md; the initial energies, the stable time step and the energy balance.
+!> One explicit MPM time step (docs/method.md), as a page of numbered calls that match
+!! docs/method.md; the initial energies, the stable time step and the energy balance.
 ! SPDX-License-Identifier: MIT
 !
 ! The phases live in their own modules and take only the parts of the simulation they use
@@ -49,7 +49,7 @@ module mpm_solver
 
 contains
 
-  !> Stable time step cfl * h / (c_d + max particle speed) [s] (docs/theory.md, One explicit step).
+  !> Stable time step cfl * h / (c_d + max particle speed) [s] (docs/method.md, One explicit step).
   pure function solver_stable_dt(s) result(dt)
     type(sim_t), intent(in) :: s           !! simulation
     real(wp) :: dt
@@ -251,7 +251,7 @@ contains
     ! energy_error as docs/output.md defines it: the largest imbalance over the run divided by
     ! max(E0, the largest external work), both maxima over the run so far; with the walls'
     ! friction loss, which the growth check below leaves out: friction only takes energy
-    ! (docs/theory.md, "Energies"), and its loss must not stop a run
+    ! (docs/method.md, "Energies"), and its loss must not stop a run
     excess = emech - st%e_external - st%e0
     st%bal_max = max(st%bal_max, abs(excess + st%e_contact_loss))
     st%ext_max = max(st%ext_max, abs(st%e_external))

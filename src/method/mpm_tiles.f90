@@ -1,5 +1,5 @@
 !> Binning of the particles into grid tiles: the live region of the grid (spans of tiles), and
-!! the colour groups of the deterministic scatter (step 1 of docs/algorithm.md).
+!! the colour groups of the deterministic scatter (step 1 of docs/method.md).
 ! SPDX-License-Identifier: MIT
 !
 ! Tiles: squares of ts x ts nodes (ts a power of two), tile (tx, ty) = nodes

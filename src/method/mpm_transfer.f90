@@ -1,4 +1,4 @@
-!> Transfers between particles and grid (steps 2, 4 and 5 of docs/algorithm.md): P2G of mass,
+!> Transfers between particles and grid (steps 2, 4 and 5 of docs/method.md): P2G of mass,
 !! momentum and forces, G2P (FLIP/PIC blend, positions), and the MUSL re-map of the momenta.
 ! SPDX-License-Identifier: MIT
 !
@@ -133,7 +133,7 @@ contains
   end subroutine p2g_coloured
 
   !> Scatter of particles k0..k1 (perm(k0..k1) when sorted): mass m_p phi, momentum
-  !! m_p v_p phi, force -V sigma . grad phi + phi m_p (g + b_p) (docs/theory.md, step 1),
+  !! m_p v_p phi, force -V sigma . grad phi + phi m_p (g + b_p) (docs/method.md, step 1),
   !! each particle into the nodes of its velocity field (fld, when nf > 1).
   subroutine p2g_kernel(k0, k1, sorted, perm, np, nn, nf, fld, nb, nx, blk, w, gw, mass, v, &
                         vol, stress, gravity, has_bacc, bacc, do_mass, do_force, &
@@ -265,7 +265,7 @@ contains
     !$omp end parallel do
   end subroutine zero_momentum
 
-  !> Active nodes: mass above 1e-12 of the largest (docs/theory.md, step 1).
+  !> Active nodes: mass above 1e-12 of the largest (docs/method.md, step 1).
   subroutine set_mass_cut(g, tl, par)
     type(grid_t), intent(inout) :: g       !! grid
     type(tiles_t), intent(in) :: tl        !! live spans
@@ -287,7 +287,7 @@ contains
     g%mass_cut = 1.0e-12_wp*mmax
   end subroutine set_mass_cut
 
-  !> Step 4: FLIP/PIC velocity blend and position update (docs/theory.md, step 3); also the
+  !> Step 4: FLIP/PIC velocity blend and position update (docs/method.md, step 3); also the
   !! kinetic energy, the largest speed and the work of body forces. With remap (MUSL, not
   !! deterministic), the new momenta go straight back to the grid (step 5) in the same pass,
   !! accumulated per thread like p2g_threads.
@@ -394,7 +394,7 @@ contains
   !> G2P of particles k0..k1 (perm(k0..k1) when sorted); their kinetic energy and work of
   !! body forces in csum, and (damp) the kinetic energy the damping took from them: each
   !! particle's new velocity less the damping's share of its change, sum_i N_i vdamp_i,
-  !! against the new velocity (docs/theory.md, "Energies"); with remap also m_p v_p phi
+  !! against the new velocity (docs/method.md, "Energies"); with remap also m_p v_p phi
   !! into gmom.
   subroutine g2p_kernel(k0, k1, sorted, perm, np, nn, nf, fld, nb, nx, blk, w, vel, dvel, &
                         flip, dt, gravity, has_bacc, bacc, damp, vdamp, mass, v, x, remap, gmom, &

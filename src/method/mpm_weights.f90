@@ -1,4 +1,4 @@
-!> Step 1 of docs/algorithm.md: the node block, weights and gradients of every particle (the
+!> Step 1 of docs/method.md: the node block, weights and gradients of every particle (the
 !! basis cache that every transfer of the step reuses), and the grid fitted around the blocks.
 ! SPDX-License-Identifier: MIT
 module mpm_weights
