@@ -14,7 +14,8 @@ module mpm_config
   use mpm_constants, only: EXIT_INPUT, EXIT_IO, sector_names, BASIS_CPDI2, SCHEME_MUSL, &
                            PLANE_STRAIN, MODEL_J2, RATE_NONE, RATE_COWPER_SYMONDS, SHAPE_RING, &
                            SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER, max_table, &
-                           CONTACT_FRICTIONLESS, CONTACT_COULOMB, FLOW_LINEAR, FLOW_JOHNSON_COOK
+                           CONTACT_FRICTIONLESS, CONTACT_COULOMB, CONTACT_SLIP, FLOW_LINEAR, &
+                           FLOW_JOHNSON_COOK
   use mpm_config_types, only: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, &
                               body_cfg_t, wall_cfg_t, probe_cfg_t, contact_cfg_t, unset_real, &
                               iunset
@@ -374,7 +375,36 @@ contains
     end if
     call check_friction(rd, io, 'contact', w%contact, w%contact_id, w%friction)
     call read_motion(rd, io, v, w)
+    call check_free_wall(rd, io, w)
   end subroutine check_wall
+
+  !> A wall with mass moves freely along its normal: no prescribed law (ramp, table, stroke),
+  !! not a mirror plane, and its initial velocity along the normal. A stroke needs a motion.
+  subroutine check_free_wall(rd, io, w)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io
+    type(wall_cfg_t), intent(inout) :: w
+    real(wp) :: vt(2)
+    character(len=*), parameter :: free = 'only with mass = 0 (a wall with mass moves freely '// &
+      'under the material''s reaction and gravity)'
+    if (w%stroke > 0.0_wp .and. all(w%velocity == 0.0_wp) .and. .not. w%mass > 0.0_wp) &
+      call err_var(rd, io, 'stroke', fmt_real(w%stroke), 'given for a wall that does not '// &
+        'move (velocity = 0, 0)', 'stroke > 0 with a velocity, or stroke = 0')
+    if (.not. w%mass > 0.0_wp) return
+    if (w%contact_id == CONTACT_SLIP) call err_var(rd, io, 'mass', fmt_real(w%mass), &
+      'given for a ''slip'' mirror plane', 'mass = 0 with contact = ''slip''')
+    if (w%stroke > 0.0_wp) call err_var(rd, io, 'stroke', fmt_real(w%stroke), &
+      'given with mass = '//fmt_real(w%mass), free)
+    if (w%ramp > 0.0_wp) call err_var(rd, io, 'ramp', fmt_real(w%ramp), &
+      'given with mass = '//fmt_real(w%mass), free)
+    if (w%n_motion > 0) call err_var(rd, io, 'motion_t', fmt_list(w%motion_t(1:w%n_motion)), &
+      'given with mass = '//fmt_real(w%mass), free)
+    vt = w%velocity - dot_product(w%velocity, w%normal)*w%normal
+    if (norm2(vt) > 1.0e-9_wp*max(norm2(w%velocity), tiny(1.0_wp))) call err_var(rd, io, &
+      'velocity', fmt_vec(w%velocity), 'has a part along the wall ('//fmt_vec(vt)// &
+      ' m/s): a wall with mass moves along its normal only', 'a multiple of normal = '// &
+      fmt_vec(w%normal))
+  end subroutine check_free_wall
 
   !> Friction > 0 only with the Coulomb law (else reported, and left at 0).
   subroutine check_friction(rd, io, var, law, id, friction)

@@ -11,7 +11,8 @@ module mpm_config_check
   use mpm_config_text, only: lower, itoa, quote, file_stem, fmt_short, fmt_vec, fmt_real
   use mpm_config_table, only: n_groups
   use mpm_config_lexer, only: reader_t, occurrence
-  use mpm_config_values, only: err_var, warn_var
+  use mpm_config_values, only: err_var, warn_var, err_missing
+  use mpm_walls, only: wall_t, wall_stroke_setup, wall_end_time, wall_stroke_travel
   use mpm_advice, only: wall_too_thin, advice_unit_issues, unit_issue_t
   use mpm_symmetry, only: symmetry_checks
   use mpm_placement, only: placement_checks
@@ -100,6 +101,9 @@ contains
       end if
     end do
 
+    ! strokes reached, and t_end from them where it is not given
+    if (io_run > 0) call stroke_checks(rd, cfg, io_run)
+
     ! given grid bounds contain every body
     if (io_grid > 0) call grid_bounds_checks(rd, cfg, io_grid, occ_body)
 
@@ -126,6 +130,71 @@ contains
 
     call contact_checks(rd, cfg, occ_con)
   end subroutine cross_checks
+
+  !> Every stroke is reached by its wall's motion law; without t_end, the run ends when every
+  !! moving wall has reached its stroke (t_end is required when one has none, or with a wall of
+  !! mass).
+  subroutine stroke_checks(rd, cfg, io_run)
+    type(reader_t), intent(inout) :: rd
+    type(config_t), intent(inout) :: cfg
+    integer, intent(in) :: io_run
+    type(wall_t) :: w
+    integer :: k, io
+    logical :: ok, all_stroke, any_moving, any_mass
+    real(wp) :: t_stop
+    character(len=:), allocatable :: without
+    all_stroke = .true.
+    any_moving = .false.
+    any_mass = .false.
+    t_stop = 0.0_wp
+    without = ''
+    do k = 1, size(cfg%walls)
+      if (cfg%walls(k)%mirror) cycle
+      io = occurrence(rd, 'wall', k)
+      if (io > 0) then
+        if (.not. rd%occ(io)%ok) cycle
+      end if
+      if (cfg%walls(k)%mass > 0.0_wp) then
+        any_mass = .true.
+        cycle
+      end if
+      if (all(cfg%walls(k)%velocity == 0.0_wp)) cycle
+      any_moving = .true.
+      w%velocity = cfg%walls(k)%velocity
+      w%normal = cfg%walls(k)%normal
+      w%ramp = cfg%walls(k)%ramp
+      w%n_motion = cfg%walls(k)%n_motion
+      w%motion_t = cfg%walls(k)%motion_t
+      w%motion_f = cfg%walls(k)%motion_f
+      w%stroke = cfg%walls(k)%stroke
+      call wall_stroke_setup(w, ok)
+      if (.not. ok .and. io > 0) then
+        call err_var(rd, io, 'stroke', fmt_real(w%stroke), 'not reached: the motion comes '// &
+          'to rest after '//fmt_short(wall_stroke_travel(w, huge(1.0_wp)*1.0e-10_wp))// &
+          ' m', 'a stroke the motion reaches, or a motion table that keeps moving')
+        all_stroke = .false.
+      else if (w%stroke > 0.0_wp) then
+        t_stop = max(t_stop, wall_end_time(w))
+      else
+        all_stroke = .false.
+        if (len(without) > 0) without = without//', '
+        without = without//'#'//itoa(k)
+      end if
+    end do
+    if (cfg%run%t_end > 0.0_wp) return
+    if (.not. rd%occ(io_run)%ok) return
+    if (any_moving .and. all_stroke .and. .not. any_mass) then
+      cfg%run%t_end = t_stop
+    else if (any_mass) then
+      call err_var(rd, io_run, 't_end', '', 'missing: required with a &wall of mass (a drop '// &
+        'weight; &run end_at_release can end the run once it has rebounded)')
+    else if (len(without) > 0) then
+      call err_var(rd, io_run, 't_end', '', 'missing: required unless every moving &wall '// &
+        'has a stroke (&wall '//without//' has none)')
+    else
+      call err_missing(rd, io_run, 't_end')
+    end if
+  end subroutine stroke_checks
 
   !> Given grid bounds (not fitted) contain every body.
   subroutine grid_bounds_checks(rd, cfg, io_grid, occ_body)

@@ -81,8 +81,10 @@ module mpm_config_table
       unset_note='default: out/<title>', &
       allowed='a folder path of at most 512 characters (default: out/<title>)', &
       comment='folder for all outputs'), &
-    var_spec_t('run', 't_end', r0=big, required=.true., lo=0.0_wp, lo_open=.true., &
-      unset='neg', allowed='a real number > 0 [s] (required)', comment='simulated time [s]'), &
+    var_spec_t('run', 't_end', r0=big, lo=0.0_wp, lo_open=.true., unset='neg', &
+      unset_note='default: when every moving wall has reached its stroke', &
+      allowed='a real number > 0 [s] (required unless every moving &wall has a stroke)', &
+      comment='simulated time [s]'), &
     var_spec_t('run', 'cfl', r0=0.0_wp, lo=0.0_wp, hi=2.0_wp, &
       allowed='a real number with 0 <= cfl <= 2 (default 0: automatic; --check warns above '// &
       'the stability study''s limit)', comment='dt = cfl h / (c_d + max speed) [-]'), &
@@ -219,6 +221,11 @@ module mpm_config_table
     var_spec_t('wall', 'motion_f', n=max_table, r0=big, own=.true., &
       allowed='up to 64 finite factors, '// &
       'as many as motion_t (default none)', comment='factors on velocity [-]'), &
+    var_spec_t('wall', 'mass', lo=0.0_wp, allowed='a real number >= 0 [kg] (0: prescribed '// &
+      'motion; > 0: a free rigid body, for depth; default 0)', &
+      comment='> 0: drop weight of this mass [kg]'), &
+    var_spec_t('wall', 'stroke', lo=0.0_wp, allowed='a real number >= 0 [m] (0: none; '// &
+      'default 0)', comment='> 0: eases to rest at this travel [m]'), &
     ! ---------------------------------------------------------------------------- &probe
     var_spec_t('probe', 'point', n=2, r0=big, required=.true., unset='huge', &
       allowed='2 finite real numbers [m] (required)', &
@@ -415,6 +422,8 @@ contains
         call bind(f, 'wall', 'ramp', x=g%ramp)
         call bind(f, 'wall', 'motion_t', v=g%motion_t, i=g%n_motion)
         call bind(f, 'wall', 'motion_f', v=g%motion_f, i=g%n_motion)
+        call bind(f, 'wall', 'mass', x=g%mass)
+        call bind(f, 'wall', 'stroke', x=g%stroke)
       end associate
     case (7)
       call bind(f, 'probe', 'point', v=cfg%probes(k)%point)

@@ -64,6 +64,8 @@ module mpm_config_types
     integer :: n_motion = 0                        !! points in the motion table
     real(wp) :: motion_t(max_table) = 0.0_wp       !! table times [s]
     real(wp) :: motion_f(max_table) = 0.0_wp       !! table factors on velocity [-]
+    real(wp) :: mass = 0.0_wp                      !! > 0: a free rigid body of this mass [kg]
+    real(wp) :: stroke = 0.0_wp                    !! > 0: eases to rest at this travel [m]
     logical :: mirror = .false.                    !! added by a body sector (not in the input)
   end type wall_cfg_t
 

@@ -23,7 +23,12 @@ esac
 scratch=$(mktemp -d "${TMPDIR:-/tmp}/tubempm-tests.XXXXXX")
 trap 'rm -rf "$scratch"' EXIT
 total_pass=0; total_fail=0; t0=$(date +%s)
-run_one() {  # name, command...
+# Tests run two at a time (TEST_JOBS, default the core count up to 2), each on one thread;
+# those that time themselves, use threads or build binaries run alone, after the others.
+jobs=${TEST_JOBS:-$(nproc 2>/dev/null || echo 1)}
+[ "$jobs" -gt 2 ] && jobs=2
+alone=" test_threads test_native test_memory test_reliability test_batch_slurm test_good_state "
+run_one() {  # name, command... : writes $scratch/name.result (the summary lines)
   local name=$1; shift
   local out="$scratch/$name.log" start=$(date +%s.%N) rc
   mkdir -p "$scratch/$name"
@@ -36,24 +41,52 @@ run_one() {  # name, command...
   fi
   if [ -z "$line" ] || { [ $rc -ne 0 ] && [ "$f" -eq 0 ]; }; then f=$((f + 1)); fi
   local secs; secs=$(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN{print b-a}')
-  if [ "$f" -gt 0 ]; then
-    echo "---- $name FAILED (exit $rc); its output:"; sed 's/^/    /' "$out" | tail -n 60
-  fi
-  printf '%-28s %4d passed, %d failed  (%.1f s)\n' "$name" "$p" "$f" "$secs" 2>/dev/null \
-    || echo "$name $p passed, $f failed"
-  total_pass=$((total_pass + p)); total_fail=$((total_fail + f))
+  {
+    if [ "$f" -gt 0 ]; then
+      echo "---- $name FAILED (exit $rc); its output:"; sed 's/^/    /' "$out" | tail -n 60
+    fi
+    printf '%-28s %4d passed, %d failed  (%.1f s)\n' "$name" "$p" "$f" "$secs" 2>/dev/null \
+      || echo "$name $p passed, $f failed"
+    echo "#counts $p $f"
+  } > "$scratch/$name.result"
 }
+names=(); cmds=()
+add() { names+=("$1"); shift; cmds+=("$*"); }
 for t in "$bld"/test_*; do
   [ -x "$t" ] && [ -f "$t" ] || continue
-  run_one "$(basename "$t")" "$t"
+  add "$(basename "$t")" "$t"
 done
 for s in tests/test_*.sh; do
   [ -f "$s" ] || continue
-  run_one "$(basename "$s" .sh)" env TUBEMPM="$bld/tubempm" bash "$s"
+  add "$(basename "$s" .sh)" env TUBEMPM="$bld/tubempm" bash "$s"
 done
 for s in tests/test_*.py; do
   [ -f "$s" ] || continue
-  run_one "$(basename "$s" .py)" env TUBEMPM="$bld/tubempm" ${PYTHON:-python3} "$s"
+  add "$(basename "$s" .py)" env TUBEMPM="$bld/tubempm" ${PYTHON:-python3} "$s"
+done
+report() {  # print a finished test's result and add its counts
+  local r="$scratch/$1.result"
+  grep -v '^#counts ' "$r"
+  set -- $(grep '^#counts ' "$r")
+  total_pass=$((total_pass + $2)); total_fail=$((total_fail + $3))
+}
+running=()
+for i in "${!names[@]}"; do
+  n=${names[$i]}
+  case "$alone" in *" $n "*) continue ;; esac
+  while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do wait -n; done
+  # shellcheck disable=SC2086
+  run_one "$n" ${cmds[$i]} &
+  running+=("$n")
+done
+wait
+for n in "${running[@]}"; do report "$n"; done
+for i in "${!names[@]}"; do
+  n=${names[$i]}
+  case "$alone" in *" $n "*) ;; *) continue ;; esac
+  # shellcheck disable=SC2086
+  run_one "$n" ${cmds[$i]}
+  report "$n"
 done
 echo "all tests took $(( $(date +%s) - t0 )) s"
 echo "$total_pass passed, $total_fail failed"

@@ -611,8 +611,9 @@ contains
     end if
   end function advice_end_of_run
 
-  !> Which study scene the case resembles: 'wave' (a wall gives a blow: a motion table that
-  !! ends at rest), 'crush' (a platen keeps moving), 'impact' (a ring body moves at t = 0), or
+  !> Which study scene the case resembles: 'impact' (a wall with mass: a drop weight), 'wave'
+  !! (a wall gives a blow: a motion table that ends at rest), 'crush' (a platen keeps moving),
+  !! 'impact' (a ring body moves at t = 0), or
   !! '' (generic). The only classifier: summary.nml's scene and `tubempm --scene` print it, and
   !! the plots read those.
   pure function scene_of(cfg) result(scene)
@@ -621,6 +622,10 @@ contains
     integer :: k
     scene = ''
     if (.not. any(cfg%bodies%shape_id == SHAPE_RING)) return
+    if (any(cfg%walls%mass > 0.0_wp)) then  ! a drop weight
+      scene = 'impact'
+      return
+    end if
     do k = 1, size(cfg%walls)
       if (cfg%walls(k)%n_motion < 1) cycle
       if (any(cfg%walls(k)%velocity /= 0.0_wp) .and. &

@@ -16,7 +16,7 @@ module mpm_contact
   use mpm_constants, only: CONTACT_SLIP, EXIT_NUMERIC
   use mpm_grid, only: grid_t
   use mpm_tiles, only: tiles_t
-  use mpm_walls, only: wall_velocity, wall_mirror_node, wall_travel
+  use mpm_walls, only: wall_velocity, wall_mirror_node, wall_travel, wall_free_step
   use mpm_surface_contact, only: surface_points, surface_push, surface_friction, surface_energy, &
                                  surface_slip_loss, contact_alpha
   use mpm_surface_curve, only: surface_curve_points
@@ -46,16 +46,22 @@ contains
   end subroutine contact_begin_step
 
   !> End of a step (t is the new time): each wall's force on the material side = -impulse/dt,
-  !! its impulse summed for the history, its work impulse . v_wall(t - dt/2).
-  subroutine contact_reactions(st, dt)
+  !! its impulse summed for the history, its work impulse . v_wall(t - dt/2); a wall with mass
+  !! moves under the impulse's reaction and gravity (wall_free_step).
+  subroutine contact_reactions(st, dt, gravity)
     type(state_t), intent(inout) :: st     !! state: walls
     real(wp), intent(in) :: dt             !! the step just taken [s]
+    real(wp), intent(in) :: gravity(2)     !! gravity [m/s^2]
     integer :: k
     do k = 1, st%nwall
       st%walls(k)%force = -st%walls(k)%impulse/dt
       st%walls(k)%impulse_acc = st%walls(k)%impulse_acc + st%walls(k)%impulse
-      st%walls(k)%work = st%walls(k)%work + dot_product(st%walls(k)%impulse, &
-                         wall_velocity(st%walls(k), st%t - 0.5_wp*dt))
+      if (st%walls(k)%mass > 0.0_wp) then
+        call wall_free_step(st%walls(k), gravity, dt)
+      else
+        st%walls(k)%work = st%walls(k)%work + dot_product(st%walls(k)%impulse, &
+                           wall_velocity(st%walls(k), st%t - 0.5_wp*dt))
+      end if
     end do
   end subroutine contact_reactions
 

@@ -32,7 +32,7 @@ module mpm_release
 contains
 
   !> Whether the step just taken had a contact force (walls other than symmetry planes, pairs
-  !! of bodies) or a moving wall.
+  !! of bodies) or a wall moving by its prescribed law.
   pure logical function in_contact(walls, pair_force, t) result(on)
     type(wall_t), intent(in) :: walls(:)   !! rigid walls, their force of the last step
     real(wp), intent(in) :: pair_force(:,:)  !! pairs' normal force and its components of the
@@ -43,6 +43,7 @@ contains
     do k = 1, size(walls)
       if (walls(k)%mirror .or. walls(k)%contact == CONTACT_SLIP) cycle
       if (any(walls(k)%force /= 0.0_wp)) on = .true.
+      if (walls(k)%mass > 0.0_wp) cycle      ! a drop weight flies off freely: only its force
       if (any(wall_factor(walls(k), t)*walls(k)%velocity /= 0.0_wp)) on = .true.
     end do
     if (size(pair_force, 2) > 0) then

@@ -12,7 +12,7 @@ module mpm_setup
   use mpm_bodies, only: body_counts, body_fill, body_report
   use mpm_grid, only: grid_init
   use mpm_tiles, only: tiles_init
-  use mpm_walls, only: wall_t
+  use mpm_walls, only: wall_t, wall_stroke_setup, wall_end_time, wall_travel
   use mpm_material, only: material_from, material_wave_speed
   use mpm_solver, only: sim_t, solver_stable_dt, solver_init_energy
   use mpm_errors, only: append_msg
@@ -281,8 +281,9 @@ contains
     type(config_t), intent(in) :: cfg      !! the case
     integer, intent(in) :: sector_id       !! SECTOR_* code of the ring bodies
     type(wall_t), allocatable, intent(out) :: walls(:)  !! the walls, at t = 0
-    integer :: k, nmirror
+    integer :: k, j, nmirror
     real(wp) :: anchor(2)
+    logical :: ok
     nmirror = 0
     if (sector_id == SECTOR_HALF) nmirror = 1
     if (sector_id == SECTOR_QUARTER) nmirror = 2
@@ -299,6 +300,12 @@ contains
         walls(k)%motion_t = wc%motion_t
         walls(k)%motion_f = wc%motion_f
         walls(k)%mirror = wc%mirror
+        walls(k)%stroke = wc%stroke
+        call wall_stroke_setup(walls(k), ok)   ! (the reader has checked that it is reached)
+        if (wc%mass > 0.0_wp) then
+          walls(k)%mass = wc%mass/cfg%run%depth
+          walls(k)%vn = dot_product(wc%velocity, walls(k)%normal)
+        end if
       end associate
     end do
     if (nmirror > 0) then
@@ -315,6 +322,16 @@ contains
         walls(k + 2)%mirror = .true.
       end if
     end if
+    ! a wall with mass: the modelled part's share, halved by each mirror plane across it (the
+    ! full structure's force on it is twice the part's, mpm_output's full_force)
+    do k = 1, size(cfg%walls)
+      if (.not. walls(k)%mass > 0.0_wp) cycle
+      do j = 1, size(walls)
+        if (j == k .or. .not. walls(j)%mirror) cycle
+        if (abs(dot_product(walls(j)%normal, walls(k)%normal)) < 1.0e-6_wp) &
+          walls(k)%mass = 0.5_wp*walls(k)%mass
+      end do
+    end do
   end subroutine setup_walls
 
   !> The law of every pair of bodies, 'pairs 1-2 frictionless, 1-3 coulomb (0.3), ...'.
@@ -331,6 +348,56 @@ contains
       end do
     end do
   end function pair_laws_text
+
+  !> The walls with a stroke (when they reach it, the approach and delta/D then) and with mass
+  !! (the drop weight's mass and energy), one line each.
+  subroutine wall_motion_report(cfg, s, report)
+    type(config_t), intent(in) :: cfg      !! the case
+    type(sim_t), intent(in) :: s           !! the simulation at t = 0
+    character(len=:), allocatable, intent(inout) :: report  !! lines appended
+    integer :: k, m, ib
+    real(wp) :: delta, fac, d_mean, tm
+    logical :: strokes
+    delta = 0.0_wp
+    tm = 0.0_wp
+    strokes = .false.
+    do k = 1, s%nwall
+      associate (w => s%walls(k))
+        if (w%mass > 0.0_wp) then
+          call append_msg(report, 'wall '//itoa(k)//': a free rigid body of '// &
+            sci(cfg%walls(k)%mass, 4)//' kg (for depth '//sci(cfg%run%depth, 3)//' m) at '// &
+            sci(abs(w%vn), 4)//' m/s: kinetic energy '//sci(0.5_wp*cfg%walls(k)%mass*w%vn**2, &
+            4)//' J')
+        else if (w%stroke > 0.0_wp) then
+          strokes = .true.
+          call append_msg(report, 'wall '//itoa(k)//': stroke '//sci(w%stroke, 4)// &
+            ' m, easing from t = '//sci(w%t_stroke, 4)//' s, at rest from t = '// &
+            sci(wall_end_time(w), 4)//' s')
+          fac = 1.0_wp
+          do m = 1, s%nwall
+            if (s%walls(m)%mirror .and. abs(dot_product(s%walls(m)%normal, w%normal)) > &
+                0.999_wp) fac = 2.0_wp
+          end do
+          delta = delta - fac*wall_travel(w, wall_end_time(w))
+          tm = max(tm, wall_end_time(w))
+        end if
+      end associate
+    end do
+    if (.not. strokes) return
+    d_mean = 0.0_wp
+    do ib = size(cfg%bodies), 1, -1
+      if (cfg%bodies(ib)%shape_id == SHAPE_RING) d_mean = cfg%bodies(ib)%r_inner + &
+                                                          cfg%bodies(ib)%r_outer
+    end do
+    if (d_mean > 0.0_wp) then
+      call append_msg(report, 'approach at the strokes'' end (t = '//sci(tm, 4)//' s): delta = '// &
+        sci(delta, 4)//' m, delta/D = '//sci(delta/d_mean, 3)//' (D = '//sci(d_mean, 4)// &
+        ' m, the mean diameter of the first ring)')
+    else
+      call append_msg(report, 'approach at the strokes'' end (t = '//sci(tm, 4)//' s): delta = '// &
+        sci(delta, 4)//' m')
+    end if
+  end subroutine wall_motion_report
 
   !> Centre of the first ring body modelled as a sector [m].
   pure function first_sector_center(cfg) result(c)
@@ -396,6 +463,7 @@ contains
     write(line, '(a,i0,4a)') 'walls: ', s%nwall, ' (', &
       plural(count(s%walls(:)%mirror), 'mirror plane'), ' added by the sector)'
     call append_msg(report, line)
+    call wall_motion_report(cfg, s, report)
     dt_stable = solver_stable_dt(s)
     dt = dt_stable
     if (s%prm%dt_fixed > 0.0_wp) dt = s%prm%dt_fixed

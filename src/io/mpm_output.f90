@@ -8,7 +8,7 @@
 module mpm_output
   use mpm_kinds, only: wp, i8
   use mpm_solver, only: sim_t
-  use mpm_walls, only: wall_travel
+  use mpm_walls, only: wall_travel, wall_kinetic
   use mpm_results, only: results_t, results_write_group
   use mpm_material, only: material_energy_density
   use mpm_strings, only: itoa
@@ -100,6 +100,10 @@ contains
         end do
       end do
     end if
+    do k = 1, s%nwall                        ! a wall with mass: its motion
+      if (s%walls(k)%mass > 0.0_wp) header = header//',wall'//itoa(k)//'_velocity,wall'// &
+        itoa(k)//'_kinetic'
+    end do
     write(h%unit, '(a)', iostat=stat, iomsg=msg) header
     if (stat /= 0) errmsg = 'cannot write '//trim(path)//': '//trim(msg)
   end subroutine history_open
@@ -114,7 +118,8 @@ contains
     integer, intent(out) :: stat           !! 0 or iostat
     character(len=:), allocatable, intent(out) :: errmsg  !! the I/O problem
     real(wp) :: row(4*s%nwall + 14 + 5*size(h%probe) + &
-                    merge(7*s%prm%nbody + 3*s%prm%npair, 0, s%prm%nbody > 1)), f(2), c(2), cv(2)
+                    merge(7*s%prm%nbody + 3*s%prm%npair, 0, s%prm%nbody > 1) + &
+                    2*count(s%walls(1:s%nwall)%mass > 0.0_wp)), f(2), c(2), cv(2)
     integer :: k, i, ip
     character(len=512) :: msg
     stat = 0
@@ -161,7 +166,16 @@ contains
     row(i + 4) = s%dt
     row(i + 5) = s%energy_error
     i = i + 5
-    if (s%prm%nbody > 1) call body_columns(h, s, row(i + 1:))
+    if (s%prm%nbody > 1) then
+      call body_columns(h, s, row(i + 1:))
+      i = i + 7*s%prm%nbody + 3*s%prm%npair
+    end if
+    do k = 1, s%nwall
+      if (.not. s%walls(k)%mass > 0.0_wp) cycle
+      row(i + 1) = -s%walls(k)%vn                ! along minus the normal, as wall<k>_disp
+      row(i + 2) = wall_kinetic(s%walls(k))*h%depth*h%factor
+      i = i + 2
+    end do
     row = row + 0.0_wp                     ! no negative zeros in the file
     write(h%unit, '(es24.16e3,*(:",",es24.16e3))', iostat=stat, iomsg=msg) row
     if (stat /= 0) then

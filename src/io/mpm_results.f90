@@ -33,11 +33,15 @@ module mpm_results
     real(wp) :: sea = 0.0_wp               !! absorbed_energy / mass [J/kg]
     real(wp) :: densification_stroke = 0.0_wp  !! delta of the largest E(delta)/F(delta) [m]
     real(wp), allocatable :: body_energy(:)  !! each body's plastic dissipation [J]
+    logical :: impactor = .false.          !! the loading wall is a wall with mass
+    real(wp) :: impactor_rebound = 0.0_wp  !! its speed away from the material at the end [m/s]
+    real(wp) :: impactor_max_stroke = 0.0_wp  !! its largest advance into the material [m]
   end type results_t
 
 contains
 
-  !> Which walls load the material: not mirror planes, with a prescribed motion into it.
+  !> Which walls load the material: not mirror planes, with a prescribed motion into it or a
+  !! mass moving into it at the start.
   pure function loading_walls(walls) result(loading)
     type(wall_t), intent(in) :: walls(:)   !! the walls
     logical :: loading(size(walls))
@@ -45,6 +49,7 @@ contains
     do k = 1, size(walls)
       loading(k) = .not. walls(k)%mirror .and. &
                    (dot_product(walls(k)%velocity, walls(k)%normal) > 0.0_wp .or. &
+                    walls(k)%mass > 0.0_wp .and. (walls(k)%travel_max > 0.0_wp .or. walls(k)%vn > 0.0_wp) .or. &
                     (walls(k)%n_motion > 0 .and. any(walls(k)%motion_f /= 0.0_wp) .and. &
                      dot_product(walls(k)%velocity, walls(k)%normal) /= 0.0_wp))
     end do
@@ -105,6 +110,11 @@ contains
         exit
       end if
     end do
+    if (walls(res%loading_wall)%mass > 0.0_wp) then
+      res%impactor = .true.
+      res%impactor_rebound = -walls(res%loading_wall)%vn
+      res%impactor_max_stroke = walls(res%loading_wall)%travel_max
+    end if
     allocate(delta(n), force(n), energy(n), smooth(n))
     ! the approach and the force on the loading walls (weighted by their share of the approach)
     delta = 0.0_wp
@@ -266,6 +276,12 @@ contains
       write(u, '(a,i0,a,es24.16e3)', iostat=stat, iomsg=msg) '  body', k, '_energy = ', &
         res%body_energy(k)
     end do
+    if (res%impactor) then
+      write(u, '(a,es24.16e3)', iostat=stat, iomsg=msg) '  impactor_rebound = ', &
+        res%impactor_rebound
+      write(u, '(a,es24.16e3)', iostat=stat, iomsg=msg) '  impactor_max_stroke = ', &
+        res%impactor_max_stroke
+    end if
     write(u, '(a)', iostat=stat, iomsg=msg) '/'
   end subroutine results_write_group
 
@@ -285,6 +301,7 @@ contains
     do k = 1, size(res%body_energy)
       head = head//',body'//itoa(k)//'_energy'
     end do
+    if (res%impactor) head = head//',impactor_rebound,impactor_max_stroke'
     open(newunit=u, file=path, status='replace', action='write', iostat=stat, iomsg=msg)
     if (stat /= 0) then
       errmsg = 'cannot open '//trim(path)//' for writing: '//trim(msg)
@@ -293,7 +310,8 @@ contains
     write(u, '(a)', iostat=stat, iomsg=msg) head
     write(u, '(a,",",i0,*(:",",es24.16e3))', iostat=stat, iomsg=msg) trim(title), &
       res%loading_wall, res%stroke, res%peak_force, res%mean_force, res%cfe, &
-      res%absorbed_energy, res%mass, res%sea, res%densification_stroke, res%body_energy
+      res%absorbed_energy, res%mass, res%sea, res%densification_stroke, res%body_energy, &
+      pack([res%impactor_rebound, res%impactor_max_stroke], [res%impactor, res%impactor])
     if (stat /= 0) errmsg = 'cannot write '//trim(path)//': '//trim(msg)
     close(u, iostat=stat, iomsg=msg)
     if (stat /= 0 .and. len(errmsg) == 0) errmsg = 'cannot close '//trim(path)//': '//trim(msg)

@@ -39,6 +39,7 @@ module mpm_solver
   use mpm_body_contact, only: body_contact_detect, body_contact_apply, body_contact_reactions
   use mpm_self_contact, only: self_contact_mark, self_contact_weld
   use mpm_deformation, only: deformation_update, domains_update
+  use mpm_walls, only: wall_kinetic
   use mpm_timers, only: clock_seconds, PHASE_BASIS, PHASE_P2G, PHASE_GRID, PHASE_G2P, &
                         PHASE_REMAP, PHASE_STRESS, PHASE_CORNERS, PHASE_OTHER
   use mpm_strings, only: itoa, rtoa
@@ -81,6 +82,9 @@ contains
     call solver_energies(s%prm, s%state_t, s%e_kin, s%e_strain)
     call contact_energy(s%prm, s%state_t, s%g, s%wk)
     s%e0 = s%e_kin + s%e_strain + s%e_contact
+    do k = 1, s%nwall
+      if (s%walls(k)%mass > 0.0_wp) s%e0 = s%e0 + wall_kinetic(s%walls(k))
+    end do
     vwall = 0.0_wp
     do k = 1, s%nwall
       f = 1.0_wp
@@ -193,7 +197,7 @@ contains
     ! 7. time, wall forces and work, energy balance
     s%t = s%t + dt
     s%step = s%step + 1_i8
-    call contact_reactions(s%state_t, dt)
+    call contact_reactions(s%state_t, dt, s%prm%gravity)
     call body_contact_reactions(s%prm, s%state_t, s%wk, dt)
     call energy_balance(s%prm, s%state_t, s%g%h, dt, stat, errmsg)
     call tick(s%diag, PHASE_OTHER, clock)
@@ -243,11 +247,18 @@ contains
     real(wp) :: emech, scale, excess
     integer :: k
     stat = 0
+    ! a wall with mass is part of the system: its kinetic energy counts, gravity's work on it
+    ! is external, and its work on the material is internal
     st%e_external = st%w_gravity
-    do k = 1, st%nwall
-      st%e_external = st%e_external + st%walls(k)%work
-    end do
     emech = st%e_kin + st%e_strain + st%e_plastic + st%e_damped + st%e_contact
+    do k = 1, st%nwall
+      if (st%walls(k)%mass > 0.0_wp) then
+        st%e_external = st%e_external + st%walls(k)%w_gravity
+        emech = emech + wall_kinetic(st%walls(k))
+      else
+        st%e_external = st%e_external + st%walls(k)%work
+      end if
+    end do
     ! energy_error as docs/output.md defines it: the largest imbalance over the run divided by
     ! max(E0, the largest external work), both maxima over the run so far; with the walls'
     ! friction loss, which the growth check below leaves out: friction only takes energy
