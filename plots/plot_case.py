@@ -134,7 +134,8 @@ def plot_crush(history: History, inputs: Inputs, outdir: str, experiment: str | 
     depth = scene.depth_of(inputs)
 
     fig, (ax, ax2) = plt.subplots(1, 2, layout="constrained", figsize=(11.5, 4.6))
-    ax.plot(disp * 1e3, force * 1e-3, color="C0", label=f"MPM, wall {k} (moving platen)")
+    role = "drop weight" if k in _drop_weights(inputs) else "moving platen"
+    ax.plot(disp * 1e3, force * 1e-3, color="C0", label=f"MPM, wall {k} ({role})")
     for w in walls:
         if w is not top:
             j = w["index"]
@@ -196,6 +197,10 @@ def plot_crush(history: History, inputs: Inputs, outdir: str, experiment: str | 
     _left_legend(ax, "\n".join(lines))
 
     _energy_lines(ax2, disp * 1e3, history)
+    for j in _drop_weights(inputs):
+        if f"wall{j}_kinetic" in history:
+            ax2.plot(disp * 1e3, history[f"wall{j}_kinetic"], color="k", lw=1.4,
+                     label=f"drop weight (wall {j}) kinetic")
     kin, pla = history.get("kinetic"), history.get("plastic")
     ratio_text = None
     if kin is not None and pla is not None and pla.size:
@@ -216,6 +221,11 @@ def plot_crush(history: History, inputs: Inputs, outdir: str, experiment: str | 
         metrics = (f"stroke {res['stroke'] * 1e3:.4g} mm, absorbed {res['absorbed_energy']:.4g} J\n"
                    f"mean force {res['mean_force'] * 1e-3:.4g} kN, CFE {res['cfe']:.3f}\n"
                    f"SEA {res['sea'] * 1e-3:.4g} kJ/kg (mass {res['mass']:.4g} kg)")
+        if "impactor_rebound" in res:
+            metrics += (f"\nimpactor: max stroke {res['impactor_max_stroke'] * 1e3:.4g} mm, "
+                        f"rebound {res['impactor_rebound']:.4g} m/s")
+            numbers.append(f"impactor          max stroke {res['impactor_max_stroke']:.6g} m, "
+                           f"rebound {res['impactor_rebound']:.6g} m/s")
         ratio_text = metrics if ratio_text is None else metrics + "\n" + ratio_text
         numbers.append(f"results           stroke {res['stroke']:.6g} m, peak {res['peak_force']:.6g} N, "
                        f"mean {res['mean_force']:.6g} N, CFE {res['cfe']:.4g}, absorbed "
@@ -227,6 +237,12 @@ def plot_crush(history: History, inputs: Inputs, outdir: str, experiment: str | 
     ax2.set_xlim(left=0.0)
     _left_legend(ax2, ratio_text)
     return fig, numbers
+
+
+def _drop_weights(inputs: Inputs) -> list[int]:
+    """The walls with mass (drop weights), 1-based as in history.csv."""
+    return [k for k, w in enumerate(inputs.get("wall", []), start=1)
+            if float(w.get("mass", 0.0) or 0.0) > 0.0]
 
 
 def _results(outdir: str) -> dict[str, Any]:
@@ -516,6 +532,8 @@ def main(argv: list[str] | None = None) -> int:
     run = (inputs.get("run") or [{}])[0]
     title = str(run.get("title") or os.path.basename(os.path.normpath(outdir)))
     plotter = PLOTTERS[kind]
+    if kind == "impact" and not args.kind and _drop_weights(inputs):
+        plotter = plot_crush                   # a drop test: force and energy vs the approach
     kwargs = {"threshold": args.threshold} if kind == "wave" else {}
     try:
         try:

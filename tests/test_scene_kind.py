@@ -37,6 +37,7 @@ EXPECTED = {
     "namelists/crush_fixed.nml": "crush",      # the same, the bottom platen fixed
     "namelists/default.nml": "impact",         # ring at 30 m/s onto a static target
     "namelists/impact.nml": "impact",
+    "namelists/drop_weight.nml": "impact",      # a wall with mass: a drop test
     "namelists/wave.nml": "wave",              # platen pulse (motion table back to 0), probes
     "namelists/contact/densify.nml": "crush",  # the crush scene's tube, platens to 0.95 D
     "namelists/contact/nested.nml": "crush",   # two nested tubes between platens

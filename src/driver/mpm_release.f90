@@ -43,7 +43,10 @@ contains
     do k = 1, size(walls)
       if (walls(k)%mirror .or. walls(k)%contact == CONTACT_SLIP) cycle
       if (any(walls(k)%force /= 0.0_wp)) on = .true.
-      if (walls(k)%mass > 0.0_wp) cycle      ! a drop weight flies off freely: only its force
+      if (walls(k)%mass > 0.0_wp) then       ! a drop weight: on while it moves into the
+        if (walls(k)%vn > 0.0_wp) on = .true. ! material (it may lose touch for a moment)
+        cycle
+      end if
       if (any(wall_factor(walls(k), t)*walls(k)%velocity /= 0.0_wp)) on = .true.
     end do
     if (size(pair_force, 2) > 0) then
