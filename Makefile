@@ -46,7 +46,7 @@ TESTS   := $(patsubst tests/%.f90,$(BLD)/%,$(TESTSRC))
 FC_ALL  := $(FC) $(FFLAGS_common) $(FFLAGS_$(BUILD))
 
 .PHONY: all deps test run clean help check-namelists check-paraview bench study stability figures \
-        fuzz fuzz-scenes fe-reference test-slurm
+        fuzz fuzz-scenes fe-reference test-slurm design-example
 
 # HDF5 flags come from pkg-config when make reads this file, so everything that compiles runs
 # in a sub-make started after `deps` has installed what was missing (a fresh machine).
@@ -165,6 +165,12 @@ fe-reference: deps
 	@bash tools/install-deps.sh --ccx
 	$(PYTHON) tools/fe_reference/fe_reference.py
 	$(PYTHON) plots/plot_fe_reference.py
+
+## design-example: design charts of tube absorbers (docs/design.md): seven quasi-static crushes
+##                 (steel and aluminium at D/t 15, 25, 35; a nested pair), about 10 min on two
+##                 cores; charts and table in out/design_example/; BACKEND=slurm, BATCH_FLAGS
+design-example: all
+	$(PYTHON) tools/design_example.py --backend $(BACKEND) $(BATCH_FLAGS)
 
 ## stability: the stability study of docs/stability.md (release build, one run at a time, one
 ##            thread): LEVEL=quick (default, < 10 min; tables and figures in out/stability-quick/)

@@ -9,7 +9,8 @@ Reads DIR/sweep.csv and writes DIR/sweep_<y>.png (or --out). Runs that did not c
 (exit code not 0) are left out and named. --x and --by are any column (the swept keys, labels,
 or results), --y a numeric column: the history summaries ``<column>_end``, ``_min``, ``_max``
 (``plastic_end`` is the energy absorbed plastically [J], ``wall1_force_max`` the peak force on
-wall 1 [N]), ``cpu_s``, ``energy_error``, ``steps``. ``--list`` prints the columns.
+wall 1 [N]), the run's &results (``sea``, ``cfe``, ``mean_force``, ``absorbed_energy``, ...),
+``cpu_s``, ``energy_error``, ``steps``. ``--list`` prints the columns.
 """
 from __future__ import annotations
 
@@ -26,9 +27,12 @@ import matplotlib.pyplot as plt  # noqa: E402
 UNITS = {"plastic": "J", "kinetic": "J", "strain": "J", "external": "J", "damped": "J",
          "contact_loss": "J",
          "force": "N", "disp": "m", "com_vx": "m/s", "com_vy": "m/s", "cpu_s": "s",
-         "wall_s": "s", "ring.speed": "m/s", "ring.t": "m"}
+         "wall_s": "s", "ring.speed": "m/s", "ring.t": "m", "sea": "J/kg", "mean_force": "N",
+         "peak_force": "N", "absorbed_energy": "J", "stroke": "m", "mass": "kg",
+         "densification_stroke": "m"}
 NAMES = {"plastic_end": "plastic dissipation (absorbed energy)", "ring.D_over_t": "D/t",
-         "ring.speed": "impact speed", "ring.t": "wall thickness t"}
+         "ring.speed": "impact speed", "ring.t": "wall thickness t",
+         "sea": "specific energy absorption (SEA)", "cfe": "crush force efficiency (CFE)"}
 
 
 def label(column: str) -> str:

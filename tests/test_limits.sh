@@ -48,11 +48,11 @@ refused() {
 }
 # millimetres typed as metres: refused by the reader at the variable, before the set-up
 refused r_outer_26 's/^  r_outer = 25.43e-3 /  r_outer = 26 /' \
-  'r_outer_26.nml:48: &body #1: r_outer = 26: over 1 m: the input is in metres' \
+  'r_outer_26.nml:49: &body #1: r_outer = 26: over 1 m: the input is in metres' \
   'allowed: a length in metres, at most 1 m (or &run check_units = .false. when the value is meant)'
 # the same with check_units = .false. (and no platen, which the 26 m ring would lie behind):
 # the memory budget refuses it, with the unit as a hint
-refused r_outer_26_budget 's/^  r_outer = 25.43e-3 /  r_outer = 26 /; s/^  t_end = \(.*\)/  t_end = \1\n  check_units = .false./; /^&wall/,/^\//d' \
+refused r_outer_26_budget 's/^  r_outer = 25.43e-3 /  r_outer = 26 /; s/^  title = \(.*\)/  title = \1\n  t_end = 3.25e-3\n  check_units = .false./; /^&wall/,/^\//d' \
   'r_outer' '&body #1: r_outer = 2.6000E+001 m is over 1 m' 'grid of'
 refused h_1e-6 's/^  h = 0.37e-3 /  h = 1.0e-6 /' \
   'more than the .* available' 'a larger &grid h' 'GiB'
@@ -80,8 +80,8 @@ want = work / float(m.group(4))
 print('wall time %d s, work / rate %.1f s' % (secs, want))
 sys.exit(0 if abs(secs - want) <= 0.5 + 0.01 * want else 1)
 PY
-grep -q 'will take about' "$scratch/crush.err" && bad "the crush (2 min) warned as long" || ok
-sed -e 's/^  t_end = 3.25e-3 /  t_end = 0.2 /' "$crush" > "$scratch/long.nml"
+grep -q 'will take about' "$scratch/crush.err" && bad "the crush (3 min) warned as long" || ok
+sed -e 's/^  title = \(.*\)/  title = \1\n  t_end = 0.2/' "$crush" > "$scratch/long.nml"
 "$bin" --check "$scratch/long.nml" > /dev/null 2> "$scratch/long.err"
 grep -q '^WARNING \[check\]: the run will take about [1-9][0-9]*:[0-9][0-9]:[0-9][0-9]' "$scratch/long.err" \
   && ok || bad "t_end = 0.2 (about 2 h): no long-run warning: $(cat "$scratch/long.err")"
@@ -91,9 +91,9 @@ sed -e 's/^  rho = 7800.0 /  rho = 7.8 /' "$crush" > "$scratch/rho.nml"
 "$bin" --check "$scratch/rho.nml" > /dev/null 2> "$scratch/rho.err"
 rc=$?
 [ $rc -eq 2 ] && ok || bad "rho = 7.8: exit $rc, expected 2 (refused)"
-grep -q "^ERROR \[input\]: .*rho.nml:38: &material #1: rho = 7.8: outside 10 .. 30000 kg/m^3" "$scratch/rho.err" \
+grep -q "^ERROR \[input\]: .*rho.nml:39: &material #1: rho = 7.8: outside 10 .. 30000 kg/m^3" "$scratch/rho.err" \
   && ok || bad "rho = 7.8: not refused at its line: $(cat "$scratch/rho.err")"
-sed -i 's/^  t_end = \(.*\)/  t_end = \1\n  check_units = .false./' "$scratch/rho.nml"
+sed -i 's/^  title = \(.*\)/  title = \1\n  check_units = .false./' "$scratch/rho.nml"
 "$bin" --check "$scratch/rho.nml" > /dev/null 2> "$scratch/rho.err"
 rc=$?
 [ $rc -eq 0 ] && ok || bad "rho = 7.8, check_units = .false.: exit $rc, expected 0 (a warning only)"

@@ -378,7 +378,7 @@ def crush_case(basis: str, h_over_t: float, nt: int, t_end: float = 1.75e-3,
                base: Path = CRUSH) -> Case:
     ov = {"grid.h": h_over_t * T_CRUSH, "body.n_thick": nt, "body.n_circ": n_circ,
           "solver.basis": basis, "run.t_end": t_end, "run.history_every": HIST,
-          "run.snapshot_every": 0.0}
+          "run.snapshot_every": 0.0, "wall[1].velocity": (0.0, -5.0), "wall[1].stroke": 0.0}
     if extra:
         ov.update(extra)
     name = f"{prefix}_{basis}_h{fmt(h_over_t)}_nt{nt}" + (f"_nc{n_circ}" if n_circ else "")

@@ -84,7 +84,8 @@ SCENES: dict[str, dict[str, Any]] = {
               "set": {"run.t_end": _CRUSH_T_END,
                       "run.history_every": float(f"{1.0e-4 / CRUSH_APPROACH:.3g}"),
                       "run.snapshot_every": float(f"{_CRUSH_T_END / 10:.3g}"),
-                      "wall.velocity": (0.0, -0.5 * CRUSH_APPROACH), "wall.ramp": CRUSH_RAMP}},
+                      "wall.velocity": (0.0, -0.5 * CRUSH_APPROACH), "wall.ramp": CRUSH_RAMP,
+                      "wall.stroke": 0.0}},
     "impact": {"base": ROOT / "namelists" / "impact.nml", "t": 2.0e-3,
                "set": {"run.t_end": 0.9e-3, "run.history_every": 1.0e-6,
                        "run.snapshot_every": 1.0e-4}},
@@ -100,7 +101,7 @@ SCENES: dict[str, dict[str, Any]] = {
                             "run.history_every": float(f"{1.0e-4 / CRUSH_APPROACH:.3g}"),
                             "run.snapshot_every": float(f"{_CRUSH_T_END / 10:.3g}"),
                             "wall[1].velocity": (0.0, -CRUSH_APPROACH),
-                            "wall[1].ramp": CRUSH_RAMP}},
+                            "wall[1].ramp": CRUSH_RAMP, "wall[1].stroke": 0.0}},
 }
 #: the crush scenes: errors against the finite element curve
 CRUSH_SCENES = ("crush", "crush_fixed")

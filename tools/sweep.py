@@ -26,7 +26,8 @@ Each run goes to DIR/<name>/ through tools/batch.py (finished runs are skipped, 
 changed ones re-run), as local processes (``--jobs`` at a time) or as one Slurm job array
 (``--backend slurm``, docs/batch.md). Then DIR/sweep.csv gets one row per run: the keys'
 values and labels, exit code, status, CPU seconds, and per history column the value at the
-end, the minimum and the maximum (``plastic_end``: the energy absorbed plastically [J]).
+end, the minimum and the maximum (``plastic_end``: the energy absorbed plastically [J]), and
+the run's ``&results`` (``sea``, ``cfe``, ``mean_force``, ``absorbed_energy``, ...; docs/output.md).
 
 A design chart, absorbed energy against D/t and impact speed:
 
@@ -258,6 +259,7 @@ def collect(cases: list[batch.Case], root: Path) -> Path:
                 columns.append(k)
     columns += ["exit_code", "status", "particles", "steps", "cpu_s", "wall_s", "energy_error"]
     hist_cols: list[str] = []
+    res_cols: list[str] = []
     for c in cases:
         folder = root / c.name
         res = batch.result_of(folder)
@@ -272,6 +274,12 @@ def collect(cases: list[batch.Case], root: Path) -> Path:
         if res is not None:
             row["cpu_s"] = round(float(res["cpu_s"]), 3)
             row["wall_s"] = round(float(res["wall_s"]), 3)
+        if res is not None and (folder / "summary.nml").is_file():   # &results: SEA, CFE, ...
+            for k, v in readers.read_results(folder / "summary.nml").items():
+                if isinstance(v, (int, float)) and not isinstance(v, bool):
+                    row[k] = float(v)
+                    if k not in res_cols:
+                        res_cols.append(k)
         hfile = folder / "history.csv"
         if res is not None and hfile.is_file():
             h = readers.read_history(hfile)
@@ -284,7 +292,7 @@ def collect(cases: list[batch.Case], root: Path) -> Path:
         rows.append(row)
     path = root / "sweep.csv"
     with open(path, "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=columns + hist_cols, extrasaction="ignore")
+        w = csv.DictWriter(fh, fieldnames=columns + res_cols + hist_cols, extrasaction="ignore")
         w.writeheader()
         for r in rows:
             w.writerow({k: (f"{v:.10g}" if isinstance(v, float) else

@@ -1,0 +1,234 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
+"""Write a commented tubempm namelist for a tube absorber from what an engineer knows.
+
+    python3 tools/new_case.py crush --D 50.86e-3 --t 1.48e-3 --material steel --stroke 15e-3
+    python3 tools/new_case.py drop  --D 60e-3 --t 2e-3 --material aluminium --mass 10 --speed 6
+    python3 tools/new_case.py shear --D 50e-3 --t 2e-3 --material steel --stroke 10e-3 \
+        --shear-ratio 0.5 --fixed
+    (add --out FILE, default out/<title>.nml; --title; --sigma-y, --hardening, --E, --nu, --rho
+     to change the material; --symmetry full|half|quarter)
+
+Load cases:
+  crush  two frictionless platens close on the tube to a stroke (the run ends there): the
+         quasi-static force-stroke curve, SEA and CFE (docs/output.md, "Results");
+  drop   a weight of a given mass and speed falls on the tube lying on a rigid base;
+  shear  the top platen moves down and sideways (compression and shear, as Xiang et al.'s
+         tests), the tube loose between the platens ('coulomb') or fixed to them (--fixed:
+         'bonded').
+
+The case uses the resolution the refinement study advises (h = t/4, 8 particles through the
+wall; docs/validation.md), a platen speed --check calls quasi-static (an approach of at most
+0.01 D omega_2, omega_2 the ring's ovalling frequency, and at most 5 m/s) for crush and shear,
+and the symmetry the load case allows (crush: quarter; drop: half; shear: none). Lengths are in
+metres, masses in kg for the &run depth (1 m unless --depth). The file is the input; check it
+with `bin/tubempm --check FILE` and run it with `bin/tubempm FILE`.
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+
+#: materials: E [Pa], nu, rho [kg/m^3], sigma_y [Pa], linear hardening [Pa]
+MATERIALS = {
+    "steel": (210.0e9, 0.3, 7800.0, 310.0e6, 10.0e6),
+    "aluminium": (70.0e9, 0.33, 2700.0, 150.0e6, 200.0e6),
+}
+QUASI_STATIC = 0.01     #: approach / (D omega_2) written (--check warns above 0.012)
+SPEED_MAX = 5.0         #: the fastest approach written for a quasi-static case [m/s]
+RAMP_PERIODS = 1.0      #: the platen's ramp in ovalling periods
+
+
+def ovalling_omega(D: float, t: float, E: float, nu: float, rho: float) -> float:
+    """The n = 2 in-plane mode of a thin ring in plane strain [rad/s] (Love; the rule of
+    --check): omega^2 = E I n^2 (n^2 - 1)^2 / (rho A R^4 (n^2 + 1))."""
+    ei = E * t ** 3 / 12.0 / (1.0 - nu * nu)
+    r = 0.5 * D
+    return math.sqrt(ei / (rho * t * r ** 4) * 36.0 / 5.0)
+
+
+def collapse_load(D: float, t: float, sigma_y: float) -> float:
+    """Four-hinge collapse load of the ring between plates, plane strain [N per m]."""
+    m0 = 2.0 / math.sqrt(3.0) * sigma_y * t * t / 4.0
+    return 8.0 * m0 / D
+
+
+def parse(argv: list[str] | None) -> argparse.Namespace:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                formatter_class=argparse.RawDescriptionHelpFormatter,
+                                epilog=__doc__.split("\n\n", 1)[1])
+    p.add_argument("load", choices=("crush", "drop", "shear"), help="the load case")
+    p.add_argument("--D", type=float, required=True, help="outer diameter [m]")
+    p.add_argument("--t", type=float, required=True, help="wall thickness [m]")
+    p.add_argument("--material", choices=sorted(MATERIALS), default="steel")
+    for name in ("E", "nu", "rho", "sigma-y", "hardening"):
+        p.add_argument(f"--{name}", type=float, help="override the material's value (SI)")
+    p.add_argument("--stroke", type=float, help="crush, shear: the platens' approach [m] "
+                   "(default 0.6 D)")
+    p.add_argument("--mass", type=float, help="drop: the weight [kg, for depth]")
+    p.add_argument("--speed", type=float, help="drop: its speed [m/s]; crush, shear: the "
+                   "approach speed (default: quasi-static)")
+    p.add_argument("--shear-ratio", type=float, default=0.5,
+                   help="shear: sideways over downward platen speed (default 0.5)")
+    p.add_argument("--fixed", action="store_true", help="shear: the tube bonded to the platens")
+    p.add_argument("--friction", type=float, default=0.2, help="shear, loose: Coulomb "
+                   "coefficient (default 0.2)")
+    p.add_argument("--symmetry", choices=("full", "half", "quarter"),
+                   help="model part (default: the load case's)")
+    p.add_argument("--depth", type=float, default=1.0, help="tube length [m] (default 1)")
+    p.add_argument("--title", help="case title (default <load>_<material>)")
+    p.add_argument("--out", help="namelist to write (default out/<title>.nml)")
+    a = p.parse_args(argv)
+    errors = []
+    if not 0.0 < a.t < 0.5 * a.D:
+        errors.append(f"--t {a.t}: the wall must be thinner than half the diameter --D {a.D}")
+    if a.D > 1.0 or a.t > 0.1:
+        errors.append(f"--D {a.D}, --t {a.t}: lengths are in metres (a 50 mm tube: --D 0.05)")
+    if a.load == "drop" and not (a.mass and a.mass > 0 and a.speed and a.speed > 0):
+        errors.append("drop: give --mass (kg) and --speed (m/s) of the weight")
+    if a.load == "drop" and a.symmetry == "quarter":
+        errors.append("drop: --symmetry quarter would mirror the weight onto the base; use half")
+    if a.load == "shear" and a.symmetry not in (None, "full"):
+        errors.append("shear: a sideways platen breaks the mirror symmetry; use full")
+    if a.stroke is not None and not 0.0 < a.stroke < a.D:
+        errors.append(f"--stroke {a.stroke}: between 0 and the diameter {a.D} m")
+    if errors:
+        for e in errors:
+            print(f"ERROR [new_case]: {e}", file=sys.stderr)
+        sys.exit(2)
+    return a
+
+
+def material(a: argparse.Namespace) -> tuple[float, float, float, float, float]:
+    E, nu, rho, sy, hard = MATERIALS[a.material]
+    return (a.E or E, a.nu if a.nu is not None else nu, a.rho or rho,
+            a.sigma_y or sy, a.hardening if a.hardening is not None else hard)
+
+
+def render(a: argparse.Namespace) -> tuple[str, str]:
+    E, nu, rho, sy, hard = material(a)
+    ro, t = 0.5 * a.D, a.t
+    ri = ro - t
+    dm = a.D - t                                   # mean diameter
+    h = t / 4.0
+    omega = ovalling_omega(dm, t, E, nu, rho)
+    ramp = RAMP_PERIODS * 2.0 * math.pi / omega
+    title = a.title or f"{a.load}_{a.material}"
+    sym = a.symmetry or {"crush": "quarter", "drop": "half", "shear": "full"}[a.load]
+    cy = ro
+    lines = [f"! {title}: written by tools/new_case.py {a.load} (docs/tutorial.md).",
+             f"! Tube: outer diameter {a.D * 1e3:.4g} mm, wall {t * 1e3:.4g} mm "
+             f"(D/t = {a.D / t:.3g}), {a.material} (E {E / 1e9:.4g} GPa, sigma_y "
+             f"{sy / 1e6:.4g} MPa, hardening {hard / 1e6:.4g} MPa), plane strain, "
+             f"{a.depth:g} m long.",
+             "! Resolution as the refinement study advises: h = t/4, 8 particles through the",
+             "! wall (docs/validation.md). Units are SI (m, kg, s, Pa); docs/input.md has every",
+             "! variable."]
+    run = [f"  title = '{title}'", f"  depth = {a.depth:g}                   ! tube length [m]"]
+    walls: list[str] = []
+    stroke = a.stroke if a.stroke is not None else 0.6 * a.D
+    if a.load in ("crush", "shear"):
+        v_qs = min(SPEED_MAX, QUASI_STATIC * dm * omega)
+        v = a.speed if a.speed else v_qs
+        lines.append(f"! The platens approach at {v:.3g} m/s (quasi-static: at most "
+                     f"{v_qs:.3g} m/s for this tube) to a stroke of {stroke * 1e3:.4g} mm "
+                     f"(delta/D = {stroke / dm:.3g}); the run ends there.")
+        per_wall = v / 2.0 if sym == "quarter" else v
+        travel = stroke / 2.0 if sym == "quarter" else stroke
+        hist = max(stroke / v / 400.0, 1.0e-7)
+        run += [f"  history_every = {hist:.3g}        ! interval of history.csv rows [s]",
+                f"  snapshot_every = {(travel / per_wall + ramp) / 10:.3g}       ! [s]"]
+        if a.load == "crush":
+            walls.append(wall_text("top platen", (0.0, 2 * ro), (0.0, -1.0), "frictionless",
+                                   (0.0, -per_wall), ramp=ramp, stroke=travel))
+            if sym == "full":
+                cy = ro
+            if sym in ("full", "half"):
+                walls.insert(0, wall_text("bottom platen (fixed)", (0.0, 0.0), (0.0, 1.0),
+                                          "frictionless", None))
+        else:
+            law = "bonded" if a.fixed else "coulomb"
+            vx = a.shear_ratio * per_wall
+            lines.append(f"! The top platen also moves sideways at {vx:.3g} m/s; the tube is "
+                         + ("bonded to both platens (Xiang's fixed group)." if a.fixed else
+                            f"loose between them (Coulomb friction {a.friction:g})."))
+            fr = None if a.fixed else a.friction
+            walls.append(wall_text("bottom platen (fixed)", (0.0, 0.0), (0.0, 1.0), law, None,
+                                   friction=fr))
+            walls.append(wall_text("top platen", (0.0, 2 * ro), (0.0, -1.0), law,
+                                   (vx, -per_wall), ramp=ramp, stroke=travel, friction=fr))
+    else:
+        energy = 0.5 * a.mass * a.speed ** 2
+        p0 = collapse_load(dm, t, sy) * a.depth
+        est = energy / p0                          # rigid-plastic stroke estimate [m]
+        t_end = 2.5 * min(est, 0.8 * dm) / a.speed + 4.0 * ramp
+        lines.append(f"! A {a.mass:g} kg weight strikes the tube at {a.speed:g} m/s "
+                     f"({energy:.4g} J); the tube lies on a rigid base. A rigid-plastic "
+                     f"estimate of the stroke is {est * 1e3:.3g} mm (energy / collapse load "
+                     f"{p0 / 1e3:.3g} kN); the run ends once the weight has left or at t_end.")
+        if est > 0.8 * dm:
+            lines.append("! The estimate exceeds 0.8 D: the tube would be crushed flat; "
+                         "--check warns of the full crush.")
+        run += [f"  t_end = {t_end:.3g}                ! at most [s]",
+                "  end_at_release = .true.       ! end once the weight has left",
+                f"  history_every = {max(t_end / 800.0, 1.0e-7):.3g}      ! [s]",
+                f"  snapshot_every = {t_end / 10:.3g}      ! [s]",
+                "  gravity = 0.0, -9.81          ! [m/s^2]"]
+        walls.append(wall_text("rigid base", (0.0, 0.0), (0.0, 1.0), "frictionless", None))
+        walls.append(wall_text("drop weight", (0.0, 2 * ro), (0.0, -1.0), "frictionless",
+                               (0.0, -a.speed), mass=a.mass))
+    if sym == "quarter":
+        lines.append("! A quarter of the tube is modelled (x >= 0, y >= centre): the bottom "
+                     "platen is the top one's mirror image.")
+    elif sym == "half":
+        lines.append("! Half the tube is modelled (x >= 0); outputs are the whole tube's.")
+    text = "\n".join(lines) + "\n\n&run\n" + "\n".join(run) + "\n/\n\n"
+    text += ("&solver\n  basis = 'cpdi2'\n  scheme = 'musl'\n  plane = 'strain'\n/\n\n"
+             f"&grid\n  h = {h:.6g}                 ! cell size [m] = t/4\n/\n\n"
+             f"&material\n  name = '{a.material}'\n  model = 'j2'\n  E = {E:.6g}\n"
+             f"  nu = {nu:g}\n  rho = {rho:g}\n  sigma_y = {sy:.6g}\n"
+             f"  hardening = {hard:.6g}\n/\n\n"
+             f"&body\n  shape = 'ring'\n  material = '{a.material}'\n"
+             f"  center = 0.0, {cy:.6g}       ! resting on y = 0 [m]\n"
+             f"  r_inner = {ri:.6g}\n  r_outer = {ro:.6g}\n  n_thick = 8\n"
+             f"  sector = '{sym}'\n/\n")
+    text += "".join("\n" + w for w in walls)
+    return title, text
+
+
+def wall_text(what: str, point: tuple[float, float], normal: tuple[float, float], law: str,
+              velocity: tuple[float, float] | None, ramp: float = 0.0, stroke: float = 0.0,
+              mass: float = 0.0, friction: float | None = None) -> str:
+    out = [f"&wall                           ! {what}",
+           f"  point = {point[0]:.6g}, {point[1]:.6g}",
+           f"  normal = {normal[0]:g}, {normal[1]:g}", f"  contact = '{law}'"]
+    if friction:
+        out.append(f"  friction = {friction:g}")
+    if velocity is not None:
+        out.append(f"  velocity = {velocity[0]:.6g}, {velocity[1]:.6g}   ! [m/s]")
+    if ramp > 0.0:
+        out.append(f"  ramp = {ramp:.3g}                ! smooth start [s]")
+    if stroke > 0.0:
+        out.append(f"  stroke = {stroke:.6g}           ! travel, then at rest [m]")
+    if mass > 0.0:
+        out.append(f"  mass = {mass:g}                   ! a free rigid body [kg]")
+    return "\n".join(out) + "\n/\n"
+
+
+def main(argv: list[str] | None = None) -> int:
+    a = parse(argv)
+    title, text = render(a)
+    out = Path(a.out) if a.out else ROOT / "out" / f"{title}.nml"
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(text)
+    print(f"wrote {out}\ncheck it with: bin/tubempm --check {out}\nrun it with:   "
+          f"bin/tubempm {out}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
