@@ -13,7 +13,8 @@ module mpm_config_check
   use mpm_config_lexer, only: reader_t, occurrence
   use mpm_config_values, only: err_var, warn_var, err_missing
   use mpm_walls, only: wall_t, wall_stroke_setup, wall_end_time, wall_stroke_travel
-  use mpm_advice, only: wall_too_thin, advice_unit_issues, unit_issue_t
+  use mpm_advice, only: wall_too_thin
+  use mpm_units, only: advice_unit_issues, unit_issue_t
   use mpm_symmetry, only: symmetry_checks
   use mpm_placement, only: placement_checks
   implicit none
@@ -221,7 +222,7 @@ contains
     end if
   end subroutine grid_bounds_checks
 
-  !> Values that are usually a number in the wrong unit (mpm_advice's rule), refused at their
+  !> Values that are usually a number in the wrong unit (mpm_units' rule), refused at their
   !! variable unless `&run check_units = .false.` (then the set-up warns of them).
   subroutine unit_checks(rd, cfg)
     type(reader_t), intent(inout) :: rd

@@ -19,7 +19,8 @@ program test_budget
   use mpm_solver, only: sim_t, solver_step, solver_memory_bytes
   use mpm_particles, only: particles_memory_bytes
   use mpm_budget, only: budget_t, budget_estimate, budget_check, budget_max_nodes
-  use mpm_advice, only: advice_units, advice_wall_time
+  use mpm_advice, only: advice_wall_time
+  use mpm_units, only: advice_units
   use testing, only: begin_test, check, check_close, finish_tests
   implicit none
   integer :: basis

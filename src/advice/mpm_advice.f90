@@ -16,19 +16,20 @@ module mpm_advice
   use mpm_kinds, only: wp
   use mpm_constants, only: SHAPE_RING, SECTOR_FULL, SECTOR_QUARTER, basis_names, scheme_names, &
                            PLANE_STRESS, SCHEME_USL, SCHEME_MUSL, BASIS_LINEAR, BASIS_UGIMP, &
-                           BASIS_CPDI1, BASIS_CPDI2, MODEL_J2, MODEL_NEOHOOKEAN, &
+                           BASIS_CPDI1, BASIS_CPDI2, MODEL_NEOHOOKEAN, &
                            VOLUMETRIC_FBAR, VOLUMETRIC_STANDARD, VOLUMETRIC_FBARWALL, &
                            volumetric_names, pi
   use mpm_particles, only: ring_counts
   use mpm_config_types, only: config_t
   use mpm_walls, only: wall_t, wall_travel
   use mpm_errors, only: append_msg
+  use mpm_units, only: advice_units
   use mpm_strings, only: rtoa, itoa, hms, sci
   implicit none
   private
 
   public :: study_advice, scene_of, advice_check, advice_end_of_run, wall_too_thin
-  public :: advice_units, advice_unit_issues, unit_issue_t, advice_wall_time
+  public :: advice_wall_time
   public :: cfl_in_use, cfl_automatic, cfl_text, wall_particles_per_cell, cfl_margin
 
   include 'mpm_advice_table.inc'
@@ -49,20 +50,7 @@ module mpm_advice
   !! static finite element curve at 10 m/s (0.020), 3.1 % at 5 m/s (0.0099) and 2.3 % at 2.5
   !! (the resolution's own error): inertia adds about 6 % at 0.020 and 1 % at 0.010
   real(wp), parameter :: quasi_static_ratio = 0.012_wp
-  real(wp), parameter :: length_max = 1.0_wp        !! lengths above this are suspect [m]
-  real(wp), parameter :: e_min = 1.0e6_wp, e_max = 1.0e13_wp  !! plausible E [Pa]
-  real(wp), parameter :: rho_min = 10.0_wp, rho_max = 30000.0_wp  !! plausible rho [kg/m^3]
-  real(wp), parameter :: yield_strain_max = 1.0_wp/50.0_wp  !! sigma_y / E above this is suspect
 
-  !> A value that is usually a number in the wrong unit (advice_unit_issues).
-  type :: unit_issue_t
-    character(len=8) :: group = ''         !! its namelist group
-    integer :: k = 0                       !! occurrence of a repeatable group (0: given once)
-    character(len=16) :: var = ''          !! the variable
-    character(len=:), allocatable :: value   !! its value, with the unit
-    character(len=:), allocatable :: why     !! why it is suspect, and the likely slip
-    character(len=:), allocatable :: allowed !! the plausible range
-  end type unit_issue_t
   real(wp), parameter :: long_run = 3600.0_wp       !! runs longer than this are warned of [s]
   !> The automatic cfl is this fraction of the largest cfl at which the stability study found
   !! the basis and scheme stable (docs/stability.md, "The automatic cfl") [-]
@@ -247,88 +235,6 @@ contains
     call advice_stability(cfg, dt*(c_max + vmax)/h, warnings)
     call advice_full_crush(cfg, walls, warnings)
   end subroutine advice_check
-
-  !> Values that are possible but implausible for a tube, usually a number in the wrong unit
-  !! (the input is SI): lengths over 1 m, E outside 1 MPa .. 1e13 Pa, sigma_y above E/50,
-  !! density outside 10 .. 30 000 kg/m^3. The reader refuses them (`&run check_units`,
-  !! mpm_config_check) with its file, line and allowed range; advice_units words them as lines.
-  pure subroutine advice_unit_issues(cfg, issues)
-    type(config_t), intent(in) :: cfg      !! the case
-    type(unit_issue_t), allocatable, intent(out) :: issues(:)  !! one per suspect value
-    integer :: k
-    character(len=*), parameter :: mm = 'over 1 m: the input is in metres (millimetres '// &
-      'typed as metres?)', metres = 'a length in metres, at most 1 m'
-    allocate(issues(0))
-    if (cfg%grid%h > length_max) call push(issues, 'grid', 0, 'h', rtoa(cfg%grid%h)//' m', mm, &
-                                           metres)
-    if (.not. cfg%grid%fitted) then
-      if (maxval(abs(cfg%grid%lower)) > length_max) call push(issues, 'grid', 0, 'lower', &
-        rtoa(maxval(abs(cfg%grid%lower)))//' m', mm, metres)
-      if (maxval(abs(cfg%grid%upper)) > length_max) call push(issues, 'grid', 0, 'upper', &
-        rtoa(maxval(abs(cfg%grid%upper)))//' m', mm, metres)
-    end if
-    do k = 1, size(cfg%bodies)
-      associate (b => cfg%bodies(k))
-        if (b%shape_id == SHAPE_RING) then
-          if (b%r_outer > length_max) call push(issues, 'body', k, 'r_outer', &
-                                                rtoa(b%r_outer)//' m', mm, metres)
-          if (b%r_inner > length_max) call push(issues, 'body', k, 'r_inner', &
-                                                rtoa(b%r_inner)//' m', mm, metres)
-        else if (maxval(b%size) > length_max) then
-          call push(issues, 'body', k, 'size', rtoa(maxval(b%size))//' m', mm, metres)
-        end if
-        if (maxval(abs(b%center)) > length_max) call push(issues, 'body', k, 'center', &
-          rtoa(maxval(abs(b%center)))//' m', mm, metres)
-      end associate
-    end do
-    do k = 1, size(cfg%walls)
-      if (cfg%walls(k)%mirror) cycle
-      if (maxval(abs(cfg%walls(k)%point)) > length_max) call push(issues, 'wall', k, 'point', &
-        rtoa(maxval(abs(cfg%walls(k)%point)))//' m', mm, metres)
-    end do
-    do k = 1, size(cfg%materials)
-      associate (m => cfg%materials(k))
-        if (m%E < e_min .or. m%E > e_max) call push(issues, 'material', k, 'E', &
-          rtoa(m%E)//' Pa', 'outside 1e6 .. 1e13 Pa: E is in Pa (steel 2.1e11, aluminium '// &
-          '7e10, rubber about 1e6 to 1e7)', 'a real number from 1e6 to 1e13 [Pa]')
-        if (m%model_id == MODEL_J2 .and. m%sigma_y > yield_strain_max*m%E) call push(issues, &
-          'material', k, 'sigma_y', rtoa(m%sigma_y)//' Pa', 'above E/50 = '// &
-          rtoa(yield_strain_max*m%E)//' Pa: both are in Pa (steel sigma_y about 2e8 to 1e9 '// &
-          'against E = 2.1e11)', 'a real number of at most E/50 [Pa]')
-        if (m%rho < rho_min .or. m%rho > rho_max) call push(issues, 'material', k, 'rho', &
-          rtoa(m%rho)//' kg/m^3', 'outside 10 .. 30000 kg/m^3: rho is in kg/m^3 (steel 7800, '// &
-          'aluminium 2700; g/cm^3 times 1000)', 'a real number from 10 to 30000 [kg/m^3]')
-      end associate
-    end do
-  end subroutine advice_unit_issues
-
-  !> The values in a likely wrong unit as lines ('&body #1: r_outer = 2.6000E+001 m is over
-  !! 1 m: ...'), appended to `text`: the warnings of a case with `check_units = .false.` and the
-  !! hints of a refused memory budget.
-  pure subroutine advice_units(cfg, text)
-    type(config_t), intent(in) :: cfg      !! the case
-    character(len=:), allocatable, intent(inout) :: text  !! lines so far (may be unallocated)
-    type(unit_issue_t), allocatable :: issues(:)
-    integer :: j
-    character(len=:), allocatable :: where
-    if (.not. allocated(text)) text = ''
-    call advice_unit_issues(cfg, issues)
-    do j = 1, size(issues)
-      associate (u => issues(j))
-        where = '&'//trim(u%group)
-        if (u%k > 0) where = where//' #'//itoa(u%k)
-        call append_msg(text, where//': '//trim(u%var)//' = '//u%value//' is '//u%why)
-      end associate
-    end do
-  end subroutine advice_units
-
-  !> Append one issue.
-  pure subroutine push(issues, group, k, var, value, why, allowed)
-    type(unit_issue_t), allocatable, intent(inout) :: issues(:)
-    character(len=*), intent(in) :: group, var, value, why, allowed
-    integer, intent(in) :: k               !! occurrence (0: a group given once)
-    issues = [issues, unit_issue_t(group, k, var, value, why, allowed)]
-  end subroutine push
 
   !> The wall time of a run of `work` particle-steps on `threads` threads of the release build
   !! at the throughput `make bench` measured (src/advice/mpm_bench_table.inc, docs/performance.md)

@@ -24,7 +24,7 @@ module mpm_budget
   use mpm_config, only: config_t
   use mpm_bodies, only: body_box, body_estimate
   use mpm_particles, only: basis_reach, basis_block
-  use mpm_advice, only: advice_units
+  use mpm_units, only: advice_units
   use mpm_strings, only: itoa, sci
   implicit none
   private
