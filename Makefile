@@ -135,8 +135,8 @@ bench: deps
 $(BLD)/bench: tools/bench.f90 $(LIBOBJ) | $(BLD) $(BLD)/tmod_bench
 	$(FC_ALL) $(HDF5_FFLAGS) -I$(BLD) -J$(BLD)/tmod_bench -o $@ $< $(LIBOBJ) $(HDF5_LIBS)
 
-## study: the refinement study (LEVEL=quick: under 10 min on 2 cores; LEVEL=full: 1.5 CPU h,
-##        about 45 min on 2 free cores; LEVEL=all: more); runs in out/study/ (resumable),
+## study: the refinement study (LEVEL=quick: under 10 min on 2 cores; LEVEL=full: 211 runs,
+##        2.8 CPU h, about 85 min on 2 free cores; LEVEL=all: more); runs in out/study/ (resumable),
 ##        table and figures in docs/study/ (quick: out/study-quick/); BACKEND=slurm runs them
 ##        as a Slurm job array, BATCH_FLAGS="--partition P --time T --account A" (docs/batch.md)
 LEVEL ?= quick
@@ -167,7 +167,7 @@ fe-reference: deps
 	$(PYTHON) plots/plot_fe_reference.py
 
 ## design-example: design charts of tube absorbers (docs/design.md): seven quasi-static crushes
-##                 (steel and aluminium at D/t 15, 25, 35; a nested pair), about 10 min on two
+##                 (steel and aluminium at D/t 15, 25, 35; a nested pair), about 2.5 min on two
 ##                 cores; charts and table in out/design_example/; BACKEND=slurm, BATCH_FLAGS
 design-example: all
 	$(PYTHON) tools/design_example.py --backend $(BACKEND) $(BATCH_FLAGS)
