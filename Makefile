@@ -46,6 +46,7 @@ TESTS   := $(patsubst tests/%.f90,$(BLD)/%,$(TESTSRC))
 FC_ALL  := $(FC) $(FFLAGS_common) $(FFLAGS_$(BUILD))
 
 .PHONY: all deps test run clean help check-namelists check-paraview bench study stability figures \
+        cfl-accuracy \
         fuzz fuzz-scenes fe-reference test-slurm design-example
 
 # HDF5 flags come from pkg-config when make reads this file, so everything that compiles runs
@@ -156,6 +157,14 @@ figures: deps
 	$(PYTHON) plots/plot_stability.py --level full
 	$(PYTHON) tools/advice_tables.py --study
 	@$(MAKE) --no-print-directory all
+
+## cfl-accuracy: the accuracy limit of the automatic time step: an elastic impact per basis x
+##               scheme at 1 and 2 particles per cell, the cfl stepped down until its energy is
+##               within 1 % (tools/cfl_accuracy.py, about 8 min on two cores; runs reused from
+##               build/cfl_accuracy/), into docs/stability/cfl_accuracy_*.csv and the compiled table
+cfl-accuracy: all
+	$(PYTHON) tools/cfl_accuracy.py
+	$(PYTHON) tools/advice_tables.py --stability
 
 ## fe-reference: the CalculiX reference of the study's crush (installs calculix-ccx where
 ##               missing; about 20 CPU min, one thread): decks, curves and convergence in

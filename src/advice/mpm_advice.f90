@@ -41,7 +41,8 @@ module mpm_advice
   integer, parameter, private :: tables_fit = 1/merge(1, 0, &
     size(cfl_ppc2, 1) == size(scheme_names) .and. size(cfl_ppc2, 2) == size(basis_names) .and. &
     all(shape(cfl_ppc1) == shape(cfl_ppc2)) .and. all(shape(cfl_stable_ppc1) == shape(cfl_ppc2)) &
-    .and. all(shape(cfl_stable_ppc2) == shape(cfl_ppc2)) .and. size(bench_rate, 1) == size(basis_names))
+    .and. all(shape(cfl_stable_ppc2) == shape(cfl_ppc2)) .and. size(bench_rate, 1) == size(basis_names) &
+    .and. all(shape(cfl_accurate_ppc1) == shape(cfl_ppc2)) .and. all(shape(cfl_accurate_ppc2) == shape(cfl_ppc2)))
 
   real(wp), parameter :: flip_trusted = 0.999_wp   !! flip below this dissipates visibly [-]
   real(wp), parameter :: delta_fold = 0.8_wp       !! delta/D from which CPDI domains fold [-]
@@ -155,26 +156,34 @@ contains
   !! stability study's impact scene was stable (energy error under 5 %, no failure detected)
   !! for the basis and scheme, at the input's particles per cell through the wall (the 1-per-
   !! cell limits below 1.5); where the study found no stable cfl, cfl_margin times the smallest
-  !! cfl it tried. `why` says which, in one line.
+  !! cfl it tried. A scene other than a crush (an impact, a wave, a drop weight, any case
+  !! without a ring) takes the accuracy limit instead where it is lower: the largest cfl at
+  !! which an elastic ring's impact on a rigid wall keeps its energy within 1 %
+  !! (tools/cfl_accuracy.py). A crush keeps the stability-based value: the refinement study
+  !! measured its force against the finite element curve at up to cfl 1.6. `why` says which,
+  !! in one line.
   pure subroutine cfl_automatic(cfg, cfl, why)
     type(config_t), intent(in) :: cfg      !! the case
     real(wp), intent(out) :: cfl           !! the automatic cfl [-]
     character(len=:), allocatable, intent(out), optional :: why  !! how it was chosen
-    real(wp) :: ppc, limit
+    real(wp) :: ppc, limit, accurate
     character(len=160) :: density
     character(len=16) :: c_margin, c_ppc
     character(len=:), allocatable :: method
     integer :: scheme, basis
+    logical :: by_accuracy
     scheme = cfg%solver%scheme_id
     basis = cfg%solver%basis_id
     ppc = wall_particles_per_cell(cfg)
     if (ppc < ppc_low) then
       limit = cfl_stable_ppc1(scheme, basis)
+      accurate = cfl_accurate_ppc1(scheme, basis)
       write(c_ppc, '(f9.2)') ppc
       density = 'at 1 particle per cell through the wall (this input: '// &
         trim(adjustl(c_ppc))//' < 1.5)'
     else
       limit = cfl_stable_ppc2(scheme, basis)
+      accurate = cfl_accurate_ppc2(scheme, basis)
       if (ppc < huge(1.0_wp)) then
         write(c_ppc, '(f9.2)') ppc
         density = 'at 2 particles per cell through the wall (this input: '// &
@@ -188,11 +197,17 @@ contains
     else
       cfl = cfl_margin*cfl_tried_min
     end if
+    by_accuracy = scene_of(cfg) /= 'crush' .and. accurate > 0.0_wp .and. accurate < cfl
+    if (by_accuracy) cfl = accurate
     if (.not. present(why)) return
     write(c_margin, '(f4.2)') cfl_margin
     method = 'basis '''//trim(basis_names(basis))//''' with scheme '''// &
              trim(scheme_names(scheme))//''''
-    if (limit > 0.0_wp) then
+    if (by_accuracy) then
+      why = cfl_text(cfl)//', automatic (cfl = 0): the largest cfl at which '//method// &
+        ' kept an elastic impact''s energy within 1 % '//trim(density)// &
+        ' (docs/stability.md#the-automatic-cfl)'
+    else if (limit > 0.0_wp) then
       why = cfl_text(cfl)//', automatic (cfl = 0): '//trim(c_margin)//' x '// &
         cfl_text(limit)//', the largest cfl at which the stability study found '// &
         method//' stable '//trim(density)//' (docs/stability.md)'
