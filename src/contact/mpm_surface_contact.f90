@@ -41,22 +41,30 @@
 !
 ! The momentum given to the material is sum_c lambda_c sum_i N_i over the active nodes,
 ! summed into the wall's reaction exactly (impulse on the wall = momentum taken from the body).
+!
+! A 'bonded' wall ties the points that lie within h/2 of it at t = 0 (surface_tie: their gaps
+! g0 then, kept for the whole run; the set-up makes them again from the input on a restart).
+! A tied point takes the penalty about its initial gap in both directions, f_c = -k_c (g_c -
+! g0_c) n, of energy 1/2 k_c (g_c - g0_c)^2, whether it is pressed or pulled, and the
+! friction solve stops its slip with an unbounded tangential impulse ('stick'); the points not
+! tied meet the wall as with 'coulomb' (coefficient `friction`).
 module mpm_surface_contact
   use mpm_kinds, only: wp
-  use mpm_constants, only: BASIS_CPDI2, CONTACT_COULOMB, CONTACT_STICK
+  use mpm_constants, only: BASIS_CPDI2, CONTACT_COULOMB, CONTACT_STICK, CONTACT_BONDED
   use mpm_particles, only: particles_t, particle_corners, corner_gaps
   use mpm_basis, only: bilinear_at
   implicit none
   private
   public :: surface_work_t, surface_points, surface_energy, surface_push, surface_friction, &
             surface_slip_loss, &
-            contact_alpha, surface_reserve, corner_masses
+            contact_alpha, surface_reserve, corner_masses, surface_tie, surface_tied
 
   real(wp), parameter :: contact_alpha = 1.0_wp  !! penalty stiffness over the material's [-]
   integer, parameter :: max_sweeps = 200     !! Gauss-Seidel sweeps at most [-]
   integer, parameter :: scan_chunk = 1024    !! particles per task of the corner scan [-]
   real(wp), parameter :: sweep_tol = 1.0e-13_wp  !! relative change that ends the sweeps [-]
   integer, parameter, public :: curve_nc = 5  !! corners per curve point [-]
+  real(wp), parameter, public :: untied = huge(1.0_wp)  !! g0 of a point not tied [m]
 
   !> Points in contact with one wall and the work arrays of their solve, grown as needed (no
   !! allocation in a steady run). A point is a corner behind the plane (CPDI2: a shared
@@ -70,6 +78,11 @@ module mpm_surface_contact
     integer, allocatable :: owner(:)       !! the particle of a point, or -(its corner id) (n)
     real(wp), allocatable :: fn(:)         !! normal penalty force (n) [N/m]
     real(wp), allocatable :: en(:)         !! penalty energy (n) [J/m]
+    logical, allocatable :: tied(:)        !! the point is tied to a 'bonded' wall (n)
+    real(wp), allocatable :: g0(:)         !! 'bonded' wall: the gap at t = 0 of each tied
+                                           !! point, or untied (CPDI2: per corner, nc; the
+                                           !! other bases: corner a of particle ip at 4 (ip -
+                                           !! 1) + a); not allocated for the other laws [m]
     integer, allocatable :: node(:,:)      !! nodes of each point (nnode, n)
     real(wp), allocatable :: wt(:,:)       !! their weights N_i / m_i (nnode, n) [m/kg]
     real(wp), allocatable :: nw(:,:)       !! their weights N_i on active nodes (nnode, n) [-]
@@ -111,8 +124,10 @@ contains
     real(wp), intent(in) :: kf             !! stiffness per unit point mass, alpha c^2/h^2 [1/s^2]
     logical, intent(in) :: par             !! the scan runs in parallel
     type(surface_work_t), intent(inout) :: wk  !! work arrays: the points
-    integer :: ip, ic, a, nchunk
+    integer :: ip, ic, a, nchunk, j
     real(wp) :: d, xq(2, 4), dq(4), gmin
+    logical :: tie
+    tie = allocated(wk%g0)
     wk%npt = 0
     wk%gmin = 0.0_wp
     wk%curve = .false.
@@ -120,9 +135,17 @@ contains
       call corner_masses(p, wk)
       do ic = 1, p%nc
         d = (p%xc(1, ic) - xw(1))*normal(1) + (p%xc(2, ic) - xw(2))*normal(2)
-        if (d < 0.0_wp) call push(-ic, p%xc(:, ic), -kf*wk%corner_mass(ic)*d, &
-                                  0.5_wp*kf*wk%corner_mass(ic)*d*d)
         wk%gmin = min(wk%gmin, d)
+        if (tie) then                        ! a tied corner: the spring about its gap g0
+          if (wk%g0(ic) < untied) then
+            d = d - wk%g0(ic)
+            call push(-ic, p%xc(:, ic), -kf*wk%corner_mass(ic)*d, &
+                      0.5_wp*kf*wk%corner_mass(ic)*d*d, .true.)
+            cycle
+          end if
+        end if
+        if (d < 0.0_wp) call push(-ic, p%xc(:, ic), -kf*wk%corner_mass(ic)*d, &
+                                  0.5_wp*kf*wk%corner_mass(ic)*d*d, .false.)
       end do
       return
     end if
@@ -145,24 +168,38 @@ contains
     !$omp end parallel do
     wk%gmin = gmin
     do ip = 1, p%np
-      if (wk%dmin(ip) >= 0.0_wp) cycle
+      j = 4*(ip - 1)
+      if (wk%dmin(ip) >= 0.0_wp) then
+        if (.not. tie) cycle
+        if (all(wk%g0(j + 1:j + 4) == untied)) cycle
+      end if
       xq = particle_corners(p, ip, basis, deformed=.true.)
       dq = [(dot_product(xq(:, a) - xw, normal), a = 1, 4)]
       do a = 1, 4
+        if (tie) then                        ! a tied corner: the spring about its gap g0
+          if (wk%g0(j + a) < untied) then
+            d = dq(a) - wk%g0(j + a)
+            call push(ip, xq(:, a) - p%x(:, ip), -kf*0.25_wp*p%mass(ip)*d, &
+                      0.125_wp*kf*p%mass(ip)*d*d, .true.)
+            cycle
+          end if
+        end if
         if (dq(a) < 0.0_wp) call push(ip, xq(:, a) - p%x(:, ip), -kf*0.25_wp*p%mass(ip)*dq(a), &
-                                      0.125_wp*kf*p%mass(ip)*dq(a)*dq(a))
+                                      0.125_wp*kf*p%mass(ip)*dq(a)*dq(a), .false.)
       end do
     end do
   contains
-    subroutine push(owner, xp, force, energy)
+    subroutine push(owner, xp, force, energy, tied)
       integer, intent(in) :: owner
       real(wp), intent(in) :: xp(2), force, energy
+      logical, intent(in) :: tied
       call surface_reserve(wk, wk%npt + 1)
       wk%npt = wk%npt + 1
       wk%owner(wk%npt) = owner
       wk%xs(:, wk%npt) = xp
       wk%fn(wk%npt) = force
       wk%en(wk%npt) = energy
+      wk%tied(wk%npt) = tied
     end subroutine push
   end subroutine surface_points
 
@@ -295,10 +332,11 @@ contains
   !> Friction of the points surface_push pushed: the tangential impulse that stops each
   !! point's slip relative to the wall ('stick'), bounded by friction times its normal impulse
   !! ('coulomb'); node velocities change in place, and dvel by the same amount. impulse = the
-  !! momentum given to the material.
+  !! momentum given to the material. 'bonded': the tied points stick, pressed or pulled; the
+  !! others take the Coulomb bound.
   subroutine surface_friction(wk, law, friction, normal, vwall, vel, dvel, impulse)
     type(surface_work_t), intent(inout) :: wk  !! points, weights, normal impulses
-    integer, intent(in) :: law             !! CONTACT_COULOMB or CONTACT_STICK
+    integer, intent(in) :: law             !! CONTACT_COULOMB, CONTACT_STICK or CONTACT_BONDED
     real(wp), intent(in) :: friction       !! Coulomb coefficient [-]
     real(wp), intent(in) :: normal(2)      !! unit normal into the material [-]
     real(wp), intent(in) :: vwall(2)       !! wall velocity over the step [m/s]
@@ -310,7 +348,7 @@ contains
     impulse = 0.0_wp
     wk%sweeps = 0
     wk%de = 0.0_wp
-    if (law /= CONTACT_COULOMB .and. law /= CONTACT_STICK) return
+    if (law /= CONTACT_COULOMB .and. law /= CONTACT_STICK .and. law /= CONTACT_BONDED) return
     tang = [-normal(2), normal(1)]
     vscale = sqrt(dot_product(vwall, vwall))
     do k = 1, wk%npt
@@ -323,14 +361,15 @@ contains
     do sweep = 1, max_sweeps
       change = 0.0_wp
       do k = 1, wk%npt
-        if (.not. wk%s(k) > 0.0_wp .or. .not. wk%lam(1, k) > 0.0_wp) cycle
+        if (.not. wk%s(k) > 0.0_wp) cycle
+        if (.not. wk%lam(1, k) > 0.0_wp .and. .not. wk%tied(k)) cycle
         vc = 0.0_wp
         do a = 1, wk%nnode
           if (wk%nw(a, k) /= 0.0_wp) vc = vc + wk%nw(a, k)*vel(:, wk%node(a, k))
         end do
         lt = wk%lam(2, k) - dot_product(vc - vwall, tang)/wk%s(k)
-        if (law == CONTACT_COULOMB) lt = max(-friction*wk%lam(1, k), &
-                                             min(friction*wk%lam(1, k), lt))
+        if (law == CONTACT_COULOMB .or. (law == CONTACT_BONDED .and. .not. wk%tied(k))) &
+          lt = max(-friction*wk%lam(1, k), min(friction*wk%lam(1, k), lt))
         dlt = lt - wk%lam(2, k)
         if (dlt == 0.0_wp) cycle
         wk%lam(2, k) = lt
@@ -383,6 +422,45 @@ contains
     end do
   end function surface_slip_loss
 
+  !> A 'bonded' wall at t = 0: the surface points of particles p (basis `basis`: CPDI2
+  !! corners, else the corners of each particle's deformed domain) that lie less than `reach`
+  !! (h/2) in front of the plane through xw with unit normal `normal` (or behind it) are tied,
+  !! with their gaps now as g0 (wk%g0; untied for the others).
+  subroutine surface_tie(p, basis, xw, normal, reach, wk)
+    type(particles_t), intent(in) :: p     !! particles at t = 0
+    integer, intent(in) :: basis           !! BASIS_* code
+    real(wp), intent(in) :: xw(2)          !! a point on the plane [m]
+    real(wp), intent(in) :: normal(2)      !! unit normal into the material [-]
+    real(wp), intent(in) :: reach          !! largest gap of a tied point [m]
+    type(surface_work_t), intent(inout) :: wk  !! g0 set
+    integer :: ic, ip, a
+    real(wp) :: d, xq(2, 4)
+    if (allocated(wk%g0)) deallocate(wk%g0)
+    if (basis == BASIS_CPDI2) then
+      allocate(wk%g0(p%nc))
+      do ic = 1, p%nc
+        d = dot_product(p%xc(:, ic) - xw, normal)
+        wk%g0(ic) = merge(d, untied, d < reach)
+      end do
+      return
+    end if
+    allocate(wk%g0(4*p%np))
+    do ip = 1, p%np
+      xq = particle_corners(p, ip, basis, deformed=.true.)
+      do a = 1, 4
+        d = dot_product(xq(:, a) - xw, normal)
+        wk%g0(4*(ip - 1) + a) = merge(d, untied, d < reach)
+      end do
+    end do
+  end subroutine surface_tie
+
+  !> The number of points tied to the wall (0 without a tie).
+  pure integer function surface_tied(wk)
+    type(surface_work_t), intent(in) :: wk !! work arrays (g0)
+    surface_tied = 0
+    if (allocated(wk%g0)) surface_tied = count(wk%g0 < untied)
+  end function surface_tied
+
   !> CPDI2: each corner's share of the particle mass, a quarter of each particle it belongs
   !! to (computed once: particle masses do not change).
   subroutine corner_masses(p, wk)
@@ -409,6 +487,7 @@ contains
     integer, intent(in) :: n               !! points
     real(wp), allocatable :: tx(:,:), tf(:), te(:), tp(:,:), tq(:,:,:)
     integer, allocatable :: to(:), tc(:,:)
+    logical, allocatable :: tt(:)
     integer :: m
     logical :: main, curve
     main = .not. allocated(wk%fn)
@@ -421,17 +500,19 @@ contains
     if (allocated(wk%fn)) m = max(m, size(wk%fn))
     if (main .and. allocated(wk%fn)) m = max(m, 2*size(wk%fn))
     if (main) then
-      allocate(tx(2, m), tf(m), te(m), to(m))
+      allocate(tx(2, m), tf(m), te(m), to(m), tt(m))
       if (wk%npt > 0) then
         tx(:, 1:wk%npt) = wk%xs(:, 1:wk%npt)
         tf(1:wk%npt) = wk%fn(1:wk%npt)
         te(1:wk%npt) = wk%en(1:wk%npt)
         to(1:wk%npt) = wk%owner(1:wk%npt)
+        tt(1:wk%npt) = wk%tied(1:wk%npt)
       end if
       call move_alloc(tx, wk%xs)
       call move_alloc(tf, wk%fn)
       call move_alloc(te, wk%en)
       call move_alloc(to, wk%owner)
+      call move_alloc(tt, wk%tied)
     end if
     if (.not. wk%curve) return
     allocate(tc(curve_nc, m), tp(curve_nc, m), tq(2, curve_nc, m))
