@@ -16,7 +16,7 @@ module mpm_contact
   use mpm_constants, only: CONTACT_SLIP, CONTACT_BONDED, EXIT_NUMERIC
   use mpm_grid, only: grid_t
   use mpm_tiles, only: tiles_t
-  use mpm_walls, only: wall_velocity, wall_mirror_node, wall_travel, wall_free_step
+  use mpm_walls, only: wall_velocity, wall_mirror_node, wall_travel, wall_free_step, wall_shift
   use mpm_surface_contact, only: surface_points, surface_push, surface_friction, surface_energy, &
                                  surface_slip_loss, contact_alpha, surface_tie
   use mpm_surface_curve, only: surface_curve_points
@@ -84,6 +84,7 @@ contains
     st%e_contact = 0.0_wp
     do iw = 1, st%nwall
       if (st%walls(iw)%contact == CONTACT_SLIP) cycle
+      wk%surf(iw)%shift = wall_shift(st%walls(iw), st%t)   ! the anchors of a 'bonded' wall
       if (prm%basis == BASIS_CPDI2 .and. prm%surface_curve) then
         call mirror_planes(st, mirror, nm)
         call surface_curve_points(st%p, wk%wall_work(3:4, iw), wk%wall_work(5:6, iw), &
@@ -156,6 +157,7 @@ contains
     do iw = 1, st%nwall
       if (st%walls(iw)%contact == CONTACT_SLIP) cycle
       xw = st%walls(iw)%point0 - wall_travel(st%walls(iw), st%t)*st%walls(iw)%normal
+      wk%surf(iw)%shift = wall_shift(st%walls(iw), st%t)
       if (prm%basis == BASIS_CPDI2 .and. prm%surface_curve) then
         call mirror_planes(st, mirror, nm)
         call surface_curve_points(st%p, xw, st%walls(iw)%normal, stiffness(prm, g), &
