@@ -10,7 +10,8 @@ deterministically here; `--list` prints it):
 * scene: a crush between platens, an impact on a rigid target, and a collision of two rings, the
   lower one resting on a fixed wall;
 * sector: full, half, quarter (the mirror planes, the 'slip' law);
-* wall law: 'frictionless', 'coulomb' (friction 0.3), 'stick';
+* wall law: 'frictionless', 'coulomb' (friction 0.3), 'stick', 'bonded' (friction 0.3 for
+  what is not tied; not on a drop weight, which the input refuses);
 * law between the bodies (two rings only): 'frictionless', 'coulomb' (0.3), 'stick';
 * loading of the crush: a platen at constant speed, a platen with a stroke, a drop weight;
 * basis (linear, ugimp, cpdi1, cpdi2), scheme (usl, usf, musl), volumetric (standard, fbar,
@@ -53,7 +54,7 @@ ENERGY_TOL_USL = 0.20      # 'usl': 4-17 % lost in the matrix's contacts, warned
 FACTORS = {
     "scene": ["crush", "impact", "two_rings"],
     "sector": ["full", "half", "quarter"],
-    "wall_law": ["frictionless", "coulomb", "stick"],
+    "wall_law": ["frictionless", "coulomb", "stick", "bonded"],
     "body_law": ["none", "frictionless", "coulomb", "stick"],
     "loading": ["none", "speed", "stroke", "mass"],
     "basis": ["linear", "ugimp", "cpdi1", "cpdi2"],
@@ -84,6 +85,8 @@ def allowed(c: dict) -> bool:
         return False
     if scene == "impact" and g("sector") == "quarter":
         return False              # the impact is symmetric about x only
+    if g("loading") == "mass" and g("wall_law") == "bonded":
+        return False              # a wall with mass is not 'bonded' (docs/input.md)
     if g("loading") == "mass" and g("sector") not in (None, "full", "half"):
         return False              # keep the drop weight on a model with one platen moving
     if g("basis") == "linear" and g("scheme") == "usl":
@@ -162,8 +165,8 @@ RI, RO, H = 8.0e-3, 10.0e-3, 1.0e-3
 
 def case_text(c: dict, name: str) -> str:
     """The namelist of one row."""
-    wall = f"contact = '{c['wall_law']}'" + (", friction = 0.3" if c["wall_law"] == "coulomb"
-                                              else "")
+    wall = f"contact = '{c['wall_law']}'" + (", friction = 0.3" if c["wall_law"] in
+                                              ("coulomb", "bonded") else "")
     solver = (f"&solver basis = '{c['basis']}', scheme = '{c['scheme']}', plane = "
               f"'{c['plane']}', damping = {c['damping']}, mass_scale = {c['mass_scale']}")
     if c["volumetric"] != "standard":
