@@ -313,15 +313,10 @@ contains
         if (wk%nw(a, k) == 0.0_wp) cycle
         n = wk%node(a, k)
         force(:, n) = force(:, n) + (wk%nw(a, k)*wk%fn(k))*normal
+        if (wk%tied(k)) force(:, n) = force(:, n) + (wk%nw(a, k)*wk%ft(k))*tang  ! along too
       end do
       impulse = impulse + (wk%fn(k)*dt*sum(wk%nw(1:wk%nnode, k)))*normal
-      if (.not. wk%tied(k)) cycle
-      do a = 1, wk%nnode                     ! a tied point: its tie along the wall too
-        if (wk%nw(a, k) == 0.0_wp) cycle
-        n = wk%node(a, k)
-        force(:, n) = force(:, n) + (wk%nw(a, k)*wk%ft(k))*tang
-      end do
-      impulse = impulse + (wk%ft(k)*dt*sum(wk%nw(1:wk%nnode, k)))*tang
+      if (wk%tied(k)) impulse = impulse + (wk%ft(k)*dt*sum(wk%nw(1:wk%nnode, k)))*tang
     end do
   contains
     !> Curve point k: the weights sum_m phi_m N_i(x_m) of the nodes of its corners (each
