@@ -367,9 +367,16 @@ contains
     strokes = .false.
     do k = 1, s%nwall
       associate (w => s%walls(k))
-        if (w%contact == CONTACT_BONDED) call append_msg(report, 'wall '//itoa(k)// &
-          ': bonded: '//itoa(surface_tied(s%wk%surf(k)))//' surface points within h/2 of it '// &
-          'at t = 0 are tied to it (none: the wall acts as ''coulomb'')')
+        if (w%contact == CONTACT_BONDED) then
+          if (surface_tied(s%wk%surf(k)) > 0) then
+            call append_msg(report, 'wall '//itoa(k)//': bonded: '// &
+              itoa(surface_tied(s%wk%surf(k)))//' surface points within h/2 of it at t = 0 '// &
+              'are tied to it')
+          else
+            call append_msg(report, 'wall '//itoa(k)//': bonded: no surface point lies '// &
+              'within h/2 of it at t = 0: nothing is tied, it acts as ''coulomb''')
+          end if
+        end if
         if (w%mass > 0.0_wp) then
           call append_msg(report, 'wall '//itoa(k)//': a free rigid body of '// &
             sci(cfg%walls(k)%mass, 4)//' kg (for depth '//sci(cfg%run%depth, 3)//' m) at '// &
