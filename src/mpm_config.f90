@@ -15,6 +15,7 @@ module mpm_config
                            PLANE_STRAIN, MODEL_J2, RATE_NONE, RATE_COWPER_SYMONDS, SHAPE_RING, &
                            SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER, max_table, &
                            CONTACT_FRICTIONLESS, CONTACT_COULOMB, CONTACT_SLIP, FLOW_LINEAR, &
+                           CONTACT_BONDED, &
                            FLOW_JOHNSON_COOK
   use mpm_config_types, only: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, &
                               body_cfg_t, wall_cfg_t, probe_cfg_t, contact_cfg_t, unset_real, &
@@ -393,6 +394,10 @@ contains
     if (.not. w%mass > 0.0_wp) return
     if (w%contact_id == CONTACT_SLIP) call err_var(rd, io, 'mass', fmt_real(w%mass), &
       'given for a ''slip'' mirror plane', 'mass = 0 with contact = ''slip''')
+    if (w%contact_id == CONTACT_BONDED) call err_var(rd, io, 'mass', fmt_real(w%mass), &
+      'given for a ''bonded'' wall (a free body strikes the material and rebounds; a tie '// &
+      'would hold it)', 'mass = 0 with contact = ''bonded'', or contact = ''coulomb'' '// &
+      'or ''stick'' with mass > 0')
     if (w%stroke > 0.0_wp) call err_var(rd, io, 'stroke', fmt_real(w%stroke), &
       'given with mass = '//fmt_real(w%mass), free)
     if (w%ramp > 0.0_wp) call err_var(rd, io, 'ramp', fmt_real(w%ramp), &
@@ -406,15 +411,22 @@ contains
       fmt_vec(w%normal))
   end subroutine check_free_wall
 
-  !> Friction > 0 only with the Coulomb law (else reported, and left at 0).
+  !> Friction > 0 only with the Coulomb law or 'bonded' (for what is not tied; else reported,
+  !! and left at 0).
   subroutine check_friction(rd, io, var, law, id, friction)
     type(reader_t), intent(inout) :: rd
     integer, intent(in) :: io, id
     character(len=*), intent(in) :: var, law     !! the law's variable and its value
     real(wp), intent(inout) :: friction
-    if (friction > 0.0_wp .and. id > 0 .and. id /= CONTACT_COULOMB) then
-      call err_var(rd, io, 'friction', fmt_real(friction), 'has no effect with '//var// &
-        ' = '''//trim(law)//'''; set '//var//' = ''coulomb'' or friction = 0')
+    if (friction > 0.0_wp .and. id > 0 .and. id /= CONTACT_COULOMB .and. &
+        id /= CONTACT_BONDED) then
+      if (var == 'contact') then           ! &wall
+        call err_var(rd, io, 'friction', fmt_real(friction), 'has no effect with '//var// &
+          ' = '''//trim(law)//'''; set '//var//' = ''coulomb'' or ''bonded'', or friction = 0')
+      else
+        call err_var(rd, io, 'friction', fmt_real(friction), 'has no effect with '//var// &
+          ' = '''//trim(law)//'''; set '//var//' = ''coulomb'' or friction = 0')
+      end if
       friction = 0.0_wp
     end if
   end subroutine check_friction

@@ -211,7 +211,8 @@ module mpm_config_table
       comment='unit normal into the material side [-]'), &
     var_spec_t('wall', 'contact', 'e', c0='frictionless', comment='%'), &
     var_spec_t('wall', 'friction', lo=0.0_wp, allowed='a real number >= 0, and > 0 only '// &
-      'with contact = ''coulomb'' (default 0)', comment='Coulomb coefficient [-]'), &
+      'with contact = ''coulomb'' or ''bonded'' (default 0)', &
+      comment='Coulomb coefficient [-]'), &
     var_spec_t('wall', 'velocity', n=2, allowed=v0, comment='prescribed velocity [m/s]'), &
     var_spec_t('wall', 'ramp', lo=0.0_wp, allowed='a real number >= 0 [s] (default 0)', &
       comment='smooth rise time of the velocity [s]'), &

@@ -4,17 +4,19 @@
 !! weights at the point and the impulse = momentum given to the active nodes, to round-off;
 !! a single point mass bouncing on the wall (half period pi / omega, rebound speed); friction:
 !! stick stops the slip, Coulomb is bounded by mu times the normal impulse, mu = 0 changes
-!! nothing; points that share nodes.
+!! nothing; points that share nodes; the tie of a 'bonded' wall (the points within reach at
+!! t = 0, the spring -k d to the anchor carried with the wall, both ways and along the wall,
+!! its energy 1/2 k |d|^2, its tangential force on the nodes, and no friction on tied points).
 ! SPDX-License-Identifier: MIT
 program test_contact
   !$ use omp_lib, only: omp_set_num_threads
   use mpm_kinds, only: wp
   use mpm_constants, only: pi, BASIS_CPDI1, BASIS_CPDI2, BASIS_UGIMP, BASIS_LINEAR, CONTACT_COULOMB, &
-                           CONTACT_STICK
+                           CONTACT_STICK, CONTACT_BONDED
   use mpm_particles, only: particles_t, particles_allocate, particle_corners
   use mpm_strings, only: itoa
   use mpm_surface_contact, only: surface_work_t, surface_points, surface_push, surface_friction, &
-                                 surface_energy
+                                 surface_energy, surface_tie, surface_tied
   use mpm_contact, only: slip_span_columns
   use testing, only: begin_test, check, check_close, finish_tests
   implicit none
@@ -91,6 +93,7 @@ program test_contact
   call test_bounce()
   call test_friction()
   call test_slip_columns()
+  call test_tie()
   call finish_tests('test_contact')
 
 contains
@@ -145,6 +148,46 @@ contains
                'promises ('//itoa(near)//' left out)')
     call check(cut > 1000, 'columns are left out of '//itoa(cut)//' of 20000 spans')
   end subroutine test_slip_columns
+
+  !> A 'bonded' wall: the two squares' bottom corners (gap -0.01) are tied, the top ones (0.99)
+  !! not; a corner moved by (0.02, 0.03) with the wall shifted by (0.01, 0) takes -k d with
+  !! d = (0.01, 0.03): normal -k 0.03, along the wall (t = [-1, 0]) +k 0.01; energy 1/2 k |d|^2;
+  !! lifted clear of the wall the tied corners are still held (pulled back); the nodes get the
+  !! tangential force too; friction leaves the tied points alone.
+  subroutine test_tie()
+    type(surface_work_t) :: wt
+    real(wp) :: k2, ftot(2), ex
+    call begin_test('bonded wall: the tie in closed form')
+    call two_squares(p)
+    call surface_tie(p, BASIS_CPDI2, [0.0_wp, 0.0_wp], nrm, 0.5_wp, wt)
+    call check(surface_tied(wt) == 3, 'the three bottom corners are tied, the top ones not')
+    p%xc(:, 2) = p%xc(:, 2) + [0.02_wp, 0.03_wp]
+    wt%shift = [0.01_wp, 0.0_wp]
+    call surface_points(p, BASIS_CPDI2, [0.0_wp, 0.0_wp], nrm, kf, .false., wt)
+    call check(wt%npt == 3 .and. all(wt%tied(1:3)), 'three tied points')
+    k2 = kf*1.0_wp                           ! corner 2's mass share is 1
+    call check_close(wt%fn(2), -k2*0.03_wp, 'normal: -k (g - g0)', rtol=1e-12_wp)
+    call check_close(wt%ft(2), k2*0.01_wp, 'along the wall: -k d . t', rtol=1e-12_wp)
+    ex = 0.5_wp*k2*(0.01_wp**2 + 0.03_wp**2) + 2.0_wp*0.5_wp*kf*0.5_wp*0.01_wp**2
+    call check_close(surface_energy(wt), ex, 'energy 1/2 k |d|^2 (the others shifted by '// &
+                     'the wall)', rtol=1e-12_wp)
+    p%xc(2, 1:3) = 0.2_wp                    ! lifted clear of the wall
+    wt%shift = 0.0_wp
+    call surface_points(p, BASIS_CPDI2, [0.0_wp, 0.0_wp], nrm, kf, .false., wt)
+    call check(wt%npt == 3 .and. all(wt%fn(1:3) < 0.0_wp), 'lifted: still held, pulled back')
+    call grid_setup()
+    call surface_push(wt, [-1.0_wp, -1.0_wp], 1.0_wp, nx, ny, mass, 0.0_wp, 2, blk, wdummy, &
+                      gwdummy, nrm, dt, force, imp)
+    ftot = sum(force, dim=2)                 ! the corner at x = 2 is off this 4 x 4 grid
+    call check(wt%s(3) == 0.0_wp .and. all(wt%s(1:2) > 0.0_wp), 'two points on the grid')
+    call check_close(ftot, [-sum(wt%ft(1:2)), sum(wt%fn(1:2))], 'node forces: fn n + ft t', &
+                     rtol=1e-12_wp)
+    call check_close(imp, ftot*dt, 'impulse = node forces times dt', rtol=1e-12_wp)
+    v0 = vel
+    call surface_friction(wt, CONTACT_BONDED, 0.5_wp, nrm, [0.5_wp, 0.0_wp], vel, dvel, imp)
+    call check_close(reshape(vel, [2*nn]), reshape(v0, [2*nn]), 'no friction on tied '// &
+                     'points', atol=0.0_wp)
+  end subroutine test_tie
 
   !> Two unit squares side by side (CPDI2 tiling: 6 corners), mass 2 each, bottom at -0.01.
   subroutine two_squares(q)

@@ -8,6 +8,8 @@
   tool's) and 5 m/s, h = t/4 and n_thick = 8;
 * drop (half model): the weight's mass and speed as asked, a rigid base, end_at_release;
 * shear (full model): the top platen moves sideways at the asked ratio of its downward speed;
+  with --fixed both platens are 'bonded' (the tube fixed to them) and --check reports the
+  points tied to each;
 * a diameter in millimetres typed as metres is refused with exit 2 and what to type;
 * the seven designs of tools/design_example.py (make design-example) pass --check too.
 Each case passes `tubempm --check` with exit 0 and no WARNING line.
@@ -92,6 +94,16 @@ def main() -> int:
               top["contact"] == "coulomb", "shear: full model, sideways at half the downward "
                                            "speed, loose (coulomb)")
         checked(path, "shear")
+    path, nml = make(scratch, "shear_fixed", "shear", "--D", "50e-3", "--t", "2e-3", "--stroke",
+                     "10e-3", "--shear-ratio", "0.5", "--fixed")
+    if nml:
+        laws = [w["contact"] for w in nml["wall"]]
+        check(laws == ["bonded", "bonded"] and
+              all(float(w.get("friction", 0)) == 0.0 for w in nml["wall"]),
+              f"shear --fixed: both platens 'bonded' (Xiang's fixed group): {laws}")
+        out = checked(path, "shear --fixed")
+        check(out.count("bonded: ") == 2 and "tied" in out,
+              "shear --fixed: --check reports the points tied to each platen")
     sys.path.insert(0, str(ROOT / "tools"))
     import design_example  # noqa: PLC0415
     cases = design_example.designs(scratch / "design")

@@ -117,7 +117,7 @@ def scene(kind: str, rng: random.Random, out: str) -> tuple[str, dict]:
                       sector=rng.choice(("full", "half", "quarter")))
         walls = (f"&wall point = 0.0, 0.0531, normal = 0.0, -1.0, "
                  f"velocity = 0.0, {f(-speed)}, contact = "
-                 f"'{rng.choice(('frictionless', 'stick', 'coulomb'))}'"
+                 f"'{rng.choice(('frictionless', 'stick', 'coulomb', 'bonded'))}'"
                  + (", friction = 0.2" if rng.random() < 0.5 else "") + " /\n")
         walls = walls.replace("'stick', friction = 0.2", "'stick'").replace(
             "'frictionless', friction = 0.2", "'frictionless'")

@@ -15,7 +15,8 @@ module mpm_constants
   public :: FLOW_LINEAR, FLOW_JOHNSON_COOK, flow_stress_names
   public :: SHAPE_RING, SHAPE_RECT, shape_names, shape_plural
   public :: SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER, sector_names
-  public :: CONTACT_FRICTIONLESS, CONTACT_COULOMB, CONTACT_STICK, CONTACT_SLIP, contact_names
+  public :: CONTACT_FRICTIONLESS, CONTACT_COULOMB, CONTACT_STICK, CONTACT_SLIP, CONTACT_BONDED, &
+            contact_names
 
   real(wp), parameter :: pi = 3.141592653589793_wp
   character(len=*), parameter :: version_string = '0.1.0'
@@ -58,7 +59,7 @@ module mpm_constants
   character(len=*), parameter :: sector_names(3) = [character(len=7) :: &
     'full', 'half', 'quarter']
   integer, parameter :: CONTACT_FRICTIONLESS = 1, CONTACT_COULOMB = 2, CONTACT_STICK = 3, &
-                        CONTACT_SLIP = 4
-  character(len=*), parameter :: contact_names(4) = [character(len=12) :: &
-    'frictionless', 'coulomb', 'stick', 'slip']
+                        CONTACT_SLIP = 4, CONTACT_BONDED = 5
+  character(len=*), parameter :: contact_names(5) = [character(len=12) :: &
+    'frictionless', 'coulomb', 'stick', 'slip', 'bonded']
 end module mpm_constants

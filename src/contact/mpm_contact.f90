@@ -13,12 +13,12 @@
 ! thread count; the surface points are gathered and pushed in corner (or particle) order.
 module mpm_contact
   use mpm_kinds, only: wp
-  use mpm_constants, only: CONTACT_SLIP, EXIT_NUMERIC
+  use mpm_constants, only: CONTACT_SLIP, CONTACT_BONDED, EXIT_NUMERIC
   use mpm_grid, only: grid_t
   use mpm_tiles, only: tiles_t
-  use mpm_walls, only: wall_velocity, wall_mirror_node, wall_travel, wall_free_step
+  use mpm_walls, only: wall_velocity, wall_mirror_node, wall_travel, wall_free_step, wall_shift
   use mpm_surface_contact, only: surface_points, surface_push, surface_friction, surface_energy, &
-                                 surface_slip_loss, contact_alpha
+                                 surface_slip_loss, contact_alpha, surface_tie
   use mpm_surface_curve, only: surface_curve_points
   use mpm_constants, only: BASIS_CPDI2
   use mpm_state, only: params_t, state_t, work_t
@@ -26,7 +26,7 @@ module mpm_contact
   implicit none
   private
   public :: contact_begin_step, contact_reactions, contact_energy, contact_check, &
-            slip_span_columns
+            slip_span_columns, contact_tie
   ! for the node loops of mpm_grid_update
   public :: wall_setup, surface_forces, surface_friction_walls, slip_columns, row_walls
 
@@ -84,6 +84,7 @@ contains
     st%e_contact = 0.0_wp
     do iw = 1, st%nwall
       if (st%walls(iw)%contact == CONTACT_SLIP) cycle
+      wk%surf(iw)%shift = wall_shift(st%walls(iw), st%t)   ! the anchors of a 'bonded' wall
       if (prm%basis == BASIS_CPDI2 .and. prm%surface_curve) then
         call mirror_planes(st, mirror, nm)
         call surface_curve_points(st%p, wk%wall_work(3:4, iw), wk%wall_work(5:6, iw), &
@@ -156,6 +157,7 @@ contains
     do iw = 1, st%nwall
       if (st%walls(iw)%contact == CONTACT_SLIP) cycle
       xw = st%walls(iw)%point0 - wall_travel(st%walls(iw), st%t)*st%walls(iw)%normal
+      wk%surf(iw)%shift = wall_shift(st%walls(iw), st%t)
       if (prm%basis == BASIS_CPDI2 .and. prm%surface_curve) then
         call mirror_planes(st, mirror, nm)
         call surface_curve_points(st%p, xw, st%walls(iw)%normal, stiffness(prm, g), &
@@ -167,6 +169,22 @@ contains
       st%e_contact = st%e_contact + surface_energy(wk%surf(iw))
     end do
   end subroutine contact_energy
+
+  !> At t = 0: the surface points tied to each 'bonded' wall, those less than h/2 in front of
+  !! it (mpm_surface_contact, surface_tie), kept in wk%surf for the whole run.
+  subroutine contact_tie(prm, st, h, wk)
+    type(params_t), intent(in) :: prm      !! parameters (basis)
+    type(state_t), intent(in) :: st        !! state at t = 0 (particles, walls)
+    real(wp), intent(in) :: h              !! cell size [m]
+    type(work_t), intent(inout) :: wk      !! surf allocated; the ties set
+    integer :: iw
+    call surface_allocate(st, wk)
+    do iw = 1, st%nwall
+      if (st%walls(iw)%contact /= CONTACT_BONDED) cycle
+      call surface_tie(st%p, prm%basis, st%walls(iw)%point0, st%walls(iw)%normal, 0.5_wp*h, &
+                       wk%surf(iw))
+    end do
+  end subroutine contact_tie
 
   !> The 'slip' mirror planes now: a point and the unit normal of each (4, nm) [m, -].
   subroutine mirror_planes(st, mirror, nm)

@@ -41,22 +41,42 @@
 !
 ! The momentum given to the material is sum_c lambda_c sum_i N_i over the active nodes,
 ! summed into the wall's reaction exactly (impulse on the wall = momentum taken from the body).
+!
+! A 'bonded' wall ties the points that lie within h/2 of it at t = 0 (surface_tie: their
+! positions then, x0_c, kept for the whole run; the set-up makes them again from the input on
+! a restart). A tied point is held by the same penalty stiffness to its anchor, the point x0_c
+! carried with the wall (x0_c + s(t), s the wall's displacement since t = 0), in both
+! directions along the wall and across it:
+!
+!     f_c = -k_c d_c,   d_c = x_c - x0_c - s(t),   energy 1/2 k_c |d_c|^2,
+!
+! pressed or pulled, so that it neither separates nor slips (by more than the elastic
+! stretch of the tie, f / k_c). Its normal part is the penalty about the gap at t = 0, g_c -
+! g0_c. The tangential part is a spring rather than the 'stick' impulse: a velocity constraint
+! has no memory of where the point was, and under a sustained shear the grid's velocity
+! after the MUSL re-map (which moves the points) does not keep it, so a ring sheared between
+! two such walls crept by 15 % of the platen's travel at its bottom and gained 15 % energy;
+! the spring pulls it back, and its work is the wall's work through the tie. Tied points
+! take no friction; the points not tied meet the wall as with 'coulomb' (coefficient
+! `friction`).
 module mpm_surface_contact
   use mpm_kinds, only: wp
-  use mpm_constants, only: BASIS_CPDI2, CONTACT_COULOMB, CONTACT_STICK
+  use mpm_constants, only: BASIS_CPDI2, CONTACT_COULOMB, CONTACT_STICK, CONTACT_BONDED
   use mpm_particles, only: particles_t, particle_corners, corner_gaps
   use mpm_basis, only: bilinear_at
   implicit none
   private
   public :: surface_work_t, surface_points, surface_energy, surface_push, surface_friction, &
             surface_slip_loss, &
-            contact_alpha, surface_reserve, corner_masses
+            contact_alpha, surface_reserve, corner_masses, surface_tie, surface_tied, &
+            tie_force
 
   real(wp), parameter :: contact_alpha = 1.0_wp  !! penalty stiffness over the material's [-]
   integer, parameter :: max_sweeps = 200     !! Gauss-Seidel sweeps at most [-]
   integer, parameter :: scan_chunk = 1024    !! particles per task of the corner scan [-]
   real(wp), parameter :: sweep_tol = 1.0e-13_wp  !! relative change that ends the sweeps [-]
   integer, parameter, public :: curve_nc = 5  !! corners per curve point [-]
+  real(wp), parameter, public :: untied = huge(1.0_wp)  !! anchor of a point not tied [m]
 
   !> Points in contact with one wall and the work arrays of their solve, grown as needed (no
   !! allocation in a steady run). A point is a corner behind the plane (CPDI2: a shared
@@ -70,6 +90,14 @@ module mpm_surface_contact
     integer, allocatable :: owner(:)       !! the particle of a point, or -(its corner id) (n)
     real(wp), allocatable :: fn(:)         !! normal penalty force (n) [N/m]
     real(wp), allocatable :: en(:)         !! penalty energy (n) [J/m]
+    logical, allocatable :: tied(:)        !! the point is tied to a 'bonded' wall (n)
+    real(wp), allocatable :: ft(:)         !! tied points: tangential tie force (n) [N/m]
+    real(wp), allocatable :: x0(:,:)       !! 'bonded' wall: the position at t = 0 of each
+                                           !! tied point, or untied (2, CPDI2: nc corners; the
+                                           !! other bases: corner a of particle ip at 4 (ip -
+                                           !! 1) + a); not allocated for the other laws [m]
+    real(wp) :: shift(2) = 0.0_wp          !! the wall's displacement since t = 0 at the time
+                                           !! of the points (set by the caller) [m]
     integer, allocatable :: node(:,:)      !! nodes of each point (nnode, n)
     real(wp), allocatable :: wt(:,:)       !! their weights N_i / m_i (nnode, n) [m/kg]
     real(wp), allocatable :: nw(:,:)       !! their weights N_i on active nodes (nnode, n) [-]
@@ -111,8 +139,10 @@ contains
     real(wp), intent(in) :: kf             !! stiffness per unit point mass, alpha c^2/h^2 [1/s^2]
     logical, intent(in) :: par             !! the scan runs in parallel
     type(surface_work_t), intent(inout) :: wk  !! work arrays: the points
-    integer :: ip, ic, a, nchunk
-    real(wp) :: d, xq(2, 4), dq(4), gmin
+    integer :: ip, ic, a, nchunk, j
+    real(wp) :: d, xq(2, 4), dq(4), gmin, fn, ft, en
+    logical :: tie
+    tie = allocated(wk%x0)
     wk%npt = 0
     wk%gmin = 0.0_wp
     wk%curve = .false.
@@ -120,9 +150,17 @@ contains
       call corner_masses(p, wk)
       do ic = 1, p%nc
         d = (p%xc(1, ic) - xw(1))*normal(1) + (p%xc(2, ic) - xw(2))*normal(2)
-        if (d < 0.0_wp) call push(-ic, p%xc(:, ic), -kf*wk%corner_mass(ic)*d, &
-                                  0.5_wp*kf*wk%corner_mass(ic)*d*d)
         wk%gmin = min(wk%gmin, d)
+        if (tie) then                        ! a tied corner: the spring to its anchor
+          if (wk%x0(1, ic) < untied) then
+            call tie_force(p%xc(:, ic) - wk%x0(:, ic) - wk%shift, normal, &
+                           kf*wk%corner_mass(ic), fn, ft, en)
+            call push(-ic, p%xc(:, ic), fn, en, .true., ft)
+            cycle
+          end if
+        end if
+        if (d < 0.0_wp) call push(-ic, p%xc(:, ic), -kf*wk%corner_mass(ic)*d, &
+                                  0.5_wp*kf*wk%corner_mass(ic)*d*d, .false., 0.0_wp)
       end do
       return
     end if
@@ -145,24 +183,39 @@ contains
     !$omp end parallel do
     wk%gmin = gmin
     do ip = 1, p%np
-      if (wk%dmin(ip) >= 0.0_wp) cycle
+      j = 4*(ip - 1)
+      if (wk%dmin(ip) >= 0.0_wp) then
+        if (.not. tie) cycle
+        if (all(wk%x0(1, j + 1:j + 4) == untied)) cycle
+      end if
       xq = particle_corners(p, ip, basis, deformed=.true.)
       dq = [(dot_product(xq(:, a) - xw, normal), a = 1, 4)]
       do a = 1, 4
+        if (tie) then                        ! a tied corner: the spring to its anchor
+          if (wk%x0(1, j + a) < untied) then
+            call tie_force(xq(:, a) - wk%x0(:, j + a) - wk%shift, normal, &
+                           kf*0.25_wp*p%mass(ip), fn, ft, en)
+            call push(ip, xq(:, a) - p%x(:, ip), fn, en, .true., ft)
+            cycle
+          end if
+        end if
         if (dq(a) < 0.0_wp) call push(ip, xq(:, a) - p%x(:, ip), -kf*0.25_wp*p%mass(ip)*dq(a), &
-                                      0.125_wp*kf*p%mass(ip)*dq(a)*dq(a))
+                                      0.125_wp*kf*p%mass(ip)*dq(a)*dq(a), .false., 0.0_wp)
       end do
     end do
   contains
-    subroutine push(owner, xp, force, energy)
+    subroutine push(owner, xp, force, energy, tied, tforce)
       integer, intent(in) :: owner
-      real(wp), intent(in) :: xp(2), force, energy
+      real(wp), intent(in) :: xp(2), force, energy, tforce
+      logical, intent(in) :: tied
       call surface_reserve(wk, wk%npt + 1)
       wk%npt = wk%npt + 1
       wk%owner(wk%npt) = owner
       wk%xs(:, wk%npt) = xp
       wk%fn(wk%npt) = force
       wk%en(wk%npt) = energy
+      wk%tied(wk%npt) = tied
+      wk%ft(wk%npt) = tforce
     end subroutine push
   end subroutine surface_points
 
@@ -199,7 +252,8 @@ contains
     integer, intent(in), allocatable, optional :: pfield(:)  !! field of each particle (nf > 1)
     integer, intent(in), allocatable, optional :: cfield(:)  !! field of each CPDI2 corner
     integer :: k, a, b, n, i0, j0, ip, off, nfl
-    real(wp) :: w4(4)
+    real(wp) :: w4(4), tang(2)
+    tang = [-normal(2), normal(1)]
     nfl = 1
     if (present(nf)) nfl = nf
     impulse = 0.0_wp
@@ -259,8 +313,10 @@ contains
         if (wk%nw(a, k) == 0.0_wp) cycle
         n = wk%node(a, k)
         force(:, n) = force(:, n) + (wk%nw(a, k)*wk%fn(k))*normal
+        if (wk%tied(k)) force(:, n) = force(:, n) + (wk%nw(a, k)*wk%ft(k))*tang  ! along too
       end do
       impulse = impulse + (wk%fn(k)*dt*sum(wk%nw(1:wk%nnode, k)))*normal
+      if (wk%tied(k)) impulse = impulse + (wk%ft(k)*dt*sum(wk%nw(1:wk%nnode, k)))*tang
     end do
   contains
     !> Curve point k: the weights sum_m phi_m N_i(x_m) of the nodes of its corners (each
@@ -295,10 +351,11 @@ contains
   !> Friction of the points surface_push pushed: the tangential impulse that stops each
   !! point's slip relative to the wall ('stick'), bounded by friction times its normal impulse
   !! ('coulomb'); node velocities change in place, and dvel by the same amount. impulse = the
-  !! momentum given to the material.
+  !! momentum given to the material. 'bonded': the points not tied take the Coulomb bound; the
+  !! tied ones no friction (their tie acts along the wall, surface_push).
   subroutine surface_friction(wk, law, friction, normal, vwall, vel, dvel, impulse)
     type(surface_work_t), intent(inout) :: wk  !! points, weights, normal impulses
-    integer, intent(in) :: law             !! CONTACT_COULOMB or CONTACT_STICK
+    integer, intent(in) :: law             !! CONTACT_COULOMB, CONTACT_STICK or CONTACT_BONDED
     real(wp), intent(in) :: friction       !! Coulomb coefficient [-]
     real(wp), intent(in) :: normal(2)      !! unit normal into the material [-]
     real(wp), intent(in) :: vwall(2)       !! wall velocity over the step [m/s]
@@ -310,7 +367,7 @@ contains
     impulse = 0.0_wp
     wk%sweeps = 0
     wk%de = 0.0_wp
-    if (law /= CONTACT_COULOMB .and. law /= CONTACT_STICK) return
+    if (law /= CONTACT_COULOMB .and. law /= CONTACT_STICK .and. law /= CONTACT_BONDED) return
     tang = [-normal(2), normal(1)]
     vscale = sqrt(dot_product(vwall, vwall))
     do k = 1, wk%npt
@@ -323,14 +380,15 @@ contains
     do sweep = 1, max_sweeps
       change = 0.0_wp
       do k = 1, wk%npt
-        if (.not. wk%s(k) > 0.0_wp .or. .not. wk%lam(1, k) > 0.0_wp) cycle
+        if (.not. wk%s(k) > 0.0_wp) cycle
+        if (.not. wk%lam(1, k) > 0.0_wp .or. wk%tied(k)) cycle
         vc = 0.0_wp
         do a = 1, wk%nnode
           if (wk%nw(a, k) /= 0.0_wp) vc = vc + wk%nw(a, k)*vel(:, wk%node(a, k))
         end do
         lt = wk%lam(2, k) - dot_product(vc - vwall, tang)/wk%s(k)
-        if (law == CONTACT_COULOMB) lt = max(-friction*wk%lam(1, k), &
-                                             min(friction*wk%lam(1, k), lt))
+        if (law == CONTACT_COULOMB .or. law == CONTACT_BONDED) lt = &
+          max(-friction*wk%lam(1, k), min(friction*wk%lam(1, k), lt))
         dlt = lt - wk%lam(2, k)
         if (dlt == 0.0_wp) cycle
         wk%lam(2, k) = lt
@@ -383,6 +441,63 @@ contains
     end do
   end function surface_slip_loss
 
+  !> A 'bonded' wall at t = 0: the surface points of particles p (basis `basis`: CPDI2
+  !! corners, else the corners of each particle's deformed domain) that lie less than `reach`
+  !! (h/2) in front of the plane through xw with unit normal `normal` (or behind it) are tied,
+  !! with their positions now as anchors (wk%x0; untied for the others).
+  subroutine surface_tie(p, basis, xw, normal, reach, wk)
+    type(particles_t), intent(in) :: p     !! particles at t = 0
+    integer, intent(in) :: basis           !! BASIS_* code
+    real(wp), intent(in) :: xw(2)          !! a point on the plane [m]
+    real(wp), intent(in) :: normal(2)      !! unit normal into the material [-]
+    real(wp), intent(in) :: reach          !! largest gap of a tied point [m]
+    type(surface_work_t), intent(inout) :: wk  !! x0 set
+    integer :: ic, ip, a
+    real(wp) :: xq(2, 4)
+    if (allocated(wk%x0)) deallocate(wk%x0)
+    if (basis == BASIS_CPDI2) then
+      allocate(wk%x0(2, p%nc))
+      do ic = 1, p%nc
+        wk%x0(:, ic) = anchor(p%xc(:, ic))
+      end do
+      return
+    end if
+    allocate(wk%x0(2, 4*p%np))
+    do ip = 1, p%np
+      xq = particle_corners(p, ip, basis, deformed=.true.)
+      do a = 1, 4
+        wk%x0(:, 4*(ip - 1) + a) = anchor(xq(:, a))
+      end do
+    end do
+  contains
+    pure function anchor(x) result(x0)
+      real(wp), intent(in) :: x(2)
+      real(wp) :: x0(2)
+      x0 = x
+      if (.not. dot_product(x - xw, normal) < reach) x0 = untied
+    end function anchor
+  end subroutine surface_tie
+
+  !> The tie of a point displaced by d from its anchor (stiffness k): the normal and
+  !! tangential (along [-n_y, n_x]) parts of the force -k d, and the energy 1/2 k |d|^2.
+  pure subroutine tie_force(d, normal, k, fn, ft, en)
+    real(wp), intent(in) :: d(2)           !! position less the anchor [m]
+    real(wp), intent(in) :: normal(2)      !! unit normal into the material [-]
+    real(wp), intent(in) :: k              !! stiffness [N/m per m]
+    real(wp), intent(out) :: fn, ft        !! force along the normal and the wall [N/m]
+    real(wp), intent(out) :: en            !! energy [J/m]
+    fn = -k*(d(1)*normal(1) + d(2)*normal(2))
+    ft = -k*(-d(1)*normal(2) + d(2)*normal(1))
+    en = 0.5_wp*k*(d(1)*d(1) + d(2)*d(2))
+  end subroutine tie_force
+
+  !> The number of points tied to the wall (0 without a tie).
+  pure integer function surface_tied(wk)
+    type(surface_work_t), intent(in) :: wk !! work arrays (x0)
+    surface_tied = 0
+    if (allocated(wk%x0)) surface_tied = count(wk%x0(1, :) < untied)
+  end function surface_tied
+
   !> CPDI2: each corner's share of the particle mass, a quarter of each particle it belongs
   !! to (computed once: particle masses do not change).
   subroutine corner_masses(p, wk)
@@ -409,6 +524,8 @@ contains
     integer, intent(in) :: n               !! points
     real(wp), allocatable :: tx(:,:), tf(:), te(:), tp(:,:), tq(:,:,:)
     integer, allocatable :: to(:), tc(:,:)
+    logical, allocatable :: tt(:)
+    real(wp), allocatable :: tg(:)
     integer :: m
     logical :: main, curve
     main = .not. allocated(wk%fn)
@@ -421,17 +538,21 @@ contains
     if (allocated(wk%fn)) m = max(m, size(wk%fn))
     if (main .and. allocated(wk%fn)) m = max(m, 2*size(wk%fn))
     if (main) then
-      allocate(tx(2, m), tf(m), te(m), to(m))
+      allocate(tx(2, m), tf(m), te(m), to(m), tt(m), tg(m))
       if (wk%npt > 0) then
         tx(:, 1:wk%npt) = wk%xs(:, 1:wk%npt)
         tf(1:wk%npt) = wk%fn(1:wk%npt)
         te(1:wk%npt) = wk%en(1:wk%npt)
         to(1:wk%npt) = wk%owner(1:wk%npt)
+        tt(1:wk%npt) = wk%tied(1:wk%npt)
+        tg(1:wk%npt) = wk%ft(1:wk%npt)
       end if
       call move_alloc(tx, wk%xs)
       call move_alloc(tf, wk%fn)
       call move_alloc(te, wk%en)
       call move_alloc(to, wk%owner)
+      call move_alloc(tt, wk%tied)
+      call move_alloc(tg, wk%ft)
     end if
     if (.not. wk%curve) return
     allocate(tc(curve_nc, m), tp(curve_nc, m), tq(2, curve_nc, m))

@@ -55,10 +55,14 @@
 ! the nodes of its corners, the velocity the code moves the curve point with), and the force
 ! is the exact gradient of the energy: the contact stays conservative, and its force and its
 ! point of action change continuously with the gap.
+!
+! A corner tied to a 'bonded' wall (mpm_surface_contact, surface_tie) has no piece: it is a
+! point of its own (one corner, coefficient 1) with the spring to its anchor on the wall.
 module mpm_surface_curve
   use mpm_kinds, only: wp
   use mpm_particles, only: particles_t
-  use mpm_surface_contact, only: surface_work_t, surface_reserve, corner_masses
+  use mpm_surface_contact, only: surface_work_t, surface_reserve, corner_masses, untied, &
+                                 tie_force
   implicit none
   private
   public :: surface_curve_points
@@ -116,6 +120,9 @@ contains
       a = wk%prv(ic)
       b = wk%nxt(ic)
       if (a <= 0 .and. b <= 0) cycle       ! pinched both ways, or a pinch and a chain end
+      if (allocated(wk%x0)) then           ! a tied corner: a point of its own (below)
+        if (wk%x0(1, ic) < untied) cycle
+      end if
       ! every piece below needs a gap < 0 among c and its neighbours: none when all are >= 0
       ! (a NaN gap goes on, as before)
       if (wk%dp(ic) >= 0.0_wp) then
@@ -162,7 +169,42 @@ contains
         if (min(wk%dp(ic), wk%dp(b)) < 0.0_wp) call piece(p, kf, ic, a, b, 2, 2.0_wp, wk)
       end if
     end do
+    if (allocated(wk%x0)) call tied_corners(p, xw, normal, kf, wk)
   end subroutine surface_curve_points
+
+  !> The corners tied to a 'bonded' wall, each a point of one corner with the spring k_c d
+  !! to its anchor (mpm_surface_contact, tie_force), added to wk in corner order.
+  subroutine tied_corners(p, xw, normal, kf, wk)
+    type(particles_t), intent(in) :: p     !! particles (corners)
+    real(wp), intent(in) :: xw(2)          !! a point on the plane [m]
+    real(wp), intent(in) :: normal(2)      !! unit normal into the material [-]
+    real(wp), intent(in) :: kf             !! stiffness per unit point mass [1/s^2]
+    type(surface_work_t), intent(inout) :: wk  !! points added (x0, shift read)
+    integer :: ic, j
+    real(wp) :: d, fn, ft, en
+    do ic = 1, p%nc
+      if (.not. wk%x0(1, ic) < untied) cycle
+      d = (p%xc(1, ic) - xw(1))*normal(1) + (p%xc(2, ic) - xw(2))*normal(2)
+      wk%gmin = min(wk%gmin, d)
+      call tie_force(p%xc(:, ic) - wk%x0(:, ic) - wk%shift, normal, kf*wk%corner_mass(ic), &
+                     fn, ft, en)
+      call surface_reserve(wk, wk%npt + 1)
+      wk%npt = wk%npt + 1
+      j = wk%npt
+      wk%owner(j) = -ic
+      wk%tied(j) = .true.
+      wk%cid(:, j) = 0
+      wk%phi(:, j) = 0.0_wp
+      wk%xq(:, :, j) = 0.0_wp
+      wk%cid(1, j) = ic
+      wk%phi(1, j) = 1.0_wp
+      wk%xq(:, 1, j) = p%xc(:, ic)
+      wk%xs(:, j) = p%xc(:, ic)
+      wk%fn(j) = fn
+      wk%ft(j) = ft
+      wk%en(j) = en
+    end do
+  end subroutine tied_corners
 
   !> The neighbours whose second difference shifts corner c's control point (la, lb; 0, 0
   !! when it keeps P_c = x_c): a smooth corner's two neighbours; for a corner on a mirror plane
@@ -298,6 +340,7 @@ contains
         wk%npt = wk%npt + 1
         j = wk%npt
         wk%owner(j) = -c
+        wk%tied(j) = .false.
         wk%cid(:, j) = 0
         wk%phi(:, j) = 0.0_wp
         do m = 1, 3                        ! the control points' corners (P_c, smooth_pair)

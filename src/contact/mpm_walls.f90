@@ -17,7 +17,7 @@ module mpm_walls
   use mpm_constants, only: pi, max_table, CONTACT_FRICTIONLESS
   implicit none
   private
-  public :: wall_t, wall_factor, wall_travel, wall_velocity, wall_mirror_node, &
+  public :: wall_t, wall_factor, wall_travel, wall_shift, wall_velocity, wall_mirror_node, &
             walls_write_state, walls_read_state, wall_free_step, wall_kinetic, &
             wall_stroke_setup, wall_stroke_travel, wall_end_time
 
@@ -265,6 +265,19 @@ contains
       d = -dot_product(w%velocity, w%normal)*factor_integral(w, t)
     end if
   end function wall_travel
+
+  !> The wall's displacement since t = 0 [m]: its velocity times the integral of the factor
+  !! (prescribed motion; a wall with mass moves along its normal only).
+  pure function wall_shift(w, t) result(s)
+    type(wall_t), intent(in) :: w         !! the wall
+    real(wp), intent(in) :: t             !! time [s]
+    real(wp) :: s(2)
+    if (w%mass > 0.0_wp) then
+      s = -w%disp*w%normal
+    else
+      s = w%velocity*factor_integral(w, t)
+    end if
+  end function wall_shift
 
   !> A 'slip' mirror plane on one node: a node on or behind the plane (xnode_dist <= 0) moves
   !! with it along the normal. vel is the node velocity after the update; on return it is the

@@ -6,7 +6,8 @@ module mpm_setup
   use mpm_constants, only: EXIT_INPUT, SHAPE_RING, SECTOR_FULL, SECTOR_HALF, &
                            SECTOR_QUARTER, CONTACT_SLIP, basis_names, &
                            scheme_names, plane_names, volumetric_names, &
-                           VOLUMETRIC_STANDARD, CONTACT_FRICTIONLESS, contact_names
+                           VOLUMETRIC_STANDARD, CONTACT_FRICTIONLESS, CONTACT_BONDED, &
+                           contact_names
   use mpm_config, only: config_t
   use mpm_particles, only: particles_allocate, basis_reach
   use mpm_bodies, only: body_counts, body_fill, body_report
@@ -23,6 +24,8 @@ module mpm_setup
                         budget_max_nodes, bytes_text, contact_fields
   use mpm_sys, only: sys_memory_available
   use mpm_self_contact, only: self_contact_split
+  use mpm_contact, only: contact_tie
+  use mpm_surface_contact, only: surface_tied
   implicit none
   private
   public :: setup_sim, setup_report, sector_factor
@@ -138,7 +141,8 @@ contains
       if (stat /= 0) return
     end if
     call tiles_init(s%tiles, s%g)
-    call solver_init_energy(s)
+    call contact_tie(s%prm, s%state_t, cfg%grid%h, s%wk)   ! 'bonded' walls: from t = 0 (also
+    call solver_init_energy(s)                             ! on a restart: the same ties)
   end subroutine setup_sim
 
   !> The solver parameters copied from the case (immutable in the step).
@@ -349,8 +353,8 @@ contains
     end do
   end function pair_laws_text
 
-  !> The walls with a stroke (when they reach it, the approach and delta/D then) and with mass
-  !! (the drop weight's mass and energy), one line each.
+  !> The walls with a stroke (when they reach it, the approach and delta/D then), with mass
+  !! (the drop weight's mass and energy) and 'bonded' (the points tied to it), one line each.
   subroutine wall_motion_report(cfg, s, report)
     type(config_t), intent(in) :: cfg      !! the case
     type(sim_t), intent(in) :: s           !! the simulation at t = 0
@@ -363,6 +367,16 @@ contains
     strokes = .false.
     do k = 1, s%nwall
       associate (w => s%walls(k))
+        if (w%contact == CONTACT_BONDED) then
+          if (surface_tied(s%wk%surf(k)) > 0) then
+            call append_msg(report, 'wall '//itoa(k)//': bonded: '// &
+              itoa(surface_tied(s%wk%surf(k)))//' surface points within h/2 of it at t = 0 '// &
+              'are tied to it')
+          else
+            call append_msg(report, 'wall '//itoa(k)//': bonded: no surface point lies '// &
+              'within h/2 of it at t = 0: nothing is tied, it acts as ''coulomb''')
+          end if
+        end if
         if (w%mass > 0.0_wp) then
           call append_msg(report, 'wall '//itoa(k)//': a free rigid body of '// &
             sci(cfg%walls(k)%mass, 4)//' kg (for depth '//sci(cfg%run%depth, 3)//' m) at '// &
