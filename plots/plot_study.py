@@ -43,8 +43,8 @@ TARGETS = (0.05, 0.02, 0.01)
 #: runs at 0.8)
 CENTRE_CFL = {"crush": 0.8, "impact": 0.2, "wave": 0.2, "crush_fixed": 0.8}
 HEADLINE = {"crush": "L2 error of F(δ) against FE, δ/D 0.05–0.5",
-            "impact": "max rel. error: contact time, COR",
-            "wave": "max arrival error / transit time to 180°"}
+            "impact": "max rel. error against FE: contact time, COR, 10 us peak",
+            "wave": "max arrival error against FE / transit time to 180°"}
 
 
 def read_table(path: Path) -> list[dict[str, Any]]:
@@ -278,8 +278,8 @@ def fig_error_factors(rows, out: Path) -> None:
         for tgt in TARGETS:
             ax.axhline(100 * tgt, color="0.6", lw=0.7, ls=":")
         _legend(ax)
-    axes[0].set_ylabel("error [%] against the reference\n(crush: FE; impact, wave: "
-                       "h = t/8, n_t = 16)")
+    axes[0].set_ylabel("error [%] against the finite element\nreferences (static crush, "
+                       "dynamic impact and wave)")
     _ticks(axes[0], "y", [1, 2, 5, 10, 20, 50, 100, 200, 500],
            ["1", "2", "5", "10", "20", "50", "100", "200", "500"])
     fig.suptitle("which factor matters: one factor at a time, CPDI2 + MUSL, cfl 0.2 "
