@@ -312,8 +312,8 @@ def ccx_ring_history(folder: Path, name: str, every: float = 1.0e-6) -> Path:
     vy = -30.0 + imp_g / mass
     out = folder / "history"
     out.mkdir(exist_ok=True)
-    np.savetxt(out / "history.csv", np.column_stack([grid, force, vy]), delimiter=",",
-               header="time,wall1_force,com_vy", comments="", fmt="%.10g")
+    np.savetxt(out / "history.csv", np.column_stack([grid, force, 0.0 * vy, vy]),
+               delimiter=",", header="time,wall1_force,com_vx,com_vy", comments="", fmt="%.10g")
     return out
 
 

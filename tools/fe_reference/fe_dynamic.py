@@ -224,10 +224,10 @@ def main(argv: list[str] | None = None) -> int:
             rows.append(row)
             print(f"{name} n_t={n_t}: {json.dumps({k: v for k, v in row.items()})}")
             if name == "impact":
-                cols = ["time", "wall1_force", "com_vy", "kinetic", "strain", "plastic",
+                cols = ["time", "wall1_force", "com_vx", "com_vy", "kinetic", "strain", "plastic",
                         "energy_error"]
             else:
-                cols = ["time", "wall1_disp", "wall1_force", "com_vy", "kinetic", "strain",
+                cols = ["time", "wall1_disp", "wall1_force", "com_vx", "com_vy", "kinetic", "strain",
                         "plastic"] + [f"probe{k}_{c}" for k in range(1, 8)
                                       for c in ("x", "y", "vx", "vy")]
             write_history_csv(folder, args.docs / f"{name}_fe_nt{n_t}.csv", cols)
