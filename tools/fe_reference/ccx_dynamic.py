@@ -9,14 +9,19 @@
    increments; xfe: Q4 mean dilatation, explicit, the tied wall. Compared: v_y at four points
    (their arrival times at 10 % of the peak, tools/study.py's rule, and the RMS difference of
    the histories over the largest value).
-2. ``ring``: the impact scene's ring (r 24-26 mm, half model) elastic (no yield) at 30 m/s on
-   a rigid frictionless plane: ccx *DYNAMIC with a penalty surface-to-surface contact on a
-   strip of prescribed elements; compared: the contact time, the rebound velocity, the peak
-   force (10 us mean), with tools/study.py's impact_metrics.
+2. ``crush``: xfe on the quasi-static crush (the bottom quarter of namelists/crush.nml's ring,
+   mirrors x = 0 and y = y_c, the platen at the study's 2.5 m/s approach after its 0.5 ms
+   ramp) against the static CalculiX curve docs/fe_reference/crush_fe.csv: mean force and
+   relative L2 difference over delta/D = 0.05-0.5 (tools/fe_reference/fe_reference.py's).
+
+An elastic ring impact in ccx 2.20 (*DYNAMIC with a penalty contact on a rigid strip) did not
+get past the first contact: its increments fell below 1e-11 s or it stopped on "too many
+cutbacks" (penalties 10 E and 1 E per mm, alpha -0.05 and -0.2), so the contact of the impact
+is checked against closed forms only (tests/test_fe_dynamic.py).
 
 Runs go to out/fe_dynamic/ccx/, the numbers to docs/fe_reference/ccx_dynamic.json.
 
-    python3 tools/fe_reference/ccx_dynamic.py [--cases block ring]
+    python3 tools/fe_reference/ccx_dynamic.py [--cases block crush] [--crush-nt 2 4]
 """
 from __future__ import annotations
 
@@ -124,19 +129,21 @@ def block_deck(nx: int, ny: int, dt: float) -> tuple[str, list[int]]:
             "*DYNAMIC, ALPHA=0.0, DIRECT",
             f"{_num(dt)}, {_num(BLOCK_T_END)}",
             "*BOUNDARY, AMPLITUDE=PULSE", "NBASE, 2, 2, 1.0",
-            "*NODE PRINT, NSET=NPROBE", "V",
+            "*NODE PRINT, NSET=NPROBE", "U",
             "*END STEP", ""]
     return "\n".join(out), probes
 
 
 def parse_velocities(path: Path, probes: list[int]) -> tuple[np.ndarray, np.ndarray]:
-    """Times and v_y [m/s] of the probe nodes from ccx's .dat (velocities blocks)."""
+    """Times and v_y [m/s] of the probe nodes from ccx's .dat: ccx 2.20 prints zero
+    velocities in *DYNAMIC, so the displacement blocks are read and differentiated (central
+    differences on the fixed increments)."""
     times, rows = [], []
     cur: dict[int, float] = {}
     tm = None
     for line in path.read_text().splitlines():
         s = line.strip()
-        if s.startswith("velocities"):
+        if s.startswith("displacements"):
             if tm is not None:
                 times.append(tm)
                 rows.append([cur.get(p, math.nan) for p in probes])
@@ -152,7 +159,9 @@ def parse_velocities(path: Path, probes: list[int]) -> tuple[np.ndarray, np.ndar
     if tm is not None:
         times.append(tm)
         rows.append([cur.get(p, math.nan) for p in probes])
-    return np.array(times), np.array(rows)
+    t = np.concatenate([[0.0], np.array(times)])
+    u = np.vstack([np.zeros((1, len(probes))), np.array(rows)])
+    return t, np.gradient(u, t, axis=0)
 
 
 def run_ccx(folder: Path, name: str, deck: str) -> float:
@@ -206,144 +215,6 @@ def compare_block(binary: Path) -> dict:
     return res
 
 
-#: ring impact cross-check: elements through the wall of the ccx meshes, end time [s]
-RING_T_END = 9.0e-4
-
-
-def half_ring_deck(n_t: int, n_c: int, dt_max: float, penalty_over_e: float = 10.0) -> str:
-    """The ccx deck of the elastic half ring (x >= 0) at 30 m/s above a rigid plane: CPE8R,
-    mm N s tonne; the plane is a strip of CPE8R elements with all nodes held."""
-    r_in, r_out, yc, gap = 24.0, 26.0, 26.5, 0.5
-    ni, nj = 2 * n_t + 1, 2 * n_c + 1
-
-    def nid(i: int, j: int) -> int:
-        return 1 + i + ni * j
-
-    nodes = {}
-    for j in range(nj):
-        phi = -0.5 * math.pi + math.pi * j / (nj - 1)
-        for i in range(ni):
-            if i % 2 == 1 and j % 2 == 1:
-                continue
-            r = r_in + (r_out - r_in) * i / (ni - 1)
-            x, y = r * math.cos(phi), yc + r * math.sin(phi)
-            if j in (0, nj - 1):
-                x = 0.0
-            nodes[nid(i, j)] = (x, y)
-    elems, outer = [], []
-    for jj in range(n_c):
-        for ii in range(n_t):
-            i, j = 2 * ii, 2 * jj
-            elems.append((nid(i, j), nid(i + 2, j), nid(i + 2, j + 2), nid(i, j + 2),
-                          nid(i + 1, j), nid(i + 2, j + 1), nid(i + 1, j + 2), nid(i, j + 1)))
-            if ii == n_t - 1:
-                outer.append(len(elems))
-    ring_nodes = sorted(nodes)
-    first = max(nodes) + 1
-    pn, pe = quad8_grid(16, 1, -1.0, 31.0, -2.0, 0.0)[:2]
-    pnodes = {k + first - 1: v for k, v in pn.items()}
-    pelems = [tuple(n + first - 1 for n in c) for c in pe]
-    e0 = len(elems) + 1
-    amp_gap = gap / 30000.0
-    out = ["** tubempm: ccx cross-check of xfe (tools/fe_reference/ccx_dynamic.py): elastic ring "
-           f"impact, half ring CPE8R n_t = {n_t} x n_c = {n_c}, 30 m/s, gap {gap} mm "
-           f"(contact at {amp_gap:.4g} s)",
-           "*NODE, NSET=NALL"]
-    out += [f"{k}, {_num(x)}, {_num(y)}" for k, (x, y) in sorted({**nodes, **pnodes}.items())]
-    out.append("*ELEMENT, TYPE=CPE8R, ELSET=ERING")
-    out += [f"{e + 1}, " + ", ".join(map(str, c)) for e, c in enumerate(elems)]
-    out.append("*ELEMENT, TYPE=CPE8R, ELSET=EPLATE")
-    out += [f"{e0 + e}, " + ", ".join(map(str, c)) for e, c in enumerate(pelems)]
-    out += ["*NSET, NSET=NRING", _lines(ring_nodes),
-            "*NSET, NSET=NMIRROR", _lines([nid(i, 0) for i in range(ni)]
-                                          + [nid(i, nj - 1) for i in range(ni)]),
-            "*NSET, NSET=NPLATE", _lines(sorted(pnodes)),
-            "*SURFACE, NAME=SRING, TYPE=ELEMENT"]
-    out += [f"{e}, S2" for e in outer]
-    out += ["*SURFACE, NAME=SPLATE, TYPE=ELEMENT"]
-    out += [f"{e0 + e}, S3" for e in range(len(pelems))]
-    out += ["*MATERIAL, NAME=AL", "*ELASTIC", f"{_num(E / 1e6)}, {_num(NU)}",
-            "*DENSITY", f"{_num(RHO * 1e-12)}",
-            "*SOLID SECTION, ELSET=ERING, MATERIAL=AL", "1.0",
-            "*SOLID SECTION, ELSET=EPLATE, MATERIAL=AL", "1.0",
-            "*SURFACE INTERACTION, NAME=SI",
-            "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR",
-            f"{_num(penalty_over_e * E / 1e6)}",
-            "*CONTACT PAIR, INTERACTION=SI, TYPE=SURFACE TO SURFACE", "SRING, SPLATE",
-            "*BOUNDARY", "NMIRROR, 1, 1", "NPLATE, 1, 2",
-            "*INITIAL CONDITIONS, TYPE=VELOCITY", "NRING, 2, -30000.0",
-            f"*STEP, NLGEOM, INC={int(20 * RING_T_END / dt_max)}",
-            "*DYNAMIC, ALPHA=-0.05",
-            f"{_num(dt_max)}, {_num(RING_T_END)}, {_num(dt_max * 1e-3)}, {_num(dt_max)}",
-            "*NODE PRINT, NSET=NPLATE, TOTALS=ONLY", "RF",
-            "*END STEP", ""]
-    return "\n".join(out)
-
-
-def parse_totals(path: Path) -> tuple[np.ndarray, np.ndarray]:
-    """Times and the total reaction R_y [N per mm] of the printed set from ccx's .dat."""
-    times, ry = [], []
-    want = False
-    for line in path.read_text().splitlines():
-        s = line.strip()
-        if s.startswith("total force"):
-            times.append(float(s.split()[-1]))
-            want = True
-            continue
-        if want and s:
-            ry.append(float(s.split()[1]))
-            want = False
-    n = min(len(times), len(ry))
-    return np.array(times[:n]), np.array(ry[:n])
-
-
-def ccx_ring_history(folder: Path, name: str, every: float = 1.0e-6) -> Path:
-    """history.csv (time, wall1_force, com_vy: tubempm's columns) of a ccx ring run, the
-    force of the full ring per metre (2 x 1000 x R_y), the centre of mass velocity from the
-    impulse; resampled every ``every`` as the mean force over each interval."""
-    t, ry = parse_totals(folder / f"{name}.dat")
-    t = np.concatenate([[0.0], t])
-    f = np.concatenate([[0.0], 2.0e3 * ry])
-    mass = RHO * math.pi * (26.0e-3 ** 2 - 24.0e-3 ** 2)
-    grid = np.arange(0.0, t[-1] + 0.5 * every, every)
-    imp = np.concatenate([[0.0], np.cumsum(0.5 * (f[1:] + f[:-1]) * np.diff(t))])
-    imp_g = np.interp(grid, t, imp)
-    force = np.concatenate([[0.0], np.diff(imp_g) / every])
-    vy = -30.0 + imp_g / mass
-    out = folder / "history"
-    out.mkdir(exist_ok=True)
-    np.savetxt(out / "history.csv", np.column_stack([grid, force, 0.0 * vy, vy]),
-               delimiter=",", header="time,wall1_force,com_vx,com_vy", comments="", fmt="%.10g")
-    return out
-
-
-def ring_metrics(folder: Path) -> dict:
-    m = study.impact_metrics(folder, {})
-    return {"duration_us": m["duration"] * 1e6, "cor": m["cor"],
-            "v_rebound": m["cor"] * m["v_impact"], "peak_10us_kN": m["peak_10us"] / 1e3,
-            "impulse": m["impulse"]}
-
-
-def compare_ring(binary: Path, meshes_ccx=((2, 80), (3, 120)), meshes_xfe=(2, 4, 8)) -> dict:
-    res: dict = {"case": "ring", "ccx": {}, "xfe": {}}
-    for n_t, n_c in meshes_ccx:
-        name = f"ring_{n_t}x{n_c}"
-        folder = WORK / name
-        cpu = run_ccx(folder, name, half_ring_deck(n_t, n_c, 2.0e-7))
-        m = ring_metrics(ccx_ring_history(folder, name))
-        m["cpu_s"] = round(cpu, 1)
-        res["ccx"][f"CPE8R {n_t}x{n_c}"] = m
-        print(name, m, flush=True)
-    for n_t in meshes_xfe:
-        folder = WORK / f"xfe_ring_nt{n_t}"
-        vals = fe_dynamic.scene_input("impact", n_t, folder / "history.csv")
-        vals.update(sigma_y=0.0, hardening=0.0)
-        fe_dynamic.run_case(binary, folder, vals)
-        res["xfe"][f"Q4 n_t={n_t}"] = ring_metrics(folder)
-        print(n_t, res["xfe"][f"Q4 n_t={n_t}"], flush=True)
-    return res
-
-
 #: the quasi-static crush with xfe: relative approach speed [m/s] and ramp [s] (tools/study.py)
 CRUSH_SPEED = study.CRUSH_APPROACH
 CRUSH_RAMP = study.CRUSH_RAMP
@@ -384,7 +255,7 @@ def crush_xfe(binary: Path, n_t: int, delta_end: float = 0.52) -> dict:
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--cases", nargs="+", default=["block", "crush", "ring"])
+    ap.add_argument("--cases", nargs="+", default=["block", "crush"], choices=["block", "crush"])
     ap.add_argument("--crush-nt", type=int, nargs="+", default=[2, 4])
     args = ap.parse_args(argv)
     binary = fe_dynamic.build()
@@ -396,8 +267,6 @@ def main(argv: list[str] | None = None) -> int:
             out["block"] = compare_block(binary)
         elif case == "crush":
             out["crush"] = {"case": "crush", "xfe": [crush_xfe(binary, n) for n in args.crush_nt]}
-        elif case == "ring":
-            out["ring"] = compare_ring(binary)
         print(json.dumps(out[case], indent=1), f"({time.time() - t0:.0f} s)")
     path.write_text(json.dumps(out, indent=1) + "\n")
     return 0

@@ -56,6 +56,8 @@ T_END = {"impact": study.SCENES["impact"]["set"]["run.t_end"], "wave": 1.0e-4}
 EVERY = {"impact": study.SCENES["impact"]["set"]["run.history_every"],
          "wave": study.SCENES["wave"]["set"]["run.history_every"]}
 WAVE_WINDOW = study.SCENES["wave"]["set"]["run.t_end"]
+#: the observed orders of convergence for which the Richardson estimate is trusted
+ORDER_RANGE = (0.5, 4.0)
 FFLAGS = ["-std=f2008", "-fimplicit-none", "-Wall", "-O2"]
 
 
@@ -177,8 +179,9 @@ def wave_numbers(folder: Path, inputs: dict) -> dict:
 
 def estimate(values: list[float]) -> dict:
     """Error estimate of the last (finest) value of a sequence at halved element sizes:
-    Richardson from the last three when the differences shrink monotonically (order p, the
-    extrapolated value, |finest - extrapolated|), else |finest - next|."""
+    Richardson from the last three when the differences shrink monotonically with an observed
+    order p in ORDER_RANGE (p, the extrapolated value, |finest - extrapolated|), else
+    |finest - next|."""
     v = [float(x) for x in values]
     out = {"finest": v[-1], "diff_next": abs(v[-1] - v[-2]) if len(v) > 1 else math.nan}
     out["error"] = out["diff_next"]
@@ -187,8 +190,10 @@ def estimate(values: list[float]) -> dict:
         d1, d2 = v[-2] - v[-3], v[-1] - v[-2]
         if d1 != 0.0 and d2 != 0.0 and d1 * d2 > 0.0 and abs(d2) < abs(d1):
             p = math.log2(abs(d1 / d2))
-            ext = v[-1] + d2 / (2.0 ** p - 1.0)
-            out.update(order=p, extrapolated=ext, error=abs(v[-1] - ext), method="richardson")
+            if ORDER_RANGE[0] <= p <= ORDER_RANGE[1]:
+                ext = v[-1] + d2 / (2.0 ** p - 1.0)
+                out.update(order=p, extrapolated=ext, error=abs(v[-1] - ext),
+                           method="richardson")
     return out
 
 
