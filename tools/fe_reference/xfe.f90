@@ -819,7 +819,7 @@ contains
 end module xfe_selftest
 
 program xfe
-  use xfe_kinds, only: wp
+  use xfe_kinds, only: wp, pi
   use xfe_model, only: model_t, build_ring, build_rect, lump_mass
   use xfe_material, only: material_init
   use xfe_wall, only: wall_t
@@ -872,7 +872,7 @@ program xfe
 
   md%mat = material_init(E, nu, rho, sigma_y, hardening)
   if (shape == 'ring') then
-    if (n_c <= 0) n_c = max(1, nint(merge(0.5_wp, 1.0_wp, sector == 'quarter') * 3.14159265358979_wp &
+    if (n_c <= 0) n_c = max(1, nint(merge(0.5_wp, 1.0_wp, sector == 'quarter') * pi &
                                      * 0.5_wp * (r_inner + r_outer) / ((r_outer - r_inner) / n_t)))
     call build_ring(md, r_inner, r_outer, center, n_t, n_c, sector)
   else
