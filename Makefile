@@ -169,8 +169,9 @@ fe-reference: deps
 
 ## fe-dynamic: the dynamic FE references of the impact and wave (the project's explicit FE code
 ##             tools/fe_reference/xfe.f90, gfortran -O2; about 50 CPU min, one thread): meshes
-##             n_t = 2-16 (wave 2-32), convergence, the CalculiX cross-checks, tubempm's errors against them
-##             (docs/fe_reference/README.md#dynamic-references); runs in out/fe_dynamic/ (reused)
+##             n_t = 2-16 (the wave 2-32), convergence, the CalculiX cross-checks, tubempm's
+##             errors against them (docs/fe_reference/README.md#dynamic-references); runs in
+##             out/fe_dynamic/ (reused)
 .PHONY: fe-dynamic
 fe-dynamic: all
 	@bash tools/install-deps.sh --ccx
