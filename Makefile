@@ -174,6 +174,19 @@ fe-reference: deps
 	@bash tools/install-deps.sh --ccx
 	$(PYTHON) tools/fe_reference/fe_reference.py
 	$(PYTHON) plots/plot_fe_reference.py
+	@$(MAKE) --no-print-directory fe-dynamic
+
+## fe-dynamic: the dynamic FE references of the impact and wave (the project's explicit FE code
+##             tools/fe_reference/xfe.f90, gfortran -O2; about 50 CPU min, one thread): meshes
+##             n_t = 2-16 (the wave 2-32), convergence, the CalculiX cross-checks, tubempm's
+##             errors against them (docs/fe_reference/README.md#dynamic-references); runs in
+##             out/fe_dynamic/ (reused)
+.PHONY: fe-dynamic
+fe-dynamic: all
+	@bash tools/install-deps.sh --ccx
+	OMP_NUM_THREADS=1 $(PYTHON) tools/fe_reference/fe_dynamic.py
+	OMP_NUM_THREADS=1 $(PYTHON) tools/fe_reference/ccx_dynamic.py
+	OMP_NUM_THREADS=1 $(PYTHON) tools/fe_reference/compare_dynamic.py --study
 
 ## design-example: design charts of tube absorbers (docs/design.md): seven quasi-static crushes
 ##                 (steel and aluminium at D/t 15, 25, 35; a nested pair), about 2.5 min on two
