@@ -169,7 +169,8 @@ cfl-accuracy: all
 ## fe-reference: the CalculiX reference of the study's crush (installs calculix-ccx where
 ##               missing; about 20 CPU min, one thread): decks, curves and convergence in
 ##               docs/fe_reference/, runs in out/fe_reference/ (reused when the deck is unchanged),
-##               then the comparison with the study's crush curves (docs/fe_reference/crush_fe.png)
+##               then the comparison with the study's crush curves (docs/fe_reference/crush_fe.png),
+##               then fe-dynamic
 fe-reference: deps
 	@bash tools/install-deps.sh --ccx
 	$(PYTHON) tools/fe_reference/fe_reference.py
