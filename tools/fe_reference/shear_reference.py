@@ -76,8 +76,9 @@ MM = 1.0e-3
 
 def ring_mesh(n_t: int, n_c: int):
     """Full ring of CPE8R elements: node grid (2 n_t + 1) radii x 2 n_c angles (periodic),
-    angle index 0 at the top (x = 0, y = r), counter-clockwise. Returns nodes {id: (x, y)}, elements, the outer faces (element, 2) and the
-    ordered inner and outer boundary node ids (counter-clockwise, corner and midside)."""
+    angle index 0 at the top (x = 0, y = r), counter-clockwise. Returns nodes {id: (x, y)},
+    elements, the outer faces (element, 2, angle index) and the ordered inner and outer
+    boundary node ids (counter-clockwise, corner and midside)."""
     ri, ro = R_IN / MM, R_OUT / MM
     ni, nj = 2 * n_t + 1, 2 * n_c
 
@@ -350,7 +351,7 @@ def write_comparison(path: Path, rows: list[dict]) -> None:
 def namelist_text(law: str, out_dir: str) -> str:
     t_end = DELTA_END / V_DOWN + 0.5 * RAMP
     contact = "'bonded'" if law == "bonded" else f"'coulomb', friction = {MU}"
-    return f"""! the sheared ring of docs/fe_reference/README.md (tools/fe_reference/shear_reference.py)
+    return f"""! the sheared ring of docs/fe_reference/README.md (shear_reference.py)
 &run
   title = 'shear_{law}', output_dir = '{out_dir}'
   t_end = {t_end:.6e}, cfl = 0.4, history_every = 1.0e-5, snapshot_every = 1.0
@@ -469,7 +470,8 @@ def main(argv: list[str] | None = None) -> int:
         write_comparison(cp, [r for law in LAWS for r in old.get(law, [])])
         for law, rows in comparison.items():
             for r in rows:
-                print(f"  {law:8s} {r['quantity']:12s}: relative L2 {100 * float(r['rel_L2']):.2f} %")
+                print(f"  {law:8s} {r['quantity']:12s}: relative L2 "
+                      f"{100 * float(r['rel_L2']):.2f} %")
     if not a.deck_only:
         sj.write_text(json.dumps(summary, indent=1) + "\n")
     return 0
