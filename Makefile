@@ -169,12 +169,17 @@ cfl-accuracy: all
 ## fe-reference: the CalculiX reference of the study's crush (installs calculix-ccx where
 ##               missing; about 20 CPU min, one thread): decks, curves and convergence in
 ##               docs/fe_reference/, runs in out/fe_reference/ (reused when the deck is unchanged),
-##               then the comparison with the study's crush curves (docs/fe_reference/crush_fe.png),
+##               then the comparison with the study's crush curves (docs/fe_reference/crush_fe.png);
+##               then the sheared ring, bonded and loose (about 6 CPU min more: decks, curves and
+##               tubempm's runs against them, docs/fe_reference/shear_*; runs in out/fe_reference/shear/);
 ##               then fe-dynamic
 fe-reference: deps
 	@bash tools/install-deps.sh --ccx
 	$(PYTHON) tools/fe_reference/fe_reference.py
 	$(PYTHON) plots/plot_fe_reference.py
+	$(MAKE) --no-print-directory all BUILD=release
+	$(PYTHON) tools/fe_reference/shear_reference.py
+	$(PYTHON) plots/plot_fe_shear.py
 	@$(MAKE) --no-print-directory fe-dynamic
 
 ## fe-dynamic: the dynamic FE references of the impact and wave (the project's explicit FE code
