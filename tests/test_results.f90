@@ -30,6 +30,8 @@ program test_results
   call case_one(.true.)
   call begin_test('two platens approaching each other')
   call case_two()
+  call begin_test('a plateau with a dip of the force and unloading: no densification')
+  call case_dip()
   call finish_tests('test_results')
 
 contains
@@ -142,5 +144,49 @@ contains
     call check(res%n_loading == 2, 'both platens load')
     call expect(res, densification())
   end subroutine case_two
+
+  !> A drop test's curve: the plateau F0 to dmax, the force down to F0/100 over 4-7 % of the
+  !! stroke (contact chatter), then unloading to zero over the last 5 % of the approach. E/F
+  !! has its spurious maxima in the dip and on the unloading; the energy-efficiency method
+  !! gives the stroke (no densification within it).
+  subroutine case_dip()
+    type(wall_t) :: walls(2)
+    type(results_t) :: res
+    integer :: st, u, i, n, nu
+    character(len=:), allocatable :: msg, path
+    real(wp) :: d, f, e, dprev, fprev
+    walls(1)%normal = [0.0_wp, -1.0_wp]
+    walls(1)%velocity = [0.0_wp, -1.0_wp]
+    walls(2)%normal = [0.0_wp, 1.0_wp]
+    path = dir//'/history_dip.csv'
+    n = 4001
+    nu = 201
+    open(newunit=u, file=path, status='replace', action='write')
+    write(u, '(a)') 'time,wall1_disp,wall1_force,wall1_fx,wall1_fy,wall2_disp,wall2_force,'// &
+      'wall2_fx,wall2_fy,kinetic,strain,plastic,external'
+    e = 0.0_wp
+    dprev = 0.0_wp
+    fprev = f0
+    do i = 1, n + nu
+      if (i <= n) then
+        d = dmax*real(i - 1, wp)/real(n - 1, wp)
+        f = merge(0.01_wp*f0, f0, d > 0.04_wp*dmax .and. d < 0.07_wp*dmax)
+      else
+        d = dmax*(1.0_wp - 0.05_wp*real(i - n, wp)/real(nu, wp))
+        f = f0*(1.0_wp - real(i - n, wp)/real(nu, wp))
+      end if
+      if (i > 1) e = e + 0.5_wp*(f + fprev)*(d - dprev)
+      write(u, '(13(es24.16e3,:,","))') 1.0e-3_wp*real(i, wp), -d, f, 0.0_wp, f, 0.0_wp, &
+        0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, e, e
+      dprev = d
+      fprev = f
+    end do
+    close(u)
+    call results_compute(path, walls, e, 0.0_wp, 2.5_wp, 1, res, st, msg)
+    call check(st == 0, 'history read: '//msg)
+    call check_close(res%stroke, dmax, 'stroke = the largest approach', rtol=1.0e-12_wp)
+    call check(abs(res%densification_stroke - dmax) <= 0.01_wp*dmax, &
+               'densification at the stroke: not in the dip, not on the unloading')
+  end subroutine case_dip
 
 end program test_results

@@ -84,7 +84,7 @@ contains
     integer, allocatable :: cdisp(:), cforce(:), cbody(:)
     logical :: loading(size(walls))
     real(wp) :: fac, w, eta, best, da, dd, window
-    integer :: k, i, j, n, ncol, cplastic, j0, j1
+    integer :: k, i, j, n, ncol, cplastic, j0, j1, imax
     errmsg = ''
     allocate(res%body_energy(nbody))
     res%body_energy = 0.0_wp
@@ -153,24 +153,29 @@ contains
     if (res%peak_force > 0.0_wp) res%cfe = res%mean_force/res%peak_force
     if (res%mass > 0.0_wp) res%sea = res%absorbed_energy/res%mass
     ! densification: the largest energy efficiency E(delta)/F(delta), F averaged over +-1 % of
-    ! the stroke so that the force noise of a row does not make the peak
+    ! the stroke so that the force noise of a row does not make the peak; on the loading
+    ! branch only (up to the largest approach) and where the force is at least the mean force
+    ! so far, E(delta)/delta: where contact chatter or unloading takes the force towards zero,
+    ! E/F has spurious maxima, and a crush that ends on its plateau densifies at its stroke
     window = 0.01_wp*res%stroke
+    imax = maxloc(delta, dim=1)
     j0 = 1
     j1 = 1
-    do i = 1, n
+    do i = 1, imax
       do while (delta(j0) < delta(i) - window .and. j0 < i)
         j0 = j0 + 1
       end do
       j1 = max(j1, i)
-      do while (j1 < n)
+      do while (j1 < imax)
         if (delta(j1 + 1) > delta(i) + window) exit
         j1 = j1 + 1
       end do
       smooth(i) = sum(force(j0:j1))/real(j1 - j0 + 1, wp)
     end do
     best = -1.0_wp
-    do j = 1, n
+    do j = 1, imax
       if (.not. (delta(j) > 0.0_wp .and. smooth(j) > 0.0_wp)) cycle
+      if (smooth(j)*delta(j) < energy(j)) cycle
       eta = energy(j)/smooth(j)
       if (eta > best) then
         best = eta
