@@ -183,7 +183,7 @@ fe-reference: deps
 	@$(MAKE) --no-print-directory fe-dynamic
 
 ## fe-dynamic: the dynamic FE references of the impact and wave (the project's explicit FE code
-##             tools/fe_reference/xfe.f90, gfortran -O2; about 50 CPU min, one thread): meshes
+##             tools/fe_reference/xfe.f90, gfortran -O2; about 70 CPU min, one thread): meshes
 ##             n_t = 2-16 (the wave 2-32), convergence, the CalculiX cross-checks, tubempm's
 ##             errors against them (docs/fe_reference/README.md#dynamic-references); runs in
 ##             out/fe_dynamic/ (reused)

@@ -23,7 +23,7 @@ is checked against closed forms only (tests/test_fe_dynamic.py).
 
 Runs go to out/fe_dynamic/ccx/, the numbers to docs/fe_reference/ccx_dynamic.json.
 
-    python3 tools/fe_reference/ccx_dynamic.py [--cases block crush] [--crush-nt 2 4]
+    python3 tools/fe_reference/ccx_dynamic.py [--cases block crush] [--crush-nt 2 4 8]
 """
 from __future__ import annotations
 
@@ -264,7 +264,7 @@ def crush_xfe(binary: Path, n_t: int, delta_end: float = 0.52) -> dict:
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--cases", nargs="+", default=["block", "crush"], choices=["block", "crush"])
-    ap.add_argument("--crush-nt", type=int, nargs="+", default=[2, 4])
+    ap.add_argument("--crush-nt", type=int, nargs="+", default=[2, 4, 8])
     args = ap.parse_args(argv)
     binary = fe_dynamic.build()
     path = DOCS / "ccx_dynamic.json"
