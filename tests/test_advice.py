@@ -173,6 +173,17 @@ def check_volumetric_warnings(scratch: Path, crush: str) -> None:
           f"and n_thick to set ({err[:400]!r})")
     check(worst(name) > 5.0, f"the study's fbarwall at h = t/2, n_thick 4 is above 5 % on its "
           f"worst grid ({worst(name)} %), which is why it is warned of")
+    # the h = t/2 warning's figures: the study's h = t/2 runs at n_t 8 and 16 against the FE
+    # references (crush: the static CalculiX curve; impact: the dynamic xfe reference)
+    c_err = sorted(100.0 * float(study_row(f"crush_cpdi2_musl_h1_2_nt{n}_a1_cfl0.8")["error"])
+                   for n in (8, 16))
+    i_err = sorted(100.0 * float(study_row(f"impact_cpdi2_musl_h1_2_nt{n}_a1_cfl0.2")["error"])
+                    for n in (8, 16))
+    check(study_row("impact_cpdi2_musl_h1_2_nt8_a1_cfl0.2")["reference"].startswith("fe_"),
+          "the impact rows are judged against the FE reference")
+    want = (f"crush {round(c_err[0])}-{round(c_err[1])} %, "
+            f"impact {round(i_err[0])}-{round(i_err[1])} % off")
+    check(want in err, f"the h = t/2 warning quotes the study against FE: {want!r} ({err[:300]!r})")
     # and h = 1.04 t/4, where the study ran its h = t/4 settings (the crush's 2 % setting
     # 1.60 % there), is not warned of as h = t/2
     err = run("standard", 0.26, 8)

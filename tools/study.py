@@ -19,11 +19,13 @@ skipped, interrupted runs re-run), or with ``--backend slurm`` as one Slurm job 
 (docs/batch.md).
 
 The study's crush is quasi-static (the platens approach at CRUSH_APPROACH, not the shipped
-scene's 10 m/s), and every crush error is measured against the static finite element curve
-docs/fe_reference/crush_fe.csv (make fe-reference). The impact and wave errors, and the crush's
-second column err_self, are measured against the scene's finest CPDI2 run of the level
-(h = t/8, n_t = 16 for full and all, h = t/4, n_t = 8 for quick; its own error is estimated by
-Richardson extrapolation over the h sweep). The metrics are written to
+scene's 5 m/s), and every crush error is measured against the static finite element curve
+docs/fe_reference/crush_fe.csv (make fe-reference); every impact (at 30 m/s) and wave error
+against the dynamic finite element references docs/fe_reference/dynamic_convergence.json (make
+fe-dynamic). The second column err_self is the difference from the scene's finest CPDI2 run of
+the level (h = t/8, n_t = 16 for full and all, h = t/4, n_t = 8 for quick), with Richardson
+extrapolation over the h sweep: convergence, not accuracy. Without a reference file a scene is
+scored against its finest run, which the table's `reference` column then names. The metrics are written to
 docs/study/study_<level>.csv (one row per run), with compact curves in docs/study/curves/ that
 plots/plot_study.py turns into the figures of docs/validation.md (the quick level writes to
 out/study-quick/ instead: it checks the machinery, its coarse reference is no result).
@@ -109,7 +111,7 @@ CRUSH_SCENES = ("crush", "crush_fixed")
 #: study found the same crush error as at 0.2 and 0.4 (docs/validation.md)
 CENTRE_CFL = {"crush": 0.8, "impact": 0.2, "wave": 0.2, "crush_fixed": 0.8}
 #: The crush's static finite element reference (make fe-reference): every crush error is
-#: measured against it; the error against the finest MPM run is the second column (err_self)
+#: measured against it; the difference from the finest MPM run (convergence) is err_self
 FE_CURVE = ROOT / "docs" / "fe_reference" / "crush_fe.csv"
 FE_REFERENCE = "fe_reference/crush_fe.csv"
 #: The impact's and the wave's dynamic finite element references (make fe-reference: the
@@ -550,9 +552,10 @@ def errors(scene: str, m: dict[str, Any], ref: dict[str, Any] | None,
     the headline ``error``. Crush: against the finite element curve fe, the L2 norm of F(delta)
     (err_F_L2, err_F_smooth, err_energy_50, force_over_fe), with the L2 norm against the finest
     MPM run ref as the second column err_self (and err_F_smooth_self); without fe, against ref.
-    Impact: the larger relative error of contact time and COR. Wave: the largest arrival-time
-    error at the probes beyond the struck point, relative to the reference's arrival at the
-    farthest probe. err_self is the headline error against the finest run for every scene."""
+    Impact: against fe, the largest relative error of contact time, COR and 10 us peak force.
+    Wave: the largest arrival-time error at the probes beyond the struck point, relative to the
+    reference's arrival at the farthest probe. err_self is the headline difference from the
+    finest run for every scene: a convergence measure, not an accuracy."""
     e: dict[str, float] = {}
     if ref is None and fe is None:
         return e

@@ -354,7 +354,7 @@ contains
       ! 5 % setting, is 3.5 % on the study's grid but 7.4 % on one 3 % finer)
       if (cfg%grid%h > 1.045_wp*0.25_wp*t .and. cfg%grid%h <= 0.5_wp*t*(1.0_wp + 1.0e-9_wp)) then
         write(line, '(a,i0,a,f4.2,a)') 'body ', ib, ': h/t = ', cfg%grid%h/t, &
-          ': crush 10-12 %, impact 27-30 % off. Set h = '// &
+          ': crush 10-12 %, impact 26-29 % off. Set h = '// &
           sci(0.25_wp*t, 2)//', n_thick = 8 ('//doc_spacing//')'
         call append_msg(warnings, line)
       end if
