@@ -30,6 +30,7 @@ ROOT = HERE.parent
 sys.path.insert(0, str(HERE))
 sys.path.insert(0, str(ROOT / "tools"))
 from pycheck import Checks  # noqa: E402
+import batch  # noqa: E402
 import cfl_accuracy  # noqa: E402
 
 T = Checks("test_cfl_accuracy")
@@ -40,14 +41,7 @@ TOL = 0.01
 def run(binary: str, nml: Path) -> tuple[int, dict]:
     res = subprocess.run([binary, "--quiet", str(nml)], capture_output=True, text=True,
                          env=dict(os.environ, OMP_NUM_THREADS="1"))
-    summary = nml.parent / "out" / "summary.nml"
-    fields = {}
-    if summary.is_file():
-        for line in summary.read_text().splitlines():
-            if "=" in line:
-                k, v = line.split("=", 1)
-                fields[k.strip()] = v.strip().rstrip(",").strip("'\"")
-    return res.returncode, fields
+    return res.returncode, batch.read_summary(nml.parent / "out")
 
 
 def main() -> int:

@@ -33,6 +33,8 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
+sys.path.insert(0, str(HERE))
+import batch  # noqa: E402
 DOCS = ROOT / "docs" / "stability"
 RUNS = ROOT / "build" / "cfl_accuracy"
 BASES = ("linear", "ugimp", "cpdi1", "cpdi2")
@@ -67,16 +69,10 @@ def run_one(exe: str, basis: str, scheme: str, ppc: str, cfl: float) -> tuple[bo
         nml.write_text(text)
         subprocess.run([exe, "--quiet", str(nml)], capture_output=True, text=True,
                        env=dict(os.environ, OMP_NUM_THREADS="1"))
-    if not summary.is_file():
+    fields = batch.read_summary(folder / "out")
+    if not fields:
         return False, float("nan")
-    fields = {}
-    for line in summary.read_text().splitlines():
-        if "=" in line:
-            k, v = line.split("=", 1)
-            fields[k.strip()] = v.strip().rstrip(",").strip("'\"")
-    done = fields.get("status", "") == "completed"
-    err = float(fields.get("energy_error", "nan"))
-    return done, err
+    return fields.get("status") == "completed", float(fields.get("energy_error", "nan"))
 
 
 def stable_auto(ppc: str) -> dict[tuple[str, str], float]:

@@ -752,6 +752,7 @@ def rejudge(level: str) -> Path:
                 "wave_speed": float(r["wave_speed"]) if r.get("wave_speed") else math.nan}
     keys = ("err_duration", "err_cor", "err_peak", "err_arrival", "err_speed", "error",
             "err_self")
+    ref_metrics: dict[str, dict[str, Any] | None] = {}
     for scene in ("impact", "wave"):
         fe = fe_dynamic(scene)
         if fe is None:
@@ -762,8 +763,10 @@ def rejudge(level: str) -> Path:
             m = metrics(r)
             if m is None:
                 continue
-            ref = byname.get(r.get("self_reference", ""))
-            e = errors(scene, m, metrics(ref) if ref is not None else None, fe)
+            name = r.get("self_reference", "")
+            if name not in ref_metrics:            # one reading of the finest run's curve
+                ref_metrics[name] = metrics(byname[name]) if name in byname else None
+            e = errors(scene, m, ref_metrics[name], fe)
             r["reference"] = FE_DYNAMIC_REFERENCE
             for k in keys:
                 if k in e:
