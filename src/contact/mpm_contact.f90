@@ -235,21 +235,6 @@ contains
     end do
   end subroutine contact_check
 
-  !> The damping's node velocity changes (wk%vdamp): one per node with damping, none without.
-  subroutine damping_allocate(damping, nt, wk)
-    real(wp), intent(in) :: damping        !! mass-proportional damping [1/s]
-    integer, intent(in) :: nt              !! nodes of all fields
-    type(work_t), intent(inout) :: wk      !! vdamp allocated
-    integer :: n
-    n = 0
-    if (damping > 0.0_wp) n = nt
-    if (allocated(wk%vdamp)) then
-      if (size(wk%vdamp, 2) == n) return
-      deallocate(wk%vdamp)
-    end if
-    allocate(wk%vdamp(2, n))
-  end subroutine damping_allocate
-
   !> One set of surface points per wall.
   subroutine surface_allocate(st, wk)
     type(state_t), intent(in) :: st        !! state (walls)

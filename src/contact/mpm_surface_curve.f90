@@ -188,13 +188,7 @@ contains
       wk%gmin = min(wk%gmin, d)
       call tie_force(p%xc(:, ic) - wk%x0(:, ic) - wk%shift, normal, kf*wk%corner_mass(ic), &
                      fn, ft, en)
-      call surface_reserve(wk, wk%npt + 1)
-      wk%npt = wk%npt + 1
-      j = wk%npt
-      wk%owner(j) = -ic
-      wk%tied(j) = .true.
-      wk%cid(:, j) = 0
-      wk%phi(:, j) = 0.0_wp
+      call new_point(wk, -ic, .true., j)
       wk%xq(:, :, j) = 0.0_wp
       wk%cid(1, j) = ic
       wk%phi(1, j) = 1.0_wp
@@ -205,6 +199,21 @@ contains
       wk%en(j) = en
     end do
   end subroutine tied_corners
+
+  !> A new point at the end of wk (room reserved): its owner and tie, no corners yet.
+  subroutine new_point(wk, owner, tied, j)
+    type(surface_work_t), intent(inout) :: wk  !! points
+    integer, intent(in) :: owner           !! the point's owner (-corner)
+    logical, intent(in) :: tied            !! tied to a 'bonded' wall
+    integer, intent(out) :: j              !! the new point
+    call surface_reserve(wk, wk%npt + 1)
+    wk%npt = wk%npt + 1
+    j = wk%npt
+    wk%owner(j) = owner
+    wk%tied(j) = tied
+    wk%cid(:, j) = 0
+    wk%phi(:, j) = 0.0_wp
+  end subroutine new_point
 
   !> The neighbours whose second difference shifts corner c's control point (la, lb; 0, 0
   !! when it keeps P_c = x_c): a smooth corner's two neighbours; for a corner on a mirror plane
@@ -336,13 +345,7 @@ contains
         case default
           phi = [0.0_wp, 2.0_wp*bs(1) + bs(2), bs(3) - bs(1)]
         end select
-        call surface_reserve(wk, wk%npt + 1)
-        wk%npt = wk%npt + 1
-        j = wk%npt
-        wk%owner(j) = -c
-        wk%tied(j) = .false.
-        wk%cid(:, j) = 0
-        wk%phi(:, j) = 0.0_wp
+        call new_point(wk, -c, .false., j)
         do m = 1, 3                        ! the control points' corners (P_c, smooth_pair)
           if (ids(m) == 0) cycle
           if (wk%la(ids(m)) > 0) then

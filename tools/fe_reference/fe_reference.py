@@ -354,7 +354,7 @@ def run_ccx(deck: Path, log: Path) -> float:
     """Run ccx on deck (one thread) in its folder; return the CPU seconds (children)."""
     ccx = shutil.which("ccx")
     if ccx is None:
-        raise FileNotFoundError("ccx not found: run tools/install-ccx.sh (Debian package "
+        raise FileNotFoundError("ccx not found: run tools/install-deps.sh --ccx (Debian package "
                                 "calculix-ccx) or put CalculiX 2.20's ccx on PATH")
     env = dict(os.environ, OMP_NUM_THREADS="1", CCX_NPROC_STIFFNESS="1",
                CCX_NPROC_EQUATION_SOLVER="1", CCX_NPROC_RESULTS="1")
@@ -366,6 +366,29 @@ def run_ccx(deck: Path, log: Path) -> float:
     if p.returncode != 0:
         raise RuntimeError(f"ccx failed on {deck} (exit {p.returncode}); see {log}")
     return (t1.children_user - t0.children_user) + (t1.children_system - t0.children_system)
+
+
+def run_cached(text: str, run: Path, name: str, force: bool, label: str, what: str,
+               keep_failed: bool = False) -> dict:
+    """ccx on the deck `text` as run/name.inp, unless that very deck has finished there before
+    (run/result.json) and force is off; the run's {"cpu_s", "wall_s"}. A failed run raises
+    FileNotFoundError or RuntimeError, or with keep_failed is said on stderr and recorded with
+    cpu_s NaN."""
+    deck, done = run / f"{name}.inp", run / "result.json"
+    if not (done.is_file() and deck.is_file() and deck.read_text() == text and not force):
+        deck.write_text(text)
+        done.unlink(missing_ok=True)
+        print(f"{label}: running ccx on {what} ...", flush=True)
+        t0 = time.time()
+        try:
+            cpu = run_ccx(deck, run / "ccx.log")
+        except (FileNotFoundError, RuntimeError) as e:
+            if not keep_failed:
+                raise
+            print(f"{label}: {e}", file=sys.stderr)
+            cpu = math.nan
+        done.write_text(json.dumps({"cpu_s": cpu, "wall_s": time.time() - t0}))
+    return json.loads(done.read_text())
 
 
 def window(delta: np.ndarray, force: np.ndarray, D: float) -> np.ndarray:
@@ -423,23 +446,13 @@ def main(argv: list[str] | None = None) -> int:
             continue
         run = a.work / name
         run.mkdir(parents=True, exist_ok=True)
-        deck = run / f"{name}.inp"
         dat = run / f"{name}.dat"
-        done = run / "result.json"
-        fresh = (done.is_file() and deck.is_file() and deck.read_text() == text
-                 and not a.force)
-        if not fresh:
-            deck.write_text(text)
-            done.unlink(missing_ok=True)
-            print(f"fe_reference: running ccx on {name} ({n_t * n_c} elements) ...", flush=True)
-            t0 = time.time()
-            try:
-                cpu = run_ccx(deck, run / "ccx.log")
-            except (FileNotFoundError, RuntimeError) as e:
-                print(f"fe_reference: {e}", file=sys.stderr)
-                return 3
-            done.write_text(json.dumps({"cpu_s": cpu, "wall_s": time.time() - t0}))
-        info = json.loads(done.read_text())
+        try:
+            info = run_cached(text, run, name, a.force, "fe_reference",
+                              f"{name} ({n_t * n_c} elements)")
+        except (FileNotFoundError, RuntimeError) as e:
+            print(f"fe_reference: {e}", file=sys.stderr)
+            return 3
         tm, rf, uy = parse_dat(dat)
         if tm.size == 0 or tm[-1] < 1.0 - 1e-9:
             print(f"fe_reference: {name}: ccx stopped at step time "

@@ -35,14 +35,13 @@ import math
 import os
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
-from fe_reference import _lines, _num, rel_l2, run_ccx  # noqa: E402
+from fe_reference import _lines, _num, rel_l2, run_cached  # noqa: E402
 
 ROOT = HERE.parent.parent
 DOCS = ROOT / "docs" / "fe_reference"
@@ -417,20 +416,8 @@ def main(argv: list[str] | None = None) -> int:
                 continue
             run = a.work / name
             run.mkdir(parents=True, exist_ok=True)
-            deck, done = run / f"{name}.inp", run / "result.json"
-            if not (done.is_file() and deck.is_file() and deck.read_text() == text
-                    and not a.force):
-                deck.write_text(text)
-                done.unlink(missing_ok=True)
-                print(f"shear_reference: running ccx on {name} ...", flush=True)
-                t0 = time.time()
-                try:
-                    cpu = run_ccx(deck, run / "ccx.log")
-                except (FileNotFoundError, RuntimeError) as e:
-                    print(f"shear_reference: {e}", file=sys.stderr)
-                    cpu = math.nan
-                done.write_text(json.dumps({"cpu_s": cpu, "wall_s": time.time() - t0}))
-            info = json.loads(done.read_text())
+            info = run_cached(text, run, name, a.force, "shear_reference", name,
+                              keep_failed=True)
             cur = fe_curve(law, n_t, n_c, run / f"{name}.dat")
             reached = float(cur[-1, 1] / DELTA_OVER_D)
             rec = {"mesh": name, "n_t": n_t, "n_c": n_c, "elements": n_t * n_c,
