@@ -15,19 +15,22 @@ module mpm_config
                            PLANE_STRAIN, MODEL_J2, RATE_NONE, RATE_COWPER_SYMONDS, SHAPE_RING, &
                            SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER, max_table, &
                            CONTACT_FRICTIONLESS, CONTACT_COULOMB, CONTACT_SLIP, FLOW_LINEAR, &
-                           CONTACT_BONDED, &
+                           CONTACT_BONDED, SHAPE_TUBE, SHAPE_HONEYCOMB, SHAPE_WALLS, &
+                           SHAPE_DISC, max_vertices, max_cells, pi, &
                            FLOW_JOHNSON_COOK
   use mpm_config_types, only: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, &
                               body_cfg_t, wall_cfg_t, probe_cfg_t, contact_cfg_t, unset_real, &
                               iunset
   use mpm_config_text, only: itoa, fmt_real, fmt_short, fmt_vec, fmt_list
-  use mpm_config_table, only: n_groups, n_specs, group_names, group_id, field_t, bind_fields
+  use mpm_config_table, only: n_groups, n_specs, group_names, group_id, field_t, bind_fields, &
+                              spec_index
   use mpm_config_lexer, only: reader_t, load_lines, has_content, scan_source, check_groups, &
                               join_msgs, open_occ
   use mpm_config_values, only: values_t, read_group, store_rows, vreal, vvec, vtab, vint, &
                                chk_r, chk_v, table_count, err_var, warn_var, warn_group
   use mpm_config_check, only: cross_checks, advice_checks
   use mpm_config_echo, only: write_config, write_config_unit, config_values
+  use mpm_bodies, only: body_mesh, is_section
   implicit none
   private
   public :: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, body_cfg_t, &
@@ -353,7 +356,165 @@ contains
         'self_contact', '.true.', 'not with sector = ''quarter'' (it meets its mirror image on '// &
         'the plane y = centre)')
     end if
+    if (b%n_thick == iunset) b%n_thick = 16
+    select case (b%shape_id)
+    case (SHAPE_TUBE)
+      call check_tube(rd, io, v, b)
+    case (SHAPE_HONEYCOMB)
+      call check_honeycomb(rd, io, v, b)
+    case (SHAPE_WALLS)
+      if (len_trim(b%walls_file) > 0) call read_walls(rd, io, b)
+    end select
+    if ((is_section(b%shape_id) .or. b%shape_id == SHAPE_DISC) .and. rd%occ(io)%ok) &
+      call check_mesh(rd, io, b)
   end subroutine check_body
+
+  !> A tube: 3 to 64 vertices (pairs, no gaps), a corner radius of 0 or at least t/2.
+  subroutine check_tube(rd, io, v, b)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io
+    type(values_t), intent(in) :: v
+    type(body_cfg_t), intent(inout) :: b
+    real(wp) :: x(2*max_vertices)
+    integer :: n, k
+    logical :: ok
+    x = v%r(1:2*max_vertices, spec_index_body('vertices'))
+    ok = .true.
+    call table_count(rd, io, 'vertices', x, n, ok)
+    if (.not. ok) return
+    if (n == 0) then
+      call err_var(rd, io, 'vertices', '', 'missing (required)')
+    else if (mod(n, 2) /= 0 .or. n < 6) then
+      call err_var(rd, io, 'vertices', fmt_list(x(1:n)), itoa(n)//' numbers: not 3 or more '// &
+        'x, y pairs')
+    else
+      b%n_vertices = n/2
+      b%vertices = huge(1.0_wp)
+      b%vertices(1:n) = x(1:n)
+      do k = 1, b%n_vertices
+        if (norm2(x(2*k - 1:2*k) - x(2*modulo(k, b%n_vertices) + 1:2*modulo(k, b%n_vertices) &
+            + 2)) <= 0.0_wp) then
+          call err_var(rd, io, 'vertices', fmt_list(x(1:n)), 'vertex '//itoa(k)//' repeats '// &
+            'the next one')
+          return
+        end if
+      end do
+    end if
+    if (b%corner_radius > 0.0_wp .and. b%thickness > 0.0_wp .and. &
+        b%corner_radius < 0.5_wp*b%thickness) call err_var(rd, io, 'corner_radius', &
+      fmt_real(b%corner_radius), 'below thickness/2 = '//fmt_real(0.5_wp*b%thickness)// &
+      ' (the inner face would fold)')
+  end subroutine check_tube
+
+  !> A honeycomb: whole numbers of cells, an angle that is not 0 and leaves the cells open.
+  subroutine check_honeycomb(rd, io, v, b)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io
+    type(values_t), intent(in) :: v
+    type(body_cfg_t), intent(inout) :: b
+    real(wp) :: nc(2), open_h
+    nc = vvec(v, 'n_cells')
+    if (chk_v(rd, io, v, 'n_cells', required=.true.) == 2) then
+      if (any(nc /= aint(nc)) .or. any(nc < 1.0_wp) .or. any(nc > real(max_cells, wp))) then
+        call err_var(rd, io, 'n_cells', fmt_vec(nc), 'not two whole numbers from 1 to '// &
+          itoa(max_cells))
+      else
+        b%n_cells = nint(nc)
+      end if
+    end if
+    if (abs(b%cell_angle) < 1.0_wp) call err_var(rd, io, 'cell_angle', &
+      fmt_real(b%cell_angle), 'too close to 0 (the inclined walls would lie flat)')
+    if (b%cell_h > 0.0_wp .and. b%cell_l > 0.0_wp .and. b%thickness > 0.0_wp) then
+      open_h = b%cell_h + 2.0_wp*b%cell_l*sin(b%cell_angle*pi/180.0_wp)
+      if (open_h <= b%thickness) call err_var(rd, io, 'cell_angle', fmt_real(b%cell_angle), &
+        'closes the cells: cell_h + 2 cell_l sin(angle) = '//fmt_real(open_h)// &
+        ' m is not above thickness')
+    end if
+  end subroutine check_honeycomb
+
+  !> The walls CSV (relative to the input's folder): x1, y1, x2, y2, t per line; '#' comments
+  !! and a header line of names are skipped. Errors name the file and line.
+  subroutine read_walls(rd, io, b)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io
+    type(body_cfg_t), intent(inout) :: b
+    character(len=:), allocatable :: path, line
+    character(len=1024) :: buf, msg
+    real(wp) :: r(5)
+    real(wp), allocatable :: seg(:,:)
+    integer :: u, ios, ln, k
+    path = trim(b%walls_file)
+    if (path(1:1) /= '/' .and. index(rd%file, '/', back=.true.) > 0) &
+      path = rd%file(1:index(rd%file, '/', back=.true.))//path
+    open(newunit=u, file=path, status='old', action='read', iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      call err_var(rd, io, 'walls_file', ''''//trim(b%walls_file)//'''', 'cannot be read ('// &
+        trim(msg)//')')
+      return
+    end if
+    allocate(seg(5, 0))
+    ln = 0
+    do
+      read(u, '(a)', iostat=ios) buf
+      if (ios /= 0) exit
+      ln = ln + 1
+      line = trim(adjustl(buf))
+      if (len(line) == 0) cycle
+      if (line(1:1) == '#') cycle
+      if (ln == 1 .and. verify(line(1:1), '0123456789+-.') /= 0) cycle    ! a header
+      read(line, *, iostat=ios) r
+      if (ios /= 0 .or. .not. all(abs(r) <= huge(1.0_wp))) then
+        call err_var(rd, io, 'walls_file', ''''//trim(b%walls_file)//'''', path//':'// &
+          itoa(ln)//': '''//line//''' is not 5 finite numbers x1, y1, x2, y2, thickness')
+        close(u)
+        return
+      end if
+      if (r(5) <= 0.0_wp .or. norm2(r(3:4) - r(1:2)) <= 0.0_wp) then
+        call err_var(rd, io, 'walls_file', ''''//trim(b%walls_file)//'''', path//':'// &
+          itoa(ln)//': a wall of zero length or thickness')
+        close(u)
+        return
+      end if
+      if (size(seg, 2) >= 4096) then
+        call err_var(rd, io, 'walls_file', ''''//trim(b%walls_file)//'''', 'more than 4096 walls')
+        close(u)
+        return
+      end if
+      seg = reshape([seg, r], [5, size(seg, 2) + 1])
+    end do
+    close(u)
+    if (size(seg, 2) == 0) then
+      call err_var(rd, io, 'walls_file', ''''//trim(b%walls_file)//'''', 'has no walls')
+      return
+    end if
+    k = size(seg, 2)
+    call move_alloc(seg, b%seg)
+  end subroutine read_walls
+
+  !> The particles of a tube, honeycomb, walls or disc can be made (mpm_sections' reasons).
+  subroutine check_mesh(rd, io, b)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io
+    type(body_cfg_t), intent(in) :: b
+    real(wp), allocatable :: xc(:,:)
+    integer, allocatable :: quad(:,:), pwall(:)
+    integer :: stat
+    character(len=:), allocatable :: msg
+    if (b%shape_id == SHAPE_TUBE .and. (b%n_vertices < 3 .or. b%thickness <= 0.0_wp)) return
+    if (b%shape_id == SHAPE_HONEYCOMB .and. (any(b%n_cells < 1) .or. b%thickness <= 0.0_wp &
+        .or. b%cell_l <= 0.0_wp .or. b%cell_h <= 0.0_wp)) return
+    if (b%shape_id == SHAPE_WALLS .and. .not. allocated(b%seg)) return
+    if (b%shape_id == SHAPE_DISC .and. b%r_outer <= 0.0_wp) return
+    call body_mesh(b, xc, quad, pwall, stat, msg)
+    if (stat /= 0) call err_var(rd, io, 'n_thick', itoa(b%n_thick), 'the walls cannot be '// &
+      'filled with particles: '//msg, 'walls longer than their joints need, meeting at '// &
+      'angles they can (n_thick even where three or more walls meet)')
+  end subroutine check_mesh
+
+  pure integer function spec_index_body(name) result(r)
+    character(len=*), intent(in) :: name
+    r = spec_index('body', name)
+  end function spec_index_body
 
   !> &wall: a unit normal, friction only with Coulomb contact, the motion table.
   subroutine check_wall(rd, io, v, w)

@@ -15,7 +15,7 @@ module mpm_config_echo
   use mpm_config_text, only: itoa, quote, fmt_real, fmt_vec, fmt_logical, finite
   use mpm_config_table, only: specs, n_specs, n_groups, group_names, group_specs, echo_comment, &
                               unset_note, field_t, bind_fields
-  use mpm_config_values, only: values_t, fields_values
+  use mpm_config_values, only: values_t, fields_values, for_shape
   implicit none
   private
   public :: write_config, write_config_unit, config_values
@@ -34,9 +34,25 @@ module mpm_config_echo
     logical :: silent(n_specs) = .false.   ! rows left out without a comment (their default)
     character(len=64) :: why(n_specs) = ''  ! the reason a row is left out ('': no comment)
     integer :: n_motion = 0
+    integer :: n_vertices = 0                !! a tube's vertices (its row holds 2 per vertex)
   end type echo_t
 
 contains
+
+  !> 'rings and tubes' for the row's shapes 'ring tube'.
+  function plurals(only) result(text)
+    character(len=*), intent(in) :: only
+    character(len=:), allocatable :: text
+    integer :: k, n
+    text = ''
+    n = 0
+    do k = 1, size(shape_names)
+      if (.not. for_shape(only, shape_names(k))) cycle
+      n = n + 1
+      if (n > 1) text = text//', '
+      text = text//trim(shape_plural(k))
+    end do
+  end function plurals
 
   !> Write every group as resolved (defaults filled in) to a file, readable back as input.
   subroutine write_config(cfg, path, stat, errmsg)
@@ -130,6 +146,8 @@ contains
           if (sp%c_blank) e%v%c(r) = ''
         else if (sp%n == max_table) then
           e%v%r(e%n_motion+1:, r) = sp%r0
+        else if (sp%name == 'vertices') then
+          e%v%r(2*e%n_vertices+1:, r) = sp%r0
         end if
       end associate
     end do
@@ -151,6 +169,7 @@ contains
     e%silent = .false.
     e%why = ''
     e%n_motion = 0
+    e%n_vertices = 0
     idx = group_specs(e%v%group)
     call bind_fields(cfg, ig, k, f)
     call fields_values(f, idx, e%v)
@@ -170,10 +189,11 @@ contains
       if (j >= 1 .and. j <= size(shape_names)) shape = shape_names(j)
       do j = 1, size(idx)                    ! the variables of the other shapes
         r = idx(j)
-        if (len_trim(specs(r)%only) == 0 .or. specs(r)%only == shape) cycle
+        if (for_shape(specs(r)%only, shape)) cycle
         e%hide(r) = .true.
-        e%why(r) = 'for '//trim(shape_plural(findloc(shape_names, specs(r)%only, 1)))//' only'
+        e%why(r) = 'for '//plurals(specs(r)%only)//' only'
       end do
+      e%n_vertices = cfg%bodies(k)%n_vertices
       e%silent(idx) = specs(idx)%name == 'self_contact' .and. .not. e%hide(idx) .and. &
                       .not. cfg%bodies(k)%self_contact
     case (6)
@@ -230,6 +250,8 @@ contains
         if (specs(idx(j-1))%n /= max_table) call w_line(w, '  ! motion table: '// &
           echo_comment(r)//' and '//echo_comment(idx(j+1)))
         call w_table(w, trim(specs(r)%name), e%v%r(1:e%n_motion, r))
+      else if (specs(r)%name == 'vertices') then
+        call w_table(w, 'vertices', e%v%r(1:2*e%n_vertices, r))
       else if (not_set(e%v, r)) then
         call w_unset(w, trim(specs(r)%name), unset_note(r))
       else

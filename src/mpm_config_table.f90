@@ -14,7 +14,8 @@ module mpm_config_table
   use mpm_kinds, only: wp
   use mpm_constants, only: name_len, path_len, max_table, basis_names, scheme_names, &
                            plane_names, model_names, rate_law_names, shape_names, sector_names, &
-                           contact_names, flow_stress_names, volumetric_names
+                           contact_names, flow_stress_names, volumetric_names, max_vertices, &
+                           max_cells
   use mpm_config_types, only: config_t, unset_real, iunset
   use mpm_config_text, only: enum_text, join_list, lower
   implicit none
@@ -48,7 +49,8 @@ module mpm_config_table
     real(wp) :: lo = -big, hi = big         !! range
     logical :: lo_open = .false., hi_open = .false.  !! lo < x (not <=), x < hi (not <=)
     integer :: max_len = name_len           !! longest text
-    character(len=4) :: only = ''           !! 'ring' or 'rect': a variable of that body shape
+    character(len=40) :: only = ''          !! the body shapes the variable belongs to
+                                            !! (names separated by blanks; '' = every shape)
     character(len=4) :: unset = ''          !! echo: not set when neg (-1), huge, empty, zero
     character(len=56) :: unset_note = ''    !! echo comment when not set ('' when required:
                                             !! 'required: ' and the comment, unset_note())
@@ -180,18 +182,21 @@ module mpm_config_table
       allowed='a real number with 0 < r_inner < r_outer [m] (required for shape = ''ring'')', &
       comment='inner radius [m]'), &
     var_spec_t('body', 'r_outer', r0=big, required=.true., lo=0.0_wp, lo_open=.true., &
-      only='ring', unset='neg', &
-      allowed='a real number > r_inner [m] (required for shape = ''ring'')', &
+      only='ring disc', unset='neg', &
+      allowed='a real number > r_inner [m] (required for shape = ''ring'' and ''disc'')', &
       comment='outer radius [m]'), &
-    var_spec_t('body', 'n_thick', 'i', i0=iunset, lo=1.0_wp, only='ring', &
-      allowed='an integer >= 1 (default 16)', comment='particles through the wall'), &
+    var_spec_t('body', 'n_thick', 'i', i0=iunset, lo=1.0_wp, hi=256.0_wp, &
+      only='ring tube honeycomb walls disc', &
+      allowed='an integer from 1 to 256, even where three walls meet at an angle (default 16)', &
+      comment='particles through the wall (disc: radius)'), &
     var_spec_t('body', 'n_circ', 'i', i0=iunset, only='ring', own=.true., &
       allowed='0 (particles about square) or an integer >= 3, divisible by 2 for sector = '// &
       '''half'' and by 4 for ''quarter'' (default 0)', &
       comment='particles around the whole ring (0 = auto)'), &
     var_spec_t('body', 'sector', 'e', c0='full', c_blank=.true., only='ring', comment='%'), &
-    var_spec_t('body', 'self_contact', 'l', only='ring', allowed='.true. or .false. (default '// &
-      '.false.); .true. needs sector = ''full'' or ''half''', comment='halves meet, never weld'), &
+    var_spec_t('body', 'self_contact', 'l', only='ring tube honeycomb walls', &
+      allowed='.true. or .false. (default '// &
+      '.false.); .true. needs sector = ''full'' or ''half''', comment='walls meet, never weld'), &
     var_spec_t('body', 'size', n=2, r0=big, required=.true., lo=0.0_wp, lo_open=.true., &
       only='rect', unset='neg', allowed='2 real numbers > 0 [m] (required for shape = ''rect'')', &
       comment='rectangle sides [m]'), &
@@ -201,6 +206,30 @@ module mpm_config_table
     var_spec_t('body', 'n_y', 'i', i0=iunset, required=.true., lo=1.0_wp, only='rect', &
       unset='zero', &
       allowed='an integer >= 1 (required for shape = ''rect'')', comment='particles along y'), &
+    var_spec_t('body', 'vertices', n=2*max_vertices, r0=big, own=.true., only='tube', &
+      allowed='3 to 64 points x, y [m] of the centreline polygon, counter-clockwise, '// &
+      'finite (required for shape = ''tube'')', comment='centreline polygon x, y, ... [m]'), &
+    var_spec_t('body', 'thickness', r0=-1.0_wp, required=.true., lo=0.0_wp, lo_open=.true., &
+      only='tube honeycomb', unset='neg', allowed='a real number > 0 [m] (required for '// &
+      'shape = ''tube'' and ''honeycomb'')', comment='wall thickness [m]'), &
+    var_spec_t('body', 'corner_radius', lo=0.0_wp, only='tube', allowed='0 (sharp) or a '// &
+      'real number >= thickness/2 [m] (default 0)', comment='corner radius, centreline [m]'), &
+    var_spec_t('body', 'n_cells', own=.true., n=2, r0=0.0_wp, whole=.true., only='honeycomb', &
+      unset='zero', allowed='2 whole numbers from 1 to 64: cells along x and y (required '// &
+      'for shape = ''honeycomb'')', comment='cells along x and y'), &
+    var_spec_t('body', 'cell_l', r0=-1.0_wp, required=.true., lo=0.0_wp, lo_open=.true., &
+      only='honeycomb', unset='neg', allowed='a real number > 0 [m] (required for shape '// &
+      '= ''honeycomb'')', comment='inclined wall length [m]'), &
+    var_spec_t('body', 'cell_h', r0=-1.0_wp, required=.true., lo=0.0_wp, lo_open=.true., &
+      only='honeycomb', unset='neg', allowed='a real number > 0 [m] (required for shape '// &
+      '= ''honeycomb'')', comment='vertical wall length [m]'), &
+    var_spec_t('body', 'cell_angle', r0=30.0_wp, lo=-80.0_wp, hi=80.0_wp, only='honeycomb', &
+      allowed='a real number from -80 to 80 [degrees], not 0, with cell_h/2 + cell_l '// &
+      'sin(angle) > thickness (default 30)', comment='inclined wall angle to x [deg]'), &
+    var_spec_t('body', 'walls_file', 'c', max_len=path_len, required=.true., unset='emp', &
+      only='walls', allowed='a CSV file (relative to the input file''s folder), one wall '// &
+      'per line: x1, y1, x2, y2, thickness [m] (required for shape = ''walls'')', &
+      comment='CSV of walls: x1, y1, x2, y2, t [m]'), &
     var_spec_t('body', 'velocity', n=2, allowed=v0, comment='initial velocity [m/s]'), &
     ! ---------------------------------------------------------------------------- &wall
     var_spec_t('wall', 'point', n=2, r0=big, required=.true., unset='huge', &
@@ -411,6 +440,14 @@ contains
         call bind(f, 'body', 'size', v=g%size)
         call bind(f, 'body', 'n_x', i=g%n_x)
         call bind(f, 'body', 'n_y', i=g%n_y)
+        call bind(f, 'body', 'vertices', v=g%vertices, i=g%n_vertices)
+        call bind(f, 'body', 'thickness', x=g%thickness)
+        call bind(f, 'body', 'corner_radius', x=g%corner_radius)
+        call bind(f, 'body', 'n_cells', iv=g%n_cells)
+        call bind(f, 'body', 'cell_l', x=g%cell_l)
+        call bind(f, 'body', 'cell_h', x=g%cell_h)
+        call bind(f, 'body', 'cell_angle', x=g%cell_angle)
+        call bind(f, 'body', 'walls_file', c=g%walls_file)
         call bind(f, 'body', 'velocity', v=g%velocity)
       end associate
     case (6)

@@ -18,7 +18,7 @@ module mpm_config_values
   private
   public :: values_t, read_group, long_len, store_rows, fields_values
   public :: vreal, vvec, vtab, vint, vtext
-  public :: chk_r, chk_v, table_count
+  public :: chk_r, chk_v, table_count, for_shape
   public :: err_var, err_missing, warn_var, warn_group
 
   integer, parameter :: long_len = 1024         !! text buffers (longer than allowed)
@@ -26,7 +26,7 @@ module mpm_config_values
   !> The values of one occurrence: column k holds row k of the table.
   type :: values_t
     character(len=8) :: group = ''
-    real(wp) :: r(max_table, n_specs) = 0.0_wp
+    real(wp) :: r(2*max_table, n_specs) = 0.0_wp  !! (the longest row: a tube's vertices)
     integer :: i(n_specs) = 0
     logical :: l(n_specs) = .false.
     character(len=long_len) :: c(n_specs) = ''
@@ -441,7 +441,7 @@ contains
     type(field_t), intent(in) :: f(n_specs)   !! bind_fields of the record to fill
     integer, allocatable :: idx(:), other(:)
     integer :: j, r, id, n
-    character(len=4) :: shape
+    character(len=name_len) :: shape
     character(len=:), allocatable :: name, t
     character(len=name_len), allocatable :: names(:)
     allocate(idx, source=group_specs(v%group))
@@ -451,7 +451,7 @@ contains
       r = idx(j)
       associate (sp => specs(r))
         name = trim(sp%name)
-        if (len_trim(sp%only) > 0 .and. sp%only /= shape) then
+        if (.not. for_shape(sp%only, shape)) then
           if (row_given(v, r)) other = [other, r]
           cycle
         end if
@@ -496,7 +496,7 @@ contains
           else
             f(r)%c = names(id)
             f(r)%i = id
-            if (name == 'shape') shape = names(id)(1:len(shape))  ! shape names have 4 letters
+            if (name == 'shape') shape = names(id)
           end if
         end select
       end associate
@@ -507,6 +507,14 @@ contains
                       size(other) == 1))//' for shape = '''//trim(shape)//'''')
     end if
   end subroutine store_rows
+
+  !> Whether a row `only` for the shapes in `only` (blank-separated; '' = all) applies to
+  !! `shape` ('' before the shape is known: every row applies).
+  pure logical function for_shape(only, shape)
+    character(len=*), intent(in) :: only, shape
+    for_shape = len_trim(only) == 0 .or. len_trim(shape) == 0
+    if (.not. for_shape) for_shape = index(' '//trim(only)//' ', ' '//trim(shape)//' ') > 0
+  end function for_shape
 
   !> Whether row r was given: its value differs from the value the reader starts from.
   pure logical function row_given(v, r)
@@ -631,7 +639,7 @@ contains
     type(values_t), intent(in) :: v
     character(len=*), intent(in) :: name
     real(wp) :: x(max_table)
-    x = v%r(:, spec_index(v%group, name))
+    x = v%r(1:max_table, spec_index(v%group, name))
   end function vtab
 
   integer function vint(v, name)

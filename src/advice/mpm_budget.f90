@@ -22,7 +22,7 @@ module mpm_budget
                            SECTOR_QUARTER, BASIS_CPDI2, VOLUMETRIC_FBAR, &
                            VOLUMETRIC_FBARWALL, CONTACT_SLIP
   use mpm_config, only: config_t
-  use mpm_bodies, only: body_box, body_estimate
+  use mpm_bodies, only: body_box, body_estimate, body_fields
   use mpm_particles, only: basis_reach, basis_block
   use mpm_units, only: advice_units
   use mpm_strings, only: itoa, sci
@@ -136,7 +136,11 @@ contains
   !! lower half, mpm_self_contact); 1 for one body without self-contact.
   pure integer function contact_fields(cfg) result(nf)
     type(config_t), intent(in) :: cfg      !! the case
-    nf = size(cfg%bodies) + count(cfg%bodies%self_contact)
+    integer :: k
+    nf = 0
+    do k = 1, size(cfg%bodies)
+      nf = nf + body_fields(cfg%bodies(k))
+    end do
   end function contact_fields
 
   !> Refuse (stat = EXIT_INPUT) a case whose estimate exceeds the memory available (`known`:

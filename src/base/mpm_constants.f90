@@ -13,7 +13,8 @@ module mpm_constants
   public :: MODEL_ELASTIC, MODEL_NEOHOOKEAN, MODEL_J2, model_names
   public :: RATE_NONE, RATE_COWPER_SYMONDS, rate_law_names
   public :: FLOW_LINEAR, FLOW_JOHNSON_COOK, flow_stress_names
-  public :: SHAPE_RING, SHAPE_RECT, shape_names, shape_plural
+  public :: SHAPE_RING, SHAPE_RECT, SHAPE_TUBE, SHAPE_HONEYCOMB, SHAPE_WALLS, SHAPE_DISC, &
+            shape_names, shape_plural, max_vertices, max_cells
   public :: SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER, sector_names
   public :: CONTACT_FRICTIONLESS, CONTACT_COULOMB, CONTACT_STICK, CONTACT_SLIP, CONTACT_BONDED, &
             contact_names
@@ -52,9 +53,14 @@ module mpm_constants
   integer, parameter :: FLOW_LINEAR = 1, FLOW_JOHNSON_COOK = 2
   character(len=*), parameter :: flow_stress_names(2) = [character(len=12) :: &
     'linear', 'johnson_cook']
-  integer, parameter :: SHAPE_RING = 1, SHAPE_RECT = 2
-  character(len=*), parameter :: shape_names(2) = [character(len=4) :: 'ring', 'rect']
-  character(len=*), parameter :: shape_plural(2) = [character(len=10) :: 'rings', 'rectangles']
+  integer, parameter :: SHAPE_RING = 1, SHAPE_RECT = 2, SHAPE_TUBE = 3, SHAPE_HONEYCOMB = 4, &
+                        SHAPE_WALLS = 5, SHAPE_DISC = 6
+  character(len=*), parameter :: shape_names(6) = [character(len=9) :: 'ring', 'rect', 'tube', &
+    'honeycomb', 'walls', 'disc']
+  character(len=*), parameter :: shape_plural(6) = [character(len=10) :: 'rings', 'rectangles', &
+    'tubes', 'honeycombs', 'wall sets', 'discs']
+  integer, parameter :: max_vertices = 64  !! vertices of a 'tube'
+  integer, parameter :: max_cells = 64     !! cells of a 'honeycomb' along x and along y
   integer, parameter :: SECTOR_FULL = 1, SECTOR_HALF = 2, SECTOR_QUARTER = 3
   character(len=*), parameter :: sector_names(3) = [character(len=7) :: &
     'full', 'half', 'quarter']

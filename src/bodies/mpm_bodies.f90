@@ -10,19 +10,22 @@
 ! shape.
 module mpm_bodies
   use mpm_kinds, only: wp
-  use mpm_constants, only: pi, name_len, SHAPE_RING, SHAPE_RECT, SECTOR_FULL, SECTOR_HALF, &
-                           SECTOR_QUARTER, sector_names
-  use mpm_particles, only: particles_t, ring_counts, ring_fill, rect_counts, rect_fill
+  use mpm_constants, only: pi, name_len, path_len, SHAPE_RING, SHAPE_RECT, SHAPE_TUBE, &
+                           SHAPE_HONEYCOMB, SHAPE_WALLS, SHAPE_DISC, SECTOR_FULL, SECTOR_HALF, &
+                           SECTOR_QUARTER, sector_names, shape_names, max_vertices
+  use mpm_particles, only: particles_t, ring_counts, ring_fill, rect_counts, rect_fill, quads_fill
+  use mpm_sections, only: section_t, section_tube, section_honeycomb, section_walls, &
+                          section_mesh, disc_mesh, section_colours
   use mpm_strings, only: sci
   implicit none
   private
   public :: body_cfg_t, body_counts, body_fill, body_box, body_low, body_overlap, body_estimate, &
-            body_report
+            body_report, body_section, body_mesh, is_section, body_fields, body_field_split
 
   !> &body (repeatable): one component per row of the input table (mpm_config_table), with its
   !! default; the rows of one shape only carry `only = '<shape>'`.
   type :: body_cfg_t
-    character(len=name_len) :: shape = 'ring'      !! ring | rect
+    character(len=name_len) :: shape = 'ring'      !! ring | rect | tube | honeycomb | walls | disc
     character(len=name_len) :: material = ''       !! a &material name
     character(len=name_len) :: sector = 'full'     !! full | half | quarter
     integer :: shape_id = 0, material_id = 0, sector_id = 0  !! codes; material_id indexes materials
@@ -35,6 +38,16 @@ module mpm_bodies
     real(wp) :: size(2) = -1.0_wp                  !! rectangle sides [m]
     integer :: n_x = 0, n_y = 0                    !! particles along the rectangle sides
     real(wp) :: velocity(2) = 0.0_wp               !! initial velocity [m/s]
+    real(wp) :: vertices(2*max_vertices) = huge(1.0_wp)  !! tube: centreline polygon (x, y, ...) [m]
+    integer :: n_vertices = 0                      !! tube: vertices given
+    real(wp) :: thickness = -1.0_wp                !! tube, honeycomb: wall thickness [m]
+    real(wp) :: corner_radius = 0.0_wp             !! tube: corner radius on the centreline [m]
+    integer :: n_cells(2) = 0                      !! honeycomb: cells along x and y
+    real(wp) :: cell_l = -1.0_wp                   !! honeycomb: inclined wall length [m]
+    real(wp) :: cell_h = -1.0_wp                   !! honeycomb: vertical wall length [m]
+    real(wp) :: cell_angle = 30.0_wp               !! honeycomb: inclined wall angle [degrees]
+    character(len=path_len) :: walls_file = ''     !! walls: the CSV of segments
+    real(wp), allocatable :: seg(:,:)              !! walls: segments x1, y1, x2, y2, t (5, n) [m]
   end type body_cfg_t
 
 contains
@@ -44,14 +57,113 @@ contains
     type(body_cfg_t), intent(in) :: b      !! the body (validated)
     integer, intent(out) :: np, nc         !! particles, corners
     integer, intent(out) :: nk             !! ring: particles around the sector; else 0
+    real(wp), allocatable :: xc(:,:)
+    integer, allocatable :: quad(:,:), pwall(:)
+    integer :: stat
+    character(len=:), allocatable :: msg
     nk = 0
     select case (b%shape_id)
     case (SHAPE_RING)
       call ring_counts(b%r_inner, b%r_outer, b%n_thick, b%n_circ, b%sector_id, nk, np, nc)
-    case default
+    case (SHAPE_RECT)
       call rect_counts(b%n_x, b%n_y, np, nc)
+    case default
+      call body_mesh(b, xc, quad, pwall, stat, msg)
+      np = size(quad, 2)
+      nc = size(xc, 2)
     end select
   end subroutine body_counts
+
+  !> Whether the shape is a wall graph of mpm_sections (tube, honeycomb, walls).
+  elemental logical function is_section(shape_id)
+    integer, intent(in) :: shape_id        !! SHAPE_* code
+    is_section = shape_id == SHAPE_TUBE .or. shape_id == SHAPE_HONEYCOMB .or. &
+                 shape_id == SHAPE_WALLS
+  end function is_section
+
+  !> The velocity fields of a body: 1; 2 for a ring with self-contact (its halves); for a
+  !! tube, honeycomb or walls with self-contact, the colours of its walls (mpm_sections).
+  pure integer function body_fields(b) result(nf)
+    type(body_cfg_t), intent(in) :: b      !! the body (validated)
+    type(section_t) :: s
+    integer, allocatable :: colour(:)
+    nf = 1
+    if (.not. b%self_contact) return
+    if (b%shape_id == SHAPE_RING) nf = 2
+    if (.not. is_section(b%shape_id)) return
+    call body_section(b, s)
+    call section_colours(s, colour, nf)
+  end function body_fields
+
+  !> A section with self-contact: the field (1.. body_fields) of each of its particles, in
+  !! body_fill's order (a joint's core takes its first wall's), and the seams: the joints
+  !! where walls of two colours meet (2, nseam) [m].
+  pure subroutine body_field_split(b, pfield, seams)
+    type(body_cfg_t), intent(in) :: b      !! the body (validated, a section)
+    integer, allocatable, intent(out) :: pfield(:)   !! field of each particle
+    real(wp), allocatable, intent(out) :: seams(:,:) !! seam joints (2, nseam) [m]
+    type(section_t) :: s
+    integer, allocatable :: colour(:), quad(:,:), pwall(:), first(:)
+    real(wp), allocatable :: xc(:,:)
+    integer :: ncol, stat, k, j, nd
+    character(len=:), allocatable :: msg
+    call body_section(b, s)
+    call section_colours(s, colour, ncol)
+    call body_mesh(b, xc, quad, pwall, stat, msg)
+    pfield = colour(pwall)
+    allocate(first(s%nn))
+    first = 0
+    allocate(seams(2, 0))
+    do k = 1, s%ne
+      do j = 1, 2
+        nd = s%en(j, k)
+        if (first(nd) == 0) then
+          first(nd) = colour(s%ew(k))
+        else if (first(nd) > 0 .and. first(nd) /= colour(s%ew(k))) then
+          seams = reshape([seams, s%xn(:, nd)], [2, size(seams, 2) + 1])
+          first(nd) = -1                   ! (once)
+        end if
+      end do
+    end do
+  end subroutine body_field_split
+
+  !> The wall graph of a tube, honeycomb or walls body.
+  pure subroutine body_section(b, s)
+    type(body_cfg_t), intent(in) :: b      !! the body (validated)
+    type(section_t), intent(out) :: s      !! its walls
+    select case (b%shape_id)
+    case (SHAPE_TUBE)
+      call section_tube(reshape(b%vertices(1:2*b%n_vertices), [2, b%n_vertices]), &
+                        b%thickness, b%corner_radius, b%thickness/real(b%n_thick, wp), s)
+    case (SHAPE_HONEYCOMB)
+      call section_honeycomb(b%n_cells, b%cell_l, b%cell_h, b%cell_angle, b%thickness, &
+                             b%center, s)
+    case (SHAPE_WALLS)
+      call section_walls(b%seg, 1.0e-6_wp*minval(b%seg(5, :)), s)
+    end select
+  end subroutine body_section
+
+  !> The particles of a tube, honeycomb, walls or disc body (mpm_sections): corners, each
+  !! particle's corners, its logical wall (0 for a disc); stat /= 0 with msg if not meshable.
+  pure subroutine body_mesh(b, xc, quad, pwall, stat, msg)
+    type(body_cfg_t), intent(in) :: b      !! the body
+    real(wp), allocatable, intent(out) :: xc(:,:)  !! corners (2, nc) [m]
+    integer, allocatable, intent(out) :: quad(:,:) !! corners of each particle (4, np)
+    integer, allocatable, intent(out) :: pwall(:)  !! logical wall of each particle (np)
+    integer, intent(out) :: stat           !! 0 when meshed
+    character(len=:), allocatable, intent(out) :: msg  !! what is wrong
+    type(section_t) :: s
+    if (b%shape_id == SHAPE_DISC) then
+      call disc_mesh(b%center, b%r_outer, b%n_thick, xc, quad)
+      allocate(pwall(size(quad, 2)))
+      pwall = 0
+      stat = 0
+      msg = ''
+      return
+    end if
+    call body_section(b, s)
+    call section_mesh(s, b%n_thick, xc, quad, pwall, stat, msg)
+  end subroutine body_mesh
 
   !> Fill particles ip0+1.. and corners ic0+1.. with body ib (counts of body_counts).
   subroutine body_fill(p, ip0, ic0, b, ib, rho)
@@ -60,15 +172,21 @@ contains
     type(body_cfg_t), intent(in) :: b      !! the body (validated)
     integer, intent(in) :: ib              !! its index
     real(wp), intent(in) :: rho            !! density (mass-scaled) [kg/m^3]
-    integer :: np, nc, nk
+    integer :: np, nc, nk, stat
+    real(wp), allocatable :: xc(:,:)
+    integer, allocatable :: quad(:,:), pwall(:)
+    character(len=:), allocatable :: msg
     select case (b%shape_id)
     case (SHAPE_RING)
       call body_counts(b, np, nc, nk)
       call ring_fill(p, ip0, ic0, b%center, b%r_inner, b%r_outer, b%n_thick, nk, &
                      b%sector_id, rho, b%velocity, b%material_id, ib)
-    case default
+    case (SHAPE_RECT)
       call rect_fill(p, ip0, ic0, b%center, b%size, b%n_x, b%n_y, rho, b%velocity, &
                      b%material_id, ib)
+    case default
+      call body_mesh(b, xc, quad, pwall, stat, msg)
+      call quads_fill(p, ip0, ic0, xc, quad, rho, b%velocity, b%material_id, ib)
     end select
   end subroutine body_fill
 
@@ -77,10 +195,34 @@ contains
   pure subroutine body_box(b, lo, hi)
     type(body_cfg_t), intent(in) :: b      !! the body
     real(wp), intent(out) :: lo(2), hi(2)  !! lower and upper corner [m]
+    real(wp) :: xn(2, 6), th, w, reach
     select case (b%shape_id)
     case (SHAPE_RECT)
       lo = b%center - 0.5_wp*b%size
       hi = b%center + 0.5_wp*b%size
+    case (SHAPE_TUBE, SHAPE_WALLS, SHAPE_HONEYCOMB)   ! the centrelines' box, grown by the
+      if (b%shape_id == SHAPE_TUBE) then              ! reach of a wall's mitred corner
+        xn(:, 1) = [minval(b%vertices(1:2*b%n_vertices:2)), &
+                    minval(b%vertices(2:2*b%n_vertices:2))]
+        xn(:, 2) = [maxval(b%vertices(1:2*b%n_vertices:2)), &
+                    maxval(b%vertices(2:2*b%n_vertices:2))]
+        reach = 2.0_wp*b%thickness
+      else if (b%shape_id == SHAPE_WALLS) then
+        xn(:, 1) = [minval(b%seg([1, 3], :)), minval(b%seg([2, 4], :))]
+        xn(:, 2) = [maxval(b%seg([1, 3], :)), maxval(b%seg([2, 4], :))]
+        reach = 2.0_wp*maxval(b%seg(5, :))
+      else                                            ! the panel is centred on center
+        th = b%cell_angle*pi/180.0_wp
+        w = 2.0_wp*b%cell_l*cos(th)
+        xn(:, 2) = 0.5_wp*[w*real(b%n_cells(1), wp) + merge(0.5_wp*w, 0.0_wp, &
+                   b%n_cells(2) > 1), (b%cell_h + b%cell_l*sin(th))*real(b%n_cells(2) - 1, wp) &
+                   + b%cell_h + 2.0_wp*max(0.0_wp, b%cell_l*sin(th))]
+        xn(:, 1) = b%center - xn(:, 2)
+        xn(:, 2) = b%center + xn(:, 2)
+        reach = 2.0_wp*b%thickness
+      end if
+      lo = xn(:, 1) - reach
+      hi = xn(:, 2) + reach
     case default
       lo = b%center - b%r_outer
       hi = b%center + b%r_outer
@@ -95,10 +237,18 @@ contains
     type(body_cfg_t), intent(in) :: b      !! the body
     real(wp), intent(in) :: n(2)           !! unit direction [-]
     real(wp) :: a0, a1, a, c
-    integer :: k
+    integer :: k, stat
+    real(wp), allocatable :: xc(:,:)
+    integer, allocatable :: quad(:,:), pwall(:)
+    character(len=:), allocatable :: msg
     select case (b%shape_id)
     case (SHAPE_RECT)
       low = dot_product(b%center, n) - 0.5_wp*(b%size(1)*abs(n(1)) + b%size(2)*abs(n(2)))
+    case (SHAPE_TUBE, SHAPE_HONEYCOMB, SHAPE_WALLS, SHAPE_DISC)   ! the particles' corners
+      call body_mesh(b, xc, quad, pwall, stat, msg)
+      low = huge(1.0_wp)
+      if (stat /= 0) return
+      low = minval(matmul(n, xc))
     case default                           ! a ring's angles from a0 to a1; x . n is least at
       a0 = 0.0_wp                          ! an end of the range or where u(a) = -n
       a1 = 2.0_wp*pi
@@ -135,6 +285,12 @@ contains
     type(body_cfg_t), intent(in) :: a, b   !! the two bodies
     real(wp) :: d, lo(2), hi(2), near(2), far(2)
     depth = huge(1.0_wp)
+    if (meshed(a%shape_id) .or. meshed(b%shape_id)) then   ! the particles of the one that
+      depth = -1.0_wp                                        ! has them, inside the other
+      if (meshed(a%shape_id)) depth = max(depth, centroids_inside(a, b))
+      if (meshed(b%shape_id)) depth = max(depth, centroids_inside(b, a))
+      return
+    end if
     select case (a%shape_id)
     case (SHAPE_RECT)
       select case (b%shape_id)
@@ -160,6 +316,64 @@ contains
     end select
   end function body_overlap
 
+  !> Tube, honeycomb, walls, disc: shapes whose particles come from body_mesh.
+  pure logical function meshed(shape_id)
+    integer, intent(in) :: shape_id        !! SHAPE_* code
+    meshed = is_section(shape_id) .or. shape_id == SHAPE_DISC
+  end function meshed
+
+  !> How deep body a's particles reach into body b's material at t = 0, measured by the
+  !! particles whose centroid lies in it: the largest side sqrt(area) of those (an overlap
+  !! of a particle or more), or -1 when none does.
+  pure real(wp) function centroids_inside(a, b) result(depth)
+    type(body_cfg_t), intent(in) :: a, b   !! a meshed body, any body
+    real(wp), allocatable :: xa(:,:), xb(:,:)
+    integer, allocatable :: qa(:,:), qb(:,:), wa(:), wb(:)
+    integer :: k, stat
+    character(len=:), allocatable :: msg
+    real(wp) :: c(2), ar
+    depth = -1.0_wp
+    call body_mesh(a, xa, qa, wa, stat, msg)
+    if (stat /= 0) return
+    if (meshed(b%shape_id)) call body_mesh(b, xb, qb, wb, stat, msg)
+    if (stat /= 0) return
+    do k = 1, size(qa, 2)
+      c = 0.25_wp*sum(xa(:, qa(:, k)), dim=2)
+      ar = 0.5_wp*abs((xa(1, qa(3, k)) - xa(1, qa(1, k)))*(xa(2, qa(4, k)) - xa(2, qa(2, k))) &
+                      - (xa(2, qa(3, k)) - xa(2, qa(1, k)))*(xa(1, qa(4, k)) - xa(1, qa(2, k))))
+      if (.not. in_material(b, c, xb, qb)) cycle
+      depth = max(depth, sqrt(ar))
+    end do
+  end function centroids_inside
+
+  !> Whether point x lies in body b's material (a meshed body: in one of its particles xb, qb).
+  pure logical function in_material(b, x, xb, qb) result(inside)
+    type(body_cfg_t), intent(in) :: b      !! the body
+    real(wp), intent(in) :: x(2)           !! the point [m]
+    real(wp), allocatable, intent(in) :: xb(:,:)   !! b's corners, when meshed [m]
+    integer, allocatable, intent(in) :: qb(:,:)    !! b's particles, when meshed
+    integer :: k, j
+    real(wp) :: p(2), q(2)
+    select case (b%shape_id)
+    case (SHAPE_RING)
+      inside = norm2(x - b%center) < b%r_outer .and. norm2(x - b%center) > b%r_inner
+    case (SHAPE_RECT)
+      inside = all(abs(x - b%center) < 0.5_wp*b%size)
+    case default
+      inside = .false.
+      do k = 1, size(qb, 2)
+        inside = .true.
+        do j = 1, 4                        ! left of every edge of a convex particle
+          p = xb(:, qb(j, k))
+          q = xb(:, qb(1 + mod(j, 4), k))
+          if ((q(1) - p(1))*(x(2) - p(2)) - (q(2) - p(2))*(x(1) - p(1)) < 0.0_wp) &
+            inside = .false.
+        end do
+        if (inside) return
+      end do
+    end select
+  end function in_material
+
   !> Particles, corners and the largest particle extent of a body as body_counts makes them,
   !! in reals (the memory budget: a length in the wrong unit must not overflow an integer).
   pure subroutine body_estimate(b, np, nc, ext)
@@ -184,11 +398,51 @@ contains
       np = real(b%n_thick, wp)*nk
       nc = real(b%n_thick + 1, wp)*(nk + merge(0.0_wp, 1.0_wp, b%sector_id == SECTOR_FULL))
       ext = max(t/real(b%n_thick, wp), 2.0_wp*pi*b%r_outer/max(n_full, 1.0_wp))
-    case default
+    case (SHAPE_RECT)
       np = real(b%n_x, wp)*real(b%n_y, wp)
       nc = real(b%n_x + 1, wp)*real(b%n_y + 1, wp)
       ext = max(b%size(1)/real(max(b%n_x, 1), wp), b%size(2)/real(max(b%n_y, 1), wp))
+    case (SHAPE_DISC)                      ! disc_mesh: (n/2 + m) n particles a quadrant
+      t = b%r_outer/real(b%n_thick, wp)
+      np = 4.0_wp*real(b%n_thick, wp)**2
+      nc = np + 8.0_wp*real(b%n_thick, wp) + 1.0_wp
+      ext = 2.0_wp*t
+    case default                           ! walls: n_thick through, about square along,
+      t = b%thickness                      ! plus the joints' cores
+      if (b%shape_id == SHAPE_WALLS) t = minval(b%seg(5, :))
+      nk = real(b%n_thick, wp)*section_reach(b)/t    ! particles along all walls
+      np = real(b%n_thick, wp)*(nk + real(b%n_thick, wp)*joints(b))
+      nc = np + nk + real(b%n_thick + 1, wp)**2*joints(b)
+      ext = 2.0_wp*t/real(b%n_thick, wp)
     end select
+  contains
+    !> The walls' centreline length, in reals [m].
+    pure real(wp) function section_reach(b) result(len_c)
+      type(body_cfg_t), intent(in) :: b
+      integer :: k, m
+      len_c = 0.0_wp
+      select case (b%shape_id)
+      case (SHAPE_TUBE)
+        do k = 1, b%n_vertices
+          m = 1 + mod(k, b%n_vertices)
+          len_c = len_c + norm2(b%vertices(2*m - 1:2*m) - b%vertices(2*k - 1:2*k))
+        end do
+      case (SHAPE_HONEYCOMB)
+        len_c = real(b%n_cells(1), wp)*real(b%n_cells(2), wp)*(4.0_wp*b%cell_l + 2.0_wp*b%cell_h)
+      case (SHAPE_WALLS)
+        do k = 1, size(b%seg, 2)
+          len_c = len_c + norm2(b%seg(3:4, k) - b%seg(1:2, k))
+        end do
+      end select
+    end function section_reach
+    !> The joints (nodes), in reals.
+    pure real(wp) function joints(b)
+      type(body_cfg_t), intent(in) :: b
+      joints = real(b%n_vertices, wp)
+      if (b%shape_id == SHAPE_HONEYCOMB) joints = 6.0_wp*real(b%n_cells(1), wp)* &
+                                                  real(b%n_cells(2), wp)
+      if (b%shape_id == SHAPE_WALLS) joints = 2.0_wp*real(size(b%seg, 2), wp)
+    end function joints
   end subroutine body_estimate
 
   !> The line of body ib in the --check report.
@@ -197,6 +451,7 @@ contains
     integer, intent(in) :: ib              !! its index
     character(len=512) :: line
     integer :: np, nc, nk
+    real(wp) :: t
     call body_counts(b, np, nc, nk)
     select case (b%shape_id)
     case (SHAPE_RING)
@@ -206,9 +461,17 @@ contains
         ' m, particle aspect ', (2.0_wp*pi*0.5_wp*(b%r_inner + b%r_outer)/real(nk, wp) &
         *merge(1.0_wp, merge(0.5_wp, 0.25_wp, b%sector_id == SECTOR_HALF), &
         b%sector_id == SECTOR_FULL))/((b%r_outer - b%r_inner)/real(b%n_thick, wp))
-    case default
+    case (SHAPE_RECT)
       write(line, '(a,i0,a,i0,a,i0,a,i0,a)') 'body ', ib, ': rect, ', np, ' particles (', &
         b%n_x, ' x ', b%n_y, ')'
+    case (SHAPE_DISC)
+      write(line, '(a,i0,a,i0,a,i0,a)') 'body ', ib, ': disc, ', np, ' particles (', &
+        b%n_thick, ' along the radius)'
+    case default
+      t = b%thickness
+      if (b%shape_id == SHAPE_WALLS) t = minval(b%seg(5, :))
+      write(line, '(a,i0,a,i0,a,i0,a)') 'body ', ib, ': '//trim(shape_names(b%shape_id))// &
+        ', ', np, ' particles (', b%n_thick, ' through each wall), t = '//sci(t, 3)//' m'
     end select
   end function body_report
 

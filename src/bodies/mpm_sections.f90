@@ -36,7 +36,7 @@ module mpm_sections
   implicit none
   private
   public :: section_t, section_tube, section_honeycomb, section_walls, section_mesh, &
-            section_colours, section_area, section_length
+            section_colours, section_area, section_length, disc_mesh
 
   integer, parameter :: max_deg = 16       !! walls at one joint, at most
 
@@ -528,6 +528,55 @@ contains
     end do
   end subroutine cores
 
+  !> A solid disc (a filler): an O-grid of a central square (corners at r/2) divided n x n
+  !! and four blocks between its sides and the circle, n along and m = nint(0.9 n) out, the
+  !! block's lines straight between the square and n points of the circle (its chords).
+  pure subroutine disc_mesh(center, r, n_radius, xc, quad)
+    real(wp), intent(in) :: center(2)      !! centre [m]
+    real(wp), intent(in) :: r              !! radius [m]
+    integer, intent(in) :: n_radius        !! particles along the radius (n = 2 ceiling(n/2))
+    real(wp), allocatable, intent(out) :: xc(:,:)  !! corners (2, nc) [m]
+    integer, allocatable, intent(out) :: quad(:,:) !! corners of each particle (4, np)
+    real(wp), allocatable :: q(:,:,:), pts(:,:)
+    integer, allocatable :: qw(:), ids(:)
+    integer :: nq, n, m, side, i, j
+    real(wp) :: sq(2, 4), a0, p(2, 4)
+    n = max(2, 2*((n_radius + 1)/2))
+    m = max(1, nint(0.9_wp*real(n, wp)))
+    allocate(q(2, 4, 64), qw(64))
+    nq = 0
+    do i = 1, 4                            ! the square's corners at 45, 135, 225, 315 degrees
+      a0 = 0.25_wp*pi + 0.5_wp*pi*real(i - 1, wp)
+      sq(:, i) = center + 0.5_wp*r*[cos(a0), sin(a0)]
+    end do
+    call grid_quads(sq(:, 3), sq(:, 4), sq(:, 1), sq(:, 2), n, n, q, qw, nq, 0)
+    do side = 1, 4                         ! the block outside side (corner side -> side + 1)
+      do j = 0, m - 1
+        do i = 0, n - 1
+          p(:, 1) = block_point(side, i, j)          ! out, then along: counter-clockwise
+          p(:, 2) = block_point(side, i, j + 1)
+          p(:, 3) = block_point(side, i + 1, j + 1)
+          p(:, 4) = block_point(side, i + 1, j)
+          call push_quad(q, qw, nq, p, 0)
+        end do
+      end do
+    end do
+    pts = reshape(q(:, :, 1:nq), [2, 4*nq])
+    call merge_points(pts, 1.0e-9_wp*r, xc, ids)
+    quad = reshape(ids, [4, nq])
+  contains
+    pure function block_point(side, i, j) result(x)
+      integer, intent(in) :: side, i, j
+      real(wp) :: x(2), s, e, ang, inner(2), outer(2)
+      s = real(i, wp)/real(n, wp)
+      e = real(j, wp)/real(m, wp)
+      inner = (1.0_wp - s)*sq(:, side) + s*sq(:, 1 + mod(side, 4))
+      ang = 0.25_wp*pi + 0.5_wp*pi*(real(side - 1, wp) + s)
+      outer = center + r*[cos(ang), sin(ang)]
+      x = (1.0_wp - e)*inner + e*outer
+    end function block_point
+  end subroutine disc_mesh
+
   !> The right and left face ends (seen outward from the node) of wall e at its end `end_`.
   pure subroutine end_points(s, cut, e, end_, rr, ll)
     type(section_t), intent(in) :: s
@@ -695,23 +744,24 @@ contains
     type(section_t), intent(in) :: s
     integer, allocatable, intent(out) :: colour(:)   !! colour of each logical wall
     integer, intent(out) :: ncol
-    integer :: nw, k, f, i, j, a, b, he, h0, nd, deg, inc(max_deg), ends(max_deg), pos, c
+    type :: list_t
+      integer, allocatable :: v(:)
+    end type list_t
+    type(list_t), allocatable :: face(:), wface(:), wnode(:)
+    integer :: nw, k, f, i, j, jj, a, b, he, h0, deg, inc(max_deg), ends(max_deg), pos, nf
     real(wp) :: ang(max_deg), area
-    logical, allocatable :: conflict(:,:), adj(:,:), used(:), seen(:,:), onface(:)
+    logical, allocatable :: seen(:,:), used(:)
     integer, allocatable :: facew(:)
     nw = maxval(s%ew)
-    allocate(conflict(nw, nw), adj(nw, nw), seen(2, s%ne), onface(nw))
-    conflict = .false.
-    adj = .false.
-    do nd = 1, s%nn                         ! walls sharing a node are adjacent
-      call incident(s, nd, deg, inc, ends, ang)
-      do i = 1, deg
-        do j = 1, deg
-          adj(s%ew(inc(i)), s%ew(inc(j))) = .true.
-        end do
-      end do
+    allocate(wnode(nw), wface(nw), seen(2, s%ne), face(0))
+    do i = 1, nw
+      allocate(wnode(i)%v(0), wface(i)%v(0))
+    end do
+    do k = 1, s%ne                          ! the nodes of each logical wall
+      wnode(s%ew(k))%v = [wnode(s%ew(k))%v, s%en(:, k)]
     end do
     seen = .false.
+    nf = 0
     do f = 1, s%ne                          ! trace the faces: half-edge (wall, direction)
       do k = 1, 2
         if (seen(k, f)) cycle
@@ -735,13 +785,11 @@ contains
           h0 = ends(pos)
           if (seen(h0, he)) exit
         end do
-        if (area > 0.0_wp) then             ! an inner face (counter-clockwise)
-          onface = .false.
-          onface(facew) = .true.
-          do i = 1, nw
-            do j = 1, nw
-              if (onface(i) .and. onface(j) .and. .not. adj(i, j)) conflict(i, j) = .true.
-            end do
+        if (area > 0.0_wp) then             ! an inner face (counter-clockwise): a cell
+          nf = nf + 1
+          face = [face, list_t(facew)]
+          do i = 1, size(facew)
+            if (.not. any(wface(facew(i))%v == nf)) wface(facew(i))%v = [wface(facew(i))%v, nf]
           end do
         end if
         deallocate(facew)
@@ -749,16 +797,31 @@ contains
     end do
     allocate(colour(nw), used(nw + 1))
     colour = 0
-    ncol = 0
+    ncol = 1
     do i = 1, nw
       used = .false.
-      do j = 1, nw
-        if (conflict(i, j) .and. colour(j) > 0) used(colour(j)) = .true.
+      do jj = 1, size(wface(i)%v)
+        associate (fw => face(wface(i)%v(jj))%v)
+          do k = 1, size(fw)
+            j = fw(k)
+            if (colour(j) == 0) cycle
+            if (any_common(wnode(i)%v, wnode(j)%v)) cycle    ! adjacent: welded at the joint
+            used(colour(j)) = .true.
+          end do
+        end associate
       end do
-      c = findloc(used, .false., 1)
-      colour(i) = c
-      ncol = max(ncol, c)
+      colour(i) = findloc(used, .false., 1)
+      ncol = max(ncol, colour(i))
     end do
+  contains
+    pure logical function any_common(x, y)
+      integer, intent(in) :: x(:), y(:)
+      integer :: m
+      any_common = .false.
+      do m = 1, size(x)
+        if (any(y == x(m))) any_common = .true.
+      end do
+    end function any_common
   end subroutine section_colours
 
   ! ---------------------------------------------------------------------------- text

@@ -94,7 +94,8 @@ contains
     type(grid_t), intent(in) :: g          !! grid (masses)
     type(field_contact_t), intent(inout) :: fc  !! contact nodes and pair entries
     type(self_weld_t), intent(inout) :: sw !! the welded nodes
-    integer :: k, ip, a, b, kk, c, fa, fb, e, n0, nf
+    integer :: k, ip, a, b, kk, c, fa, fb, e, n0, nf, f, ng
+    integer, allocatable :: grp(:)
     nf = size(field_body)
     sw%nweld = 0
     if (fc%ncn == 0) return
@@ -115,18 +116,32 @@ contains
         end do
       end do
     end do
+    allocate(grp(nf))
     do c = 1, fc%ncn
       n0 = fc%node(c)
-      do fa = 1, nf - 1
-        fb = fa + 1                          ! the two halves of a body are consecutive fields
-        if (field_body(fa) /= field_body(fb)) cycle
-        if (.not. (sw%bonded(fa, c) .and. sw%bonded(fb, c))) cycle
-        if (.not. (g%mass(n0 + g%nn*(fa - 1)) > g%mass_cut .and. &
-                   g%mass(n0 + g%nn*(fb - 1)) > g%mass_cut)) cycle
-        call push_weld(sw, n0, fa, fb)
-        do e = fc%first(c), fc%first(c + 1) - 1
-          if (fc%pn_a(e) == fa .and. fc%pn_b(e) == fb) fc%pn_law(e) = 0
+      fa = 1
+      do while (fa <= nf)                    ! the fields of one body are consecutive
+        fb = fa
+        do while (fb < nf)
+          if (field_body(fb + 1) /= field_body(fa)) exit
+          fb = fb + 1
         end do
+        ng = 0                               ! its fields with bonded particles and mass here
+        do f = fa, fb
+          if (sw%bonded(f, c) .and. g%mass(n0 + g%nn*(f - 1)) > g%mass_cut) then
+            ng = ng + 1
+            grp(ng) = f
+          end if
+        end do
+        if (ng >= 2) then
+          do f = 2, ng
+            call push_weld(sw, n0, grp(1), grp(f))
+          end do
+          do e = fc%first(c), fc%first(c + 1) - 1
+            if (any(grp(1:ng) == fc%pn_a(e)) .and. any(grp(1:ng) == fc%pn_b(e))) fc%pn_law(e) = 0
+          end do
+        end if
+        fa = fb + 1
       end do
     end do
   end subroutine self_contact_mark
@@ -146,26 +161,43 @@ contains
     sw%wn(:, sw%nweld) = [n0, fa, fb]
   end subroutine push_weld
 
-  !> Weld the halves at the welded nodes: both velocities become their mass-weighted mean (and
-  !! with record, step 3, the velocity changes that FLIP adds too).
+  !> Weld the fields at the welded nodes: the velocities of a node's group (its entries with
+  !! one first field) become their mass-weighted mean (and with record, step 3, the velocity
+  !! changes that FLIP adds too).
   subroutine self_contact_weld(g, sw, record)
     type(grid_t), intent(inout) :: g       !! grid: velocities (and their changes)
     type(self_weld_t), intent(in) :: sw    !! the welded nodes
     logical, intent(in) :: record          !! step 3: also dvel
-    integer :: k, na, nb
-    real(wp) :: ma, mb, v(2)
-    do k = 1, sw%nweld
+    integer :: k, k1, j, na, nb
+    real(wp) :: ms, v(2), dv(2)
+    k = 1
+    do while (k <= sw%nweld)
+      k1 = k                                 ! the group: entries k .. k1 with one node, field a
+      do while (k1 < sw%nweld)
+        if (sw%wn(1, k1 + 1) /= sw%wn(1, k) .or. sw%wn(2, k1 + 1) /= sw%wn(2, k)) exit
+        k1 = k1 + 1
+      end do
       na = sw%wn(1, k) + g%nn*(sw%wn(2, k) - 1)
-      nb = sw%wn(1, k) + g%nn*(sw%wn(3, k) - 1)
-      ma = g%mass(na)
-      mb = g%mass(nb)
-      v = (ma*g%vel(:, na) + mb*g%vel(:, nb))/(ma + mb)
+      ms = g%mass(na)
+      v = g%mass(na)*g%vel(:, na)
+      dv = 0.0_wp
+      if (record) dv = g%mass(na)*g%dvel(:, na)
+      do j = k, k1
+        nb = sw%wn(1, j) + g%nn*(sw%wn(3, j) - 1)
+        v = v + g%mass(nb)*g%vel(:, nb)
+        if (record) dv = dv + g%mass(nb)*g%dvel(:, nb)
+        ms = ms + g%mass(nb)
+      end do
+      v = v/ms
+      dv = dv/ms
       g%vel(:, na) = v
-      g%vel(:, nb) = v
-      if (.not. record) cycle
-      v = (ma*g%dvel(:, na) + mb*g%dvel(:, nb))/(ma + mb)
-      g%dvel(:, na) = v
-      g%dvel(:, nb) = v
+      if (record) g%dvel(:, na) = dv
+      do j = k, k1
+        nb = sw%wn(1, j) + g%nn*(sw%wn(3, j) - 1)
+        g%vel(:, nb) = v
+        if (record) g%dvel(:, nb) = dv
+      end do
+      k = k1 + 1
     end do
   end subroutine self_contact_weld
 end module mpm_self_contact

@@ -10,7 +10,8 @@ module mpm_setup
                            contact_names
   use mpm_config, only: config_t
   use mpm_particles, only: particles_allocate, basis_reach
-  use mpm_bodies, only: body_counts, body_fill, body_report
+  use mpm_bodies, only: body_counts, body_fill, body_report, body_fields, body_field_split, &
+                        is_section
   use mpm_grid, only: grid_init
   use mpm_tiles, only: tiles_init
   use mpm_walls, only: wall_t, wall_stroke_setup, wall_end_time, wall_travel
@@ -183,19 +184,19 @@ contains
     do i = 1, nb                             ! the fields of each body, in order
       first(i) = k + 1
       centers(:, i) = cfg%bodies(i)%center
-      k = k + 1
-      s%prm%field_body(k) = i
-      if (.not. cfg%bodies(i)%self_contact) cycle
-      k = k + 1
-      s%prm%field_body(k) = i
+      do j = 1, body_fields(cfg%bodies(i))
+        k = k + 1
+        s%prm%field_body(k) = i
+      end do
     end do
     s%prm%field = first(s%p%body(1:s%p%np))
-    self = cfg%bodies%self_contact
-    if (any(self)) then
+    self = cfg%bodies%self_contact .and. cfg%bodies%shape_id == SHAPE_RING
+    if (any(cfg%bodies%self_contact)) then
       allocate(s%prm%self_bond(s%p%np))
       call self_contact_split(s%p%x(:, 1:s%p%np), s%p%half(:, 1:s%p%np), s%p%body(1:s%p%np), &
                               self, centers, first, cfg%grid%h, &
                               s%prm%field, s%prm%self_bond)
+      call section_fields(cfg, s, first)
     end if
     s%prm%corner_field = 1
     do ip = 1, s%p%np
@@ -230,6 +231,36 @@ contains
     s%pair_acc = 0.0_wp
     s%pair_force = 0.0_wp
   end subroutine setup_fields
+
+  !> The fields of the sections with self-contact (mpm_bodies' body_field_split): each
+  !! particle's field from its wall's colour, and bonded (welded to the other fields) when its
+  !! centre at t = 0 lies within 2 h + 2 hmax of a seam, as a ring's seam particles are.
+  subroutine section_fields(cfg, s, first)
+    type(config_t), intent(in) :: cfg      !! the case
+    type(sim_t), intent(inout) :: s        !! fields of the particles set
+    integer, intent(in) :: first(:)        !! first field of each body
+    integer :: ib, ip0, k, ip, j
+    integer, allocatable :: pfield(:)
+    real(wp), allocatable :: seams(:,:)
+    real(wp) :: band
+    ip0 = 0
+    do ib = 1, size(cfg%bodies)
+      k = count(s%p%body(1:s%p%np) == ib)
+      if (cfg%bodies(ib)%self_contact .and. is_section(cfg%bodies(ib)%shape_id)) then
+        call body_field_split(cfg%bodies(ib), pfield, seams)
+        band = 2.0_wp*cfg%grid%h + 2.0_wp*maxval(s%p%half(:, ip0 + 1:ip0 + k))
+        do j = 1, k
+          ip = ip0 + j
+          s%prm%field(ip) = first(ib) + pfield(j) - 1
+          s%prm%self_bond(ip) = 0
+          if (size(seams, 2) == 0) cycle
+          if (minval(norm2(seams - spread(s%p%x(:, ip), 2, size(seams, 2)), dim=1)) < band) &
+            s%prm%self_bond(ip) = 1
+        end do
+      end if
+      ip0 = ip0 + k
+    end do
+  end subroutine section_fields
 
   !> A fixed grid must hold the node block of every particle at t = 0, or step 1 would stop
   !! the run ("left the grid"): step 1's own test (weights_compute) run now, refused as an
@@ -432,7 +463,8 @@ contains
     type(sim_t), intent(in) :: s           !! the simulation at t = 0
     character(len=:), allocatable, intent(out) :: report    !! the set-up, one item per line
     character(len=:), allocatable, intent(out) :: warnings  !! warnings, one per line ('' none)
-    integer :: ib, nthreads
+    integer :: ib, nthreads, nring, k
+    logical, allocatable :: ring_particle(:)
     real(wp) :: dt_stable, dt, cfl_auto
     real(wp) :: steps                      ! to t_end at the initial speeds [-]
     real(wp) :: seconds, rate, avail
@@ -470,10 +502,22 @@ contains
           'fields (one per body), '//pair_laws_text(s))
       end if
     end if
-    if (allocated(s%prm%self_bond)) call append_msg(report, 'self-contact: '// &
-      itoa(s%prm%nf - s%prm%nbody)//' ring(s) split into upper and lower halves (two velocity '// &
-      'fields, welded at the seams y = centre, frictionless contact elsewhere; '// &
-      itoa(count(s%prm%self_bond /= 0))//' particles bonded at the seams)')
+    if (allocated(s%prm%self_bond)) then
+      nring = count(cfg%bodies%self_contact .and. cfg%bodies%shape_id == SHAPE_RING)
+      ring_particle = cfg%bodies(s%p%body(1:s%p%np))%shape_id == SHAPE_RING
+      if (nring > 0) call append_msg(report, 'self-contact: '//itoa(nring)// &
+        ' ring(s) split into upper and lower halves (two velocity '// &
+        'fields, welded at the seams y = centre, frictionless contact elsewhere; '// &
+        itoa(count(s%prm%self_bond /= 0 .and. ring_particle))//' particles bonded at the seams)')
+      do k = 1, size(cfg%bodies)
+        if (.not. (cfg%bodies(k)%self_contact .and. is_section(cfg%bodies(k)%shape_id))) cycle
+        call append_msg(report, 'self-contact: body '//itoa(k)//': walls in '// &
+          itoa(body_fields(cfg%bodies(k)))//' velocity fields (walls of one cell that share '// &
+          'no joint apart), welded at the joints between them, frictionless elsewhere; '// &
+          itoa(count(s%prm%self_bond /= 0 .and. s%p%body(1:s%p%np) == k))// &
+          ' particles bonded at those joints')
+      end do
+    end if
     write(line, '(a,i0,4a)') 'walls: ', s%nwall, ' (', &
       plural(count(s%walls(:)%mirror), 'mirror plane'), ' added by the sector)'
     call append_msg(report, line)

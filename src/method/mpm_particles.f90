@@ -13,6 +13,7 @@ module mpm_particles
   implicit none
   private
   public :: particles_t, particles_allocate, ring_counts, ring_fill, rect_counts, rect_fill, &
+            quads_fill, &
             quad_area_centroid, particles_memory_bytes, particles_write, particles_read, &
             particle_corners, particles_copy, basis_reach, basis_block, corner_gaps
 
@@ -167,6 +168,23 @@ contains
       end do
     end do
   end subroutine rect_fill
+
+  !> Fill particles ip0+1.. and corners ic0+1.. from given quadrilaterals (mpm_sections).
+  subroutine quads_fill(p, ip0, ic0, xc, quad, rho, velocity, imat, ibody)
+    type(particles_t), intent(inout) :: p     !! particles
+    integer, intent(in) :: ip0, ic0           !! particles and corners already filled
+    real(wp), intent(in) :: xc(:,:)           !! corners (2, nc) [m]
+    integer, intent(in) :: quad(:,:)          !! corners of each particle, counter-clockwise
+    real(wp), intent(in) :: rho               !! density (mass-scaled) [kg/m^3]
+    real(wp), intent(in) :: velocity(2)       !! initial velocity [m/s]
+    integer, intent(in) :: imat, ibody        !! material and body index
+    integer :: k
+    p%xc(:, ic0 + 1:ic0 + size(xc, 2)) = xc
+    do k = 1, size(quad, 2)
+      p%corner(:, ip0 + k) = ic0 + quad(:, k)
+      call set_particle(p, ip0 + k, xc(:, quad(:, k)), rho, velocity, imat, ibody)
+    end do
+  end subroutine quads_fill
 
   !> Initial state of one particle from its quadrilateral.
   subroutine set_particle(p, ip, xq, rho, velocity, imat, ibody)
