@@ -400,6 +400,9 @@ contains
         end if
       end do
     end if
+    if (b%self_contact .and. b%sector_id == SECTOR_QUARTER) call err_var(rd, io, &
+      'self_contact', '.true.', 'not with sector = ''quarter'' (it meets its mirror image on '// &
+      'the plane y = centre)')
     if (b%corner_radius > 0.0_wp .and. b%thickness > 0.0_wp .and. &
         b%corner_radius < 0.5_wp*b%thickness) call err_var(rd, io, 'corner_radius', &
       fmt_real(b%corner_radius), 'below thickness/2 = '//fmt_real(0.5_wp*b%thickness)// &

@@ -22,7 +22,7 @@ module mpm_budget
                            SECTOR_QUARTER, BASIS_CPDI2, VOLUMETRIC_FBAR, &
                            VOLUMETRIC_FBARWALL, CONTACT_SLIP
   use mpm_config, only: config_t
-  use mpm_bodies, only: body_box, body_estimate, body_fields
+  use mpm_bodies, only: body_box, body_estimate, body_fields, has_sector
   use mpm_particles, only: basis_reach, basis_block
   use mpm_units, only: advice_units
   use mpm_strings, only: itoa, sci
@@ -74,7 +74,7 @@ contains
       call body_box(cfg%bodies(ib), blo, bhi)
       lo = min(lo, blo)
       hi = max(hi, bhi)
-      if (cfg%bodies(ib)%shape_id == SHAPE_RING) sector = max(sector, cfg%bodies(ib)%sector_id)
+      if (has_sector(cfg%bodies(ib)%shape_id)) sector = max(sector, cfg%bodies(ib)%sector_id)
     end do
     b%nb = basis_block(cfg%solver%basis_id, ext_max, h)
     nmirror = 0

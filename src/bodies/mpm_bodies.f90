@@ -15,12 +15,13 @@ module mpm_bodies
                            SECTOR_QUARTER, sector_names, shape_names, max_vertices
   use mpm_particles, only: particles_t, ring_counts, ring_fill, rect_counts, rect_fill, quads_fill
   use mpm_sections, only: section_t, section_tube, section_honeycomb, section_walls, &
-                          section_mesh, disc_mesh, section_colours
+                          section_mesh, disc_mesh, section_colours, section_clip
   use mpm_strings, only: sci
   implicit none
   private
   public :: body_cfg_t, body_counts, body_fill, body_box, body_low, body_overlap, body_estimate, &
-            body_report, body_section, body_mesh, is_section, body_fields, body_field_split
+            body_report, body_section, body_mesh, is_section, body_fields, body_field_split, &
+            has_sector
 
   !> &body (repeatable): one component per row of the input table (mpm_config_table), with its
   !! default; the rows of one shape only carry `only = '<shape>'`.
@@ -73,6 +74,12 @@ contains
       nc = size(xc, 2)
     end select
   end subroutine body_counts
+
+  !> Whether the shape may be a half or quarter model (`sector`): rings and tubes.
+  elemental logical function has_sector(shape_id)
+    integer, intent(in) :: shape_id        !! SHAPE_* code
+    has_sector = shape_id == SHAPE_RING .or. shape_id == SHAPE_TUBE
+  end function has_sector
 
   !> Whether the shape is a wall graph of mpm_sections (tube, honeycomb, walls).
   elemental logical function is_section(shape_id)
@@ -162,6 +169,15 @@ contains
       return
     end if
     call body_section(b, s)
+    stat = 0
+    if (b%sector_id == SECTOR_HALF .or. b%sector_id == SECTOR_QUARTER) &
+      call section_clip(s, b%center, [1.0_wp, 0.0_wp], stat, msg)   ! half: x >= centre
+    if (stat == 0 .and. b%sector_id == SECTOR_QUARTER) &
+      call section_clip(s, b%center, [0.0_wp, 1.0_wp], stat, msg)   ! quarter: and y >= centre
+    if (stat /= 0) then
+      allocate(xc(2, 0), quad(4, 0), pwall(0))
+      return
+    end if
     call section_mesh(s, b%n_thick, xc, quad, pwall, stat, msg)
   end subroutine body_mesh
 
@@ -223,6 +239,8 @@ contains
       end if
       lo = xn(:, 1) - reach
       hi = xn(:, 2) + reach
+      if (b%sector_id == SECTOR_HALF .or. b%sector_id == SECTOR_QUARTER) lo(1) = b%center(1)
+      if (b%sector_id == SECTOR_QUARTER) lo(2) = b%center(2)
     case default
       lo = b%center - b%r_outer
       hi = b%center + b%r_outer

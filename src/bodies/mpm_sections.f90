@@ -36,7 +36,7 @@ module mpm_sections
   implicit none
   private
   public :: section_t, section_tube, section_honeycomb, section_walls, section_mesh, &
-            section_colours, section_area, section_length, disc_mesh
+            section_colours, section_area, section_length, disc_mesh, section_clip
 
   integer, parameter :: max_deg = 16       !! walls at one joint, at most
 
@@ -201,6 +201,72 @@ contains
     s%ne = ns
     s%xn = x(:, 1:nn)
   end subroutine section_walls
+
+  !> Keep the part of the walls on the side (x - c) . n >= 0 of a mirror plane: a wall that
+  !! crosses it is cut there (it must cross square to the plane: its cut end lies in the
+  !! plane), walls behind it are dropped. The logical walls keep their ids (the colours of
+  !! self-contact are those of the whole section).
+  pure subroutine section_clip(s, c, n, stat, msg)
+    type(section_t), intent(inout) :: s    !! the walls
+    real(wp), intent(in) :: c(2), n(2)     !! a point of the plane, its unit normal
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: msg
+    real(wp), allocatable :: x(:,:), et(:)
+    integer, allocatable :: en(:,:), ew(:)
+    integer :: k, a, b, nn, ne, m
+    real(wp) :: da, db, tol, u(2), xm(2)
+    stat = 0
+    msg = ''
+    tol = 1.0e-9_wp*maxval(abs(s%xn))
+    x = s%xn
+    nn = s%nn
+    allocate(en(2, 0), et(0), ew(0))
+    ne = 0
+    do k = 1, s%ne
+      a = s%en(1, k)
+      b = s%en(2, k)
+      da = dot_product(s%xn(:, a) - c, n)
+      db = dot_product(s%xn(:, b) - c, n)
+      if (da >= -tol .and. db >= -tol) then
+        if (abs(da) <= tol .and. abs(db) <= tol) cycle        ! in the plane: its image's
+      else if (da <= tol .and. db <= tol) then
+        cycle                                                 ! behind the plane
+      else
+        u = (s%xn(:, b) - s%xn(:, a))/norm2(s%xn(:, b) - s%xn(:, a))
+        if (abs(abs(dot_product(u, n)) - 1.0_wp) > 1.0e-9_wp) then
+          stat = 1
+          msg = 'a wall crosses the mirror plane at an angle (a sector needs the walls '// &
+            'it cuts square to its planes, and a section symmetric about them)'
+          return
+        end if
+        xm = s%xn(:, a) + (s%xn(:, b) - s%xn(:, a))*(da/(da - db))
+        xm = xm - dot_product(xm - c, n)*n                    ! exactly in the plane
+        m = find_node(x, nn, xm, tol)
+        if (m == 0) then
+          x = reshape([x(:, 1:nn), xm], [2, nn + 1])
+          nn = nn + 1
+          m = nn
+        end if
+        if (da < 0.0_wp) a = m
+        if (db < 0.0_wp) b = m
+      end if
+      en = reshape([en, a, b], [2, ne + 1])
+      et = [et, s%et(k)]
+      ew = [ew, s%ew(k)]
+      ne = ne + 1
+    end do
+    if (ne == 0) then
+      stat = 1
+      msg = 'no wall lies on the modelled side of the mirror plane'
+      return
+    end if
+    s%nn = nn
+    s%xn = x(:, 1:nn)
+    s%ne = ne
+    s%en = en
+    s%et = et
+    s%ew = ew
+  end subroutine section_clip
 
   !> The node of x(:, 1:n) within tol of p, or 0.
   pure integer function find_node(x, n, p, tol) result(id)

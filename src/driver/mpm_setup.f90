@@ -11,7 +11,7 @@ module mpm_setup
   use mpm_config, only: config_t
   use mpm_particles, only: particles_allocate, basis_reach
   use mpm_bodies, only: body_counts, body_fill, body_report, body_fields, body_field_split, &
-                        is_section
+                        is_section, has_sector
   use mpm_grid, only: grid_init
   use mpm_tiles, only: tiles_init
   use mpm_walls, only: wall_t, wall_stroke_setup, wall_end_time, wall_travel
@@ -40,7 +40,7 @@ contains
     integer :: ib
     f = 1.0_wp
     do ib = 1, size(cfg%bodies)
-      if (cfg%bodies(ib)%shape_id /= SHAPE_RING) cycle
+      if (.not. has_sector(cfg%bodies(ib)%shape_id)) cycle
       if (cfg%bodies(ib)%sector_id == SECTOR_HALF) f = 2.0_wp
       if (cfg%bodies(ib)%sector_id == SECTOR_QUARTER) f = 4.0_wp
     end do
@@ -80,7 +80,7 @@ contains
     nc = 0
     do ib = 1, size(cfg%bodies)
       associate (b => cfg%bodies(ib))
-        if (b%shape_id == SHAPE_RING) then
+        if (has_sector(b%shape_id)) then
           if (b%sector_id /= SECTOR_FULL) then
             if (sector_id /= SECTOR_FULL .and. sector_id /= b%sector_id) then
               call append_msg(errmsg, trim(cfg%file)//': &body #'//itoa(ib)// &
@@ -451,7 +451,7 @@ contains
     integer :: ib
     c = 0.0_wp
     do ib = size(cfg%bodies), 1, -1
-      if (cfg%bodies(ib)%shape_id == SHAPE_RING .and. cfg%bodies(ib)%sector_id /= SECTOR_FULL) &
+      if (has_sector(cfg%bodies(ib)%shape_id) .and. cfg%bodies(ib)%sector_id /= SECTOR_FULL) &
         c = cfg%bodies(ib)%center
     end do
   end function first_sector_center

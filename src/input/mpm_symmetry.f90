@@ -25,7 +25,7 @@ module mpm_symmetry
   use mpm_config_text, only: itoa, fmt_short, fmt_vec
   use mpm_config_lexer, only: reader_t, occurrence
   use mpm_config_values, only: err_var
-  use mpm_bodies, only: body_low
+  use mpm_bodies, only: body_low, has_sector
   implicit none
   private
   public :: symmetry_checks
@@ -46,7 +46,7 @@ contains
       io = occurrence(rd, 'body', k)
       if (io == 0) cycle
       if (.not. rd%occ(io)%ok) cycle
-      if (cfg%bodies(k)%shape_id == SHAPE_RING .and. cfg%bodies(k)%sector_id /= SECTOR_FULL) then
+      if (has_sector(cfg%bodies(k)%shape_id) .and. cfg%bodies(k)%sector_id /= SECTOR_FULL) then
         first = k
         exit
       end if
@@ -80,14 +80,14 @@ contains
             trim(merge('planes', 'plane ', nm == 2))//'), or sector = ''full'' for the '// &
             'whole structure')
         end do
-        if (k /= first .and. b%shape_id == SHAPE_RING .and. b%sector_id /= SECTOR_FULL) then
+        if (k /= first .and. has_sector(b%shape_id) .and. b%sector_id /= SECTOR_FULL) then
           if (b%center(1) /= center(1) .or. (nm == 2 .and. b%center(2) /= center(2))) &
             call err_var(rd, io, 'center', fmt_vec(b%center), 'not on the mirror '// &
               trim(merge('planes', 'plane ', nm == 2))//' of '//model, &
               'the centre of &body #'//itoa(first)// &
               ' ('//fmt_vec(center)//'), or sector = ''full''')
         end if
-        if (b%shape_id /= SHAPE_RING .or. b%sector_id == SECTOR_FULL) then
+        if (.not. has_sector(b%shape_id) .or. b%sector_id == SECTOR_FULL) then
           do m = 1, nm                     ! a whole body: on the modelled side
             reach = center(m) - body_low(b, normals(:, m))
             if (reach > 0.5_wp*cfg%grid%h) then
