@@ -3,7 +3,7 @@
 ! SPDX-License-Identifier: MIT
 module mpm_config_check
   use mpm_kinds, only: wp
-  use mpm_constants, only: BASIS_CPDI2, SCHEME_MUSL, PLANE_STRAIN, SHAPE_RING, SHAPE_RECT, &
+  use mpm_constants, only: SHAPE_DISC, BASIS_CPDI2, SCHEME_MUSL, PLANE_STRAIN, SHAPE_RING, SHAPE_RECT, &
                            SECTOR_HALF, SECTOR_QUARTER, VOLUMETRIC_FBAR, VOLUMETRIC_FBARWALL, &
                            PLANE_STRESS, MODEL_NEOHOOKEAN
   use mpm_config_types, only: config_t
@@ -77,6 +77,9 @@ contains
     if (fbar .and. cfg%solver%volumetric_id == VOLUMETRIC_FBARWALL .and. any(cfg%bodies% &
         shape_id /= SHAPE_RING)) call err_var(rd, io_solver, 'volumetric', vname, 'needs rings '// &
       '(it fits through a ring''s wall)', '''standard'' or ''fbar'', or shape = ''ring''')
+    if (fbar .and. any(cfg%bodies%shape_id == SHAPE_DISC)) call err_var(rd, io_solver, &
+      'volumetric', vname, 'is not for a solid disc (it loses 2-3 % of the energy at a wall '// &
+      'there)', '''standard'' with a &body of shape ''disc''')
     ! body -> material
     do k = 1, size(cfg%bodies)
       if (.not. rd%occ(occ_body(k))%read_ok .or. size(cfg%materials) == 0) cycle

@@ -229,7 +229,7 @@ module mpm_config_table
     var_spec_t('body', 'walls_file', 'c', max_len=path_len, required=.true., unset='emp', &
       only='walls', allowed='a CSV file (relative to the input file''s folder), one wall '// &
       'per line: x1, y1, x2, y2, thickness [m] (required for shape = ''walls'')', &
-      comment='CSV of walls: x1, y1, x2, y2, t [m]'), &
+      comment='CSV of walls: x1, y1, x2, y2, t'), &
     var_spec_t('body', 'velocity', n=2, allowed=v0, comment='initial velocity [m/s]'), &
     ! ---------------------------------------------------------------------------- &wall
     var_spec_t('wall', 'point', n=2, r0=big, required=.true., unset='huge', &

@@ -18,8 +18,9 @@ module mpm_advice
                            PLANE_STRESS, SCHEME_USL, SCHEME_MUSL, BASIS_LINEAR, BASIS_UGIMP, &
                            BASIS_CPDI1, BASIS_CPDI2, MODEL_NEOHOOKEAN, &
                            VOLUMETRIC_FBAR, VOLUMETRIC_STANDARD, VOLUMETRIC_FBARWALL, &
-                           volumetric_names, pi
+                           volumetric_names, pi, CONTACT_STICK, CONTACT_BONDED
   use mpm_particles, only: ring_counts
+  use mpm_bodies, only: body_wall_thickness, is_section
   use mpm_config_types, only: config_t
   use mpm_walls, only: wall_t, wall_travel
   use mpm_errors, only: append_msg
@@ -64,6 +65,7 @@ module mpm_advice
   !> ... and with about square particles: outside this particle aspect --check warns [-]
   real(wp), parameter :: fbarwall_aspect_lo = 0.8_wp, fbarwall_aspect_hi = 1.25_wp
   !> Where each warning's evidence is (the doc sections the warnings end with)
+  character(len=*), parameter :: doc_seams = 'docs/method.md#self-contact'
   character(len=*), parameter :: doc_thin = 'docs/stability.md#thin-walls', &
     doc_ppc = 'docs/stability.md#particles', &
     doc_spacing = 'docs/validation.md#spacing', &
@@ -139,9 +141,9 @@ contains
     integer :: ib
     ppc = huge(1.0_wp)
     do ib = 1, size(cfg%bodies)
-      if (cfg%bodies(ib)%shape_id /= SHAPE_RING) cycle
+      if (body_wall_thickness(cfg%bodies(ib)) <= 0.0_wp) cycle   ! rings and sections
       ppc = min(ppc, real(cfg%bodies(ib)%n_thick, wp)*cfg%grid%h/ &
-                (cfg%bodies(ib)%r_outer - cfg%bodies(ib)%r_inner))
+                body_wall_thickness(cfg%bodies(ib)))
     end do
   end function wall_particles_per_cell
 
@@ -249,6 +251,7 @@ contains
     end if
     call advice_stability(cfg, dt*(c_max + vmax)/h, warnings)
     call advice_full_crush(cfg, walls, warnings)
+    call advice_seams(cfg, warnings)
   end subroutine advice_check
 
   !> The wall time of a run of `work` particle-steps on `threads` threads of the release build
@@ -286,6 +289,7 @@ contains
     worst = 0
     do ib = 1, size(cfg%bodies)
       associate (b => cfg%bodies(ib))
+        if (is_section(b%shape_id)) call ring_resolution(cfg, ib, warnings)   ! as for rings
         if (b%shape_id /= SHAPE_RING) cycle
         t = b%r_outer - b%r_inner
         call ring_resolution(cfg, ib, warnings)
@@ -326,12 +330,12 @@ contains
   !! wall, and the refinement study's error at h between t/4 and t/2.
   subroutine ring_resolution(cfg, ib, warnings)
     type(config_t), intent(in) :: cfg
-    integer, intent(in) :: ib                !! a ring body
+    integer, intent(in) :: ib                !! a ring body, or a section (its thinnest wall)
     character(len=:), allocatable, intent(inout) :: warnings
     real(wp) :: t
     character(len=512) :: line
     associate (b => cfg%bodies(ib))
-      t = b%r_outer - b%r_inner
+      t = body_wall_thickness(b)
       if (wall_too_thin(cfg%grid%h, t)) then
         write(line, '(a,i0,a)') 'body ', ib, ': h >= t = '//sci(t, 2)// &
           ' m: wall faces share nodes. Set h = '//sci(0.25_wp*t, 2)// &
@@ -360,6 +364,24 @@ contains
       end if
     end associate
   end subroutine ring_resolution
+
+  !> A section's self-contact seams (welded joints) pressed on a 'stick' or 'bonded' wall
+  !! with a basis of squares: the weld mixes a stuck field with a free one, which went
+  !! unstable (basis 'ugimp', a multi-cell tube's T joint on a 'stick' platen).
+  subroutine advice_seams(cfg, warnings)
+    type(config_t), intent(in) :: cfg
+    character(len=:), allocatable, intent(inout) :: warnings
+    integer :: ib
+    if (cfg%solver%basis_id /= BASIS_UGIMP .and. cfg%solver%basis_id /= BASIS_LINEAR) return
+    if (.not. any(cfg%walls%contact_id == CONTACT_STICK .or. &
+                  cfg%walls%contact_id == CONTACT_BONDED)) return
+    do ib = 1, size(cfg%bodies)
+      if (.not. (cfg%bodies(ib)%self_contact .and. is_section(cfg%bodies(ib)%shape_id))) cycle
+      call append_msg(warnings, 'body '//itoa(ib)//': self-contact joints on a ''stick'' or '// &
+        '''bonded'' wall may go unstable with basis '''// &
+        trim(basis_names(cfg%solver%basis_id))//'''. Set basis = ''cpdi2'' ('//doc_seams//')')
+    end do
+  end subroutine advice_seams
 
   !> Where the stability study (docs/stability.md, tools/stability.py) found the method
   !! failing: particles per cell through the wall, cfl against the measured limit for the

@@ -21,7 +21,7 @@ module mpm_bodies
   private
   public :: body_cfg_t, body_counts, body_fill, body_box, body_low, body_overlap, body_estimate, &
             body_report, body_section, body_mesh, is_section, body_fields, body_field_split, &
-            has_sector
+            has_sector, body_wall_thickness
 
   !> &body (repeatable): one component per row of the input table (mpm_config_table), with its
   !! default; the rows of one shape only carry `only = '<shape>'`.
@@ -74,6 +74,21 @@ contains
       nc = size(xc, 2)
     end select
   end subroutine body_counts
+
+  !> The thickness of a body's thinnest wall (ring, tube, honeycomb, walls; 0 for a
+  !! rectangle or a disc, which have none) [m].
+  pure real(wp) function body_wall_thickness(b) result(t)
+    type(body_cfg_t), intent(in) :: b      !! the body
+    t = 0.0_wp
+    select case (b%shape_id)
+    case (SHAPE_RING)
+      t = b%r_outer - b%r_inner
+    case (SHAPE_TUBE, SHAPE_HONEYCOMB)
+      t = b%thickness
+    case (SHAPE_WALLS)
+      if (allocated(b%seg)) t = minval(b%seg(5, :))
+    end select
+  end function body_wall_thickness
 
   !> Whether the shape may be a half or quarter model (`sector`): rings and tubes.
   elemental logical function has_sector(shape_id)
