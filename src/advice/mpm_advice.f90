@@ -85,15 +85,15 @@ contains
     nt = max(2, ceiling(2.0_wp*t/h - 1.0e-9_wp))
   end function n_thick_for
 
-  !> The thickness of the thinnest ring wall of the case (0 without rings) [m]
+  !> The thickness of the thinnest wall of the case's rings and sections (0 without) [m]
   pure real(wp) function ring_t(cfg) result(t)
     type(config_t), intent(in) :: cfg      !! the case
     integer :: ib
     t = 0.0_wp
-    do ib = 1, size(cfg%bodies)
-      if (cfg%bodies(ib)%shape_id /= SHAPE_RING) cycle
-      if (t == 0.0_wp .or. cfg%bodies(ib)%r_outer - cfg%bodies(ib)%r_inner < t) &
-        t = cfg%bodies(ib)%r_outer - cfg%bodies(ib)%r_inner
+    do ib = 1, size(cfg%bodies)            ! rings and the walls of sections
+      if (body_wall_thickness(cfg%bodies(ib)) <= 0.0_wp) cycle
+      if (t == 0.0_wp .or. body_wall_thickness(cfg%bodies(ib)) < t) &
+        t = body_wall_thickness(cfg%bodies(ib))
     end do
   end function ring_t
 
