@@ -110,6 +110,14 @@ def _ring(inputs: Inputs) -> dict[str, Any] | None:
         return None
 
 
+def _section_crush(inputs: Inputs) -> bool:
+    """A tube, honeycomb or walls body (the scene kinds are a ring's) with a moving wall."""
+    shapes = {str(b.get("shape", "ring")).lower() for b in inputs.get("body", [])}
+    moving = any(any(float(v) != 0.0 for v in np.atleast_1d(w.get("velocity", [0.0, 0.0])))
+                 for w in inputs.get("wall", []))
+    return bool(shapes & {"tube", "honeycomb", "walls"}) and moving
+
+
 def _walls(inputs: Inputs, history: History) -> list[dict[str, Any]]:
     return scene.wall_table(inputs, readers.history_walls(history))
 
@@ -534,6 +542,8 @@ def main(argv: list[str] | None = None) -> int:
     plotter = PLOTTERS[kind]
     if kind == "impact" and not args.kind and _drop_weights(inputs):
         plotter = plot_crush                   # a drop test: force and energy vs the approach
+    if kind == "generic" and not args.kind and _section_crush(inputs):
+        kind, plotter = "crush", plot_crush    # a section between platens (no ring theory)
     kwargs = {"threshold": args.threshold} if kind == "wave" else {}
     try:
         try:

@@ -97,7 +97,7 @@ def wall_table(inputs: dict[str, list[dict[str, Any]]], nwall: int | None = None
                ) -> list[dict[str, Any]]:
     """The walls as numbered in history.csv: the input's ``&wall`` groups, then the mirror
     planes a half/quarter ``sector`` adds (normal (1, 0), then (0, 1), through the centre of
-    the first sector ring).
+    the first sector ring or tube).
 
     Each entry: ``index`` (1-based), ``point``, ``normal`` (unit), ``velocity``, ``mirror``,
     ``moving`` (prescribed velocity nonzero), ``table`` (has a motion table), ``input``
@@ -112,7 +112,7 @@ def wall_table(inputs: dict[str, list[dict[str, Any]]], nwall: int | None = None
                     "velocity": _vec(w.get("velocity")), "mirror": _is_mirror(w),
                     "moving": _nonzero(w.get("velocity")), "table": _has_table(w), "input": w})
     sectors = [str(b.get("sector", "full")).lower() for b in inputs.get("body", [])
-               if str(b.get("shape", "ring")).lower() == "ring"]
+               if str(b.get("shape", "ring")).lower() in ("ring", "tube")]
     anchor = np.zeros(2)
     for b in inputs.get("body", []):
         if str(b.get("sector", "full")).lower() != "full":
