@@ -18,7 +18,8 @@ program test_sections
   use mpm_kinds, only: wp
   use mpm_constants, only: pi
   use mpm_sections, only: section_t, section_tube, section_honeycomb, section_walls, &
-                          section_mesh, section_colours, section_area, section_length
+                          section_mesh, section_area, section_length
+  use mpm_section_colours, only: section_colours
   use testing, only: begin_test, check, check_close, finish_tests
   implicit none
   type(section_t) :: s

@@ -10,12 +10,15 @@
 # delta/D = 0.95 with self-contact) also runs itself without self-contact (densify_weld, one
 # velocity field) for docs/figures/densify.png (force against delta/D of both,
 # plots/plot_densify.py) and densify_shapes.png.
+# The sections (namelists/sections/: square_tube, hex_tube, multicell_2x2, honeycomb,
+# auxetic) run when named (or all with `sections`); their figures are <scene>.png (force and
+# energies against the platens' approach, with the &results numbers) and <scene>_shapes.png.
 # Two runs at once with one thread each (the machine has two cores).
 # A subset of the scenes writes its figures but not scenes.txt (the numbers of all three scenes):
 # its numbers go to build/scenes.txt instead.
 #   usage: tools/run_scenes.sh [scene ...]      (default: crush impact wave)
 set -eu
-usage() { echo "usage: tools/run_scenes.sh [crush] [crush_fixed] [impact] [wave] [two_rings] [nested] [nested_eccentric] [stack] [row3] [plates] [densify]"
+usage() { echo "usage: tools/run_scenes.sh [crush] [crush_fixed] [impact] [wave] [two_rings] [nested] [nested_eccentric] [stack] [row3] [plates] [densify] [square_tube] [hex_tube] [multicell_2x2] [honeycomb] [auxetic] [sections]"
           echo "  (default: crush impact wave) runs namelists/<scene>.nml (namelists/contact/ for the"
           echo "  scenes of several bodies; release build bin/tubempm), writes docs/figures/<scene>.png"
           echo "  and <scene>_shapes.png (several bodies: <scene>_bodies.png, _shapes.png, _eqps.png),"
@@ -24,17 +27,20 @@ for a in "$@"; do
   case $a in
     -h|--help) usage; exit 0 ;;
     crush|crush_fixed|impact|wave|two_rings|nested|nested_eccentric|stack|row3|plates|densify) ;;
+    square_tube|hex_tube|multicell_2x2|honeycomb|auxetic|sections) ;;
     *) echo "ERROR [run_scenes]: unknown scene '$a'" >&2; usage >&2; exit 2 ;;
   esac
 done
 cd "$(dirname "$0")/.."
 py=${PYTHON:-python3}
 scenes=${*:-crush impact wave}
+scenes=${scenes/sections/square_tube hex_tube multicell_2x2 honeycomb auxetic}
 numbers=docs/figures/scenes.txt
 [ "$scenes" = "crush impact wave" ] || numbers=build/scenes.txt
 [ -x bin/tubempm ] || { echo "ERROR [run_scenes]: bin/tubempm not found: run make first" >&2; exit 2; }
 mkdir -p docs/figures
 nml() { if [ -f "namelists/$1.nml" ]; then echo "namelists/$1.nml"
+         elif [ -f "namelists/sections/$1.nml" ]; then echo "namelists/sections/$1.nml"
          elif [ "$1" = densify_weld ]; then echo build/densify_weld.nml
          else echo "namelists/contact/$1.nml"; fi; }
 run() {
@@ -68,9 +74,9 @@ for c in $scenes; do
       $py plots/plot_shapes.py --case "$(nml "$c")" --out "docs/figures/${c}_shapes.png"
     elif [ "$c" = densify_weld ]; then
       $py plots/plot_shapes.py --case "$(nml "$c")" --out "docs/figures/${c}_shapes.png"
-    elif [ -f "namelists/$c.nml" ]; then
-      $py plots/plot_case.py --case "namelists/$c.nml" --out "docs/figures/$c.png"
-      $py plots/plot_shapes.py --case "namelists/$c.nml" --out "docs/figures/${c}_shapes.png"
+    elif [ -f "namelists/$c.nml" ] || [ -f "namelists/sections/$c.nml" ]; then
+      $py plots/plot_case.py --case "$(nml "$c")" --out "docs/figures/$c.png"
+      $py plots/plot_shapes.py --case "$(nml "$c")" --out "docs/figures/${c}_shapes.png"
     else
       ref=(); [ "$c" = row3 ] && ref=(--reference out/row3_single --scale 3)
       $py plots/plot_bodies.py --case "$(nml "$c")" "${ref[@]}" --out "docs/figures/${c}_bodies.png"

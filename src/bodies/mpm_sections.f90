@@ -25,18 +25,14 @@
 ! Neighbouring particles share their corners (merged by position), as CPDI2 and the surface
 ! curve need. The summed area is the section's exactly: the strips and cores tile the union
 ! of the walls, mitred at corners.
-!
-! Self-contact (mpm_self_contact): walls that can fold onto each other (two walls of one
-! cell, the faces of the graph, that share no node) must be in different velocity fields.
-! section_colours colours the walls greedily so that no two such walls share a colour; the
-! joints where walls of two colours meet are the seams, welded as a ring's are.
+! The colours of the walls for self-contact are mpm_section_colours.
 module mpm_sections
   use mpm_kinds, only: wp
   use mpm_constants, only: pi
   implicit none
   private
   public :: section_t, section_tube, section_honeycomb, section_walls, section_mesh, &
-            section_colours, section_area, section_length, disc_mesh, section_clip
+            section_area, section_length, disc_mesh, section_clip, incident, max_deg
 
   integer, parameter :: max_deg = 16       !! walls at one joint, at most
 
@@ -801,94 +797,6 @@ contains
       w = 2*w
     end do
   end function sort_index
-
-  ! ---------------------------------------------------------------------- self-contact
-
-  !> Colours of the logical walls (1, 2, ...): two walls on one cell (an inner face of the
-  !! graph) that share no node get different colours (greedy, in wall order); ncol colours.
-  pure subroutine section_colours(s, colour, ncol)
-    type(section_t), intent(in) :: s
-    integer, allocatable, intent(out) :: colour(:)   !! colour of each logical wall
-    integer, intent(out) :: ncol
-    type :: list_t
-      integer, allocatable :: v(:)
-    end type list_t
-    type(list_t), allocatable :: face(:), wface(:), wnode(:)
-    integer :: nw, k, f, i, j, jj, a, b, he, h0, deg, inc(max_deg), ends(max_deg), pos, nf
-    real(wp) :: ang(max_deg), area
-    logical, allocatable :: seen(:,:), used(:)
-    integer, allocatable :: facew(:)
-    nw = maxval(s%ew)
-    allocate(wnode(nw), wface(nw), seen(2, s%ne), face(0))
-    do i = 1, nw
-      allocate(wnode(i)%v(0), wface(i)%v(0))
-    end do
-    do k = 1, s%ne                          ! the nodes of each logical wall
-      wnode(s%ew(k))%v = [wnode(s%ew(k))%v, s%en(:, k)]
-    end do
-    seen = .false.
-    nf = 0
-    do f = 1, s%ne                          ! trace the faces: half-edge (wall, direction)
-      do k = 1, 2
-        if (seen(k, f)) cycle
-        allocate(facew(0))
-        area = 0.0_wp
-        he = f
-        h0 = k
-        do
-          seen(h0, he) = .true.
-          facew = [facew, s%ew(he)]
-          a = s%en(h0, he)                  ! the half-edge goes from a to b
-          b = s%en(3 - h0, he)
-          area = area + s%xn(1, a)*s%xn(2, b) - s%xn(1, b)*s%xn(2, a)
-          call incident(s, b, deg, inc, ends, ang)
-          pos = 0
-          do i = 1, deg
-            if (inc(i) == he .and. ends(i) == 3 - h0) pos = i
-          end do
-          pos = 1 + modulo(pos - 2, deg)    ! the next wall clockwise at b
-          he = inc(pos)
-          h0 = ends(pos)
-          if (seen(h0, he)) exit
-        end do
-        if (area > 0.0_wp) then             ! an inner face (counter-clockwise): a cell
-          nf = nf + 1
-          face = [face, list_t(facew)]
-          do i = 1, size(facew)
-            if (.not. any(wface(facew(i))%v == nf)) wface(facew(i))%v = [wface(facew(i))%v, nf]
-          end do
-        end if
-        deallocate(facew)
-      end do
-    end do
-    allocate(colour(nw), used(nw + 1))
-    colour = 0
-    ncol = 1
-    do i = 1, nw
-      used = .false.
-      do jj = 1, size(wface(i)%v)
-        associate (fw => face(wface(i)%v(jj))%v)
-          do k = 1, size(fw)
-            j = fw(k)
-            if (colour(j) == 0) cycle
-            if (any_common(wnode(i)%v, wnode(j)%v)) cycle    ! adjacent: welded at the joint
-            used(colour(j)) = .true.
-          end do
-        end associate
-      end do
-      colour(i) = findloc(used, .false., 1)
-      ncol = max(ncol, colour(i))
-    end do
-  contains
-    pure logical function any_common(x, y)
-      integer, intent(in) :: x(:), y(:)
-      integer :: m
-      any_common = .false.
-      do m = 1, size(x)
-        if (any(y == x(m))) any_common = .true.
-      end do
-    end function any_common
-  end subroutine section_colours
 
   ! ---------------------------------------------------------------------------- text
 
