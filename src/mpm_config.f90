@@ -12,12 +12,11 @@ module mpm_config
                                            ieee_set_halting_mode, ieee_get_flag, ieee_set_flag
   use mpm_kinds, only: wp
   use mpm_constants, only: EXIT_INPUT, EXIT_IO, sector_names, BASIS_CPDI2, SCHEME_MUSL, &
-                           PLANE_STRAIN, MODEL_J2, MODEL_FOAM, RATE_NONE, RATE_COWPER_SYMONDS, SHAPE_RING, &
-                           SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER, max_table, &
+                           PLANE_STRAIN, MODEL_J2, MODEL_FOAM, RATE_NONE, RATE_COWPER_SYMONDS, &
+                           SHAPE_RING, SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER, max_table, &
                            CONTACT_FRICTIONLESS, CONTACT_COULOMB, CONTACT_SLIP, FLOW_LINEAR, &
                            CONTACT_BONDED, SHAPE_TUBE, SHAPE_HONEYCOMB, SHAPE_WALLS, &
-                           SHAPE_DISC, max_vertices, max_cells, pi, &
-                           FLOW_JOHNSON_COOK
+                           SHAPE_DISC, max_vertices, max_cells, pi, FLOW_JOHNSON_COOK
   use mpm_config_types, only: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, &
                               body_cfg_t, wall_cfg_t, probe_cfg_t, contact_cfg_t, unset_real, &
                               iunset
@@ -334,7 +333,7 @@ contains
       'foam_gamma', 'foam_alpha2', 'foam_beta']
     real(wp), parameter :: law_r0(5) = [unset_real, unset_real, 0.0_wp, 0.0_wp, 1.0_wp]
     real(wp) :: x(max_table), y(max_table)
-    integer :: n, k
+    integer :: n, k, j
     logical :: ok
     if (chk_r(rd, io, v, 'nu_plastic')) m%nu_plastic = vreal(v, 'nu_plastic')
     if (chk_r(rd, io, v, 'foam_alpha')) m%foam_alpha = vreal(v, 'foam_alpha')
@@ -343,18 +342,12 @@ contains
         'nu_plastic = '//fmt_real(vreal(v, 'nu_plastic'))//' (each sets the other)', &
         'nu_plastic or foam_alpha, not both')
     call read_pair(rd, io, v, 'curve_strain', 'curve_stress', .true., x, y, n, ok)
-    do k = 1, n
-      if (.not. ok) exit
-      if (y(k) > 0.0_wp .and. y(k) >= y(max(k - 1, 1))) cycle
-      ok = .false.
-      if (.not. y(k) > 0.0_wp) then
-        call err_var(rd, io, 'curve_stress', fmt_list(y(1:n)), 'curve_stress('//itoa(k)// &
-          ') = '//fmt_real(y(k))//' is not > 0')
-      else
-        call err_var(rd, io, 'curve_stress', fmt_list(y(1:n)), 'falls: curve_stress('// &
-          itoa(k)//') = '//fmt_real(y(k))//' < curve_stress('//itoa(k-1)//')')
-      end if
-    end do
+    k = 0
+    if (ok .and. n > 0) k = findloc([(y(j) > 0.0_wp .and. y(j) >= y(max(j - 1, 1)), j = 1, n)], &
+                                    .false., 1)
+    if (k > 0) call err_var(rd, io, 'curve_stress', fmt_list(y(1:n)), 'curve_stress('// &
+      itoa(k)//') = '//fmt_real(y(k))//' is not > 0, or below the point before')
+    ok = ok .and. k == 0
     if (ok .and. n > 0) then
       m%n_curve = n
       m%curve_strain(1:n) = x(1:n)

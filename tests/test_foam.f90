@@ -1,9 +1,10 @@
 !> Tests of the crushable foam (model foam: mpm_foam through mpm_material) against closed forms:
 !! the shape factor from the plastic Poisson's ratio; first yield under hydrostatic and
 !! equibiaxial stress; a random strain path that stays on the yield surface with dissipation
-!! >= 0, its plastic strain increments normal to the surface (associated flow); an elastic load and unload back to zero stress; the uniaxial-stress path (plane
-!! stress, free sides) against the hardening law and the tabulated curve, with the lateral
-!! plastic strain -nu_p times the axial one; the law's continuation beyond eps_d.
+!! >= 0, its plastic strain increments normal to the surface (associated flow); an elastic
+!! load and unload back to zero stress; the uniaxial-stress path (plane stress, free sides)
+!! against the hardening law and the tabulated curve, with the lateral plastic strain -nu_p
+!! times the axial one; the law's continuation beyond eps_d.
 ! SPDX-License-Identifier: MIT
 !
 ! The expected values are written out here from the formulas of Deshpande & Fleck (2000) and

@@ -54,7 +54,7 @@ module mpm_material
     real(wp) :: jc_rate0 = 1.0_wp                  !! Johnson-Cook reference strain rate [1/s]
     real(wp) :: sigma_p = -1.0_wp                  !! foam: plateau stress [Pa]
     real(wp) :: nu_plastic = 0.0_wp                !! foam: plastic Poisson's ratio [-]
-    real(wp) :: foam_alpha = -1.0_wp               !! foam: shape factor, > 0 replaces nu_plastic [-]
+    real(wp) :: foam_alpha = -1.0_wp               !! foam: shape factor (> 0: not nu_plastic) [-]
     real(wp) :: foam_gamma = 0.0_wp                !! foam: linear hardening gamma [Pa]
     real(wp) :: foam_alpha2 = 0.0_wp               !! foam: densification alpha2 [Pa]
     real(wp) :: foam_beta = 1.0_wp                 !! foam: densification exponent beta [-]
