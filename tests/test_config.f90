@@ -385,13 +385,28 @@ contains
       'self_contact is left out without a line')
     do k = 1, size(specs)                    ! the echo names the shape from the row's `only`
       if (len_trim(specs(k)%only) > 0 .and. specs(k)%group == 'body') call check( &
-        any(shape_names == specs(k)%only), 'the row '//trim(specs(k)%name)// &
-        ' is only for a shape of shape_names: '//specs(k)%only)
+        words_in(specs(k)%only, shape_names), 'the row '//trim(specs(k)%name)// &
+        ' is only for shapes of shape_names: '//specs(k)%only)
       if (len_trim(specs(k)%only) > 0 .and. specs(k)%group /= 'body') call check( &
-        specs(k)%group == 'material' .and. any(model_names == specs(k)%only), 'the row '// &
-        trim(specs(k)%name)//' is only for a model of model_names: '//specs(k)%only)
+        specs(k)%group == 'material' .and. words_in(specs(k)%only, model_names), 'the row '// &
+        trim(specs(k)%name)//' is only for models of model_names: '//specs(k)%only)
     end do
   end subroutine test_other_shape
+
+  !> Whether every blank-separated word of `list` is one of `names`.
+  pure logical function words_in(list, names)
+    character(len=*), intent(in) :: list, names(:)
+    integer :: p, q
+    character(len=len(list)) :: rest
+    words_in = .true.
+    rest = adjustl(list)
+    do while (len_trim(rest) > 0)
+      q = index(rest, ' ')
+      p = findloc(names, rest(1:q-1), 1)
+      words_in = words_in .and. p > 0
+      rest = adjustl(rest(q:))
+    end do
+  end function words_in
 
   !> How often `part` occurs in `text`.
   pure integer function count_of(text, part) result(n)
