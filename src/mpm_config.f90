@@ -12,12 +12,11 @@ module mpm_config
                                            ieee_set_halting_mode, ieee_get_flag, ieee_set_flag
   use mpm_kinds, only: wp
   use mpm_constants, only: EXIT_INPUT, EXIT_IO, sector_names, BASIS_CPDI2, SCHEME_MUSL, &
-                           PLANE_STRAIN, MODEL_J2, RATE_NONE, RATE_COWPER_SYMONDS, SHAPE_RING, &
-                           SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER, max_table, &
+                           PLANE_STRAIN, MODEL_J2, MODEL_FOAM, RATE_NONE, RATE_COWPER_SYMONDS, &
+                           SHAPE_RING, SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER, max_table, &
                            CONTACT_FRICTIONLESS, CONTACT_COULOMB, CONTACT_SLIP, FLOW_LINEAR, &
                            CONTACT_BONDED, SHAPE_TUBE, SHAPE_HONEYCOMB, SHAPE_WALLS, &
-                           SHAPE_DISC, max_vertices, max_cells, pi, &
-                           FLOW_JOHNSON_COOK
+                           SHAPE_DISC, max_vertices, max_cells, pi, FLOW_JOHNSON_COOK
   use mpm_config_types, only: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, &
                               body_cfg_t, wall_cfg_t, probe_cfg_t, contact_cfg_t, unset_real, &
                               iunset
@@ -289,7 +288,7 @@ contains
 
   !> &material: sigma_y (required for j2), the variables a model does not use, and the flow
   !! stress law: with Johnson-Cook (A is sigma_y) the linear law's own variables (hardening,
-  !! rate_law) must be left at their defaults.
+  !! rate_law) must be left at their defaults; the foam's variables (check_foam).
   subroutine check_material(rd, io, v, m)
     type(reader_t), intent(inout) :: rd
     integer, intent(in) :: io
@@ -320,7 +319,51 @@ contains
       call warn_group(rd, io, 'jc_b, jc_n, jc_c, jc_rate0 are ignored with flow_stress = '// &
         '''linear'' (set flow_stress = ''johnson_cook'' to use them)')
     end if
+    if (m%model_id == MODEL_FOAM) call check_foam(rd, io, v, m)
   end subroutine check_material
+
+  !> &material, model = 'foam': nu_plastic or foam_alpha, not both; the hardening law
+  !! (sigma_p and eps_d required) or the tabulated curve (then none of the law's variables).
+  subroutine check_foam(rd, io, v, m)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io
+    type(values_t), intent(inout) :: v
+    type(material_cfg_t), intent(inout) :: m
+    character(len=*), parameter :: law(5) = [character(len=11) :: 'sigma_p', 'eps_d', &
+      'foam_gamma', 'foam_alpha2', 'foam_beta']
+    real(wp), parameter :: law_r0(5) = [unset_real, unset_real, 0.0_wp, 0.0_wp, 1.0_wp]
+    real(wp) :: x(max_table), y(max_table)
+    integer :: n, k, j
+    logical :: ok
+    if (chk_r(rd, io, v, 'nu_plastic')) m%nu_plastic = vreal(v, 'nu_plastic')
+    if (chk_r(rd, io, v, 'foam_alpha')) m%foam_alpha = vreal(v, 'foam_alpha')
+    if (vreal(v, 'nu_plastic') /= unset_real .and. vreal(v, 'foam_alpha') /= unset_real) &
+      call err_var(rd, io, 'foam_alpha', fmt_real(vreal(v, 'foam_alpha')), 'given with '// &
+        'nu_plastic = '//fmt_real(vreal(v, 'nu_plastic'))//' (each sets the other)', &
+        'nu_plastic or foam_alpha, not both')
+    call read_pair(rd, io, v, 'curve_strain', 'curve_stress', .true., x, y, n, ok)
+    k = 0
+    if (ok .and. n > 0) k = findloc([(y(j) > 0.0_wp .and. y(j) >= y(max(j - 1, 1)), j = 1, n)], &
+                                    .false., 1)
+    if (k > 0) call err_var(rd, io, 'curve_stress', fmt_list(y(1:n)), 'curve_stress('// &
+      itoa(k)//') = '//fmt_real(y(k))//' is not > 0, or below the point before')
+    ok = ok .and. k == 0
+    if (ok .and. n > 0) then
+      m%n_curve = n
+      m%curve_strain(1:n) = x(1:n)
+      m%curve_stress(1:n) = y(1:n)
+    end if
+    if (n > 0) then                              ! the curve replaces the law
+      do k = 1, size(law)
+        if (vreal(v, trim(law(k))) /= law_r0(k)) call err_var(rd, io, trim(law(k)), &
+          fmt_real(vreal(v, trim(law(k)))), 'has no effect with a curve (curve_strain, '// &
+          'curve_stress)', 'not given with curve_strain and curve_stress')
+      end do
+    else
+      if (chk_r(rd, io, v, 'sigma_p', required=.true.)) m%sigma_p = vreal(v, 'sigma_p')
+      if (chk_r(rd, io, v, 'eps_d', required=.true.)) m%eps_d = vreal(v, 'eps_d')
+    end if
+  end subroutine check_foam
 
   !> &body: the sector (full when not given), the radii and n_circ of a ring (the variables of
   !! the other shapes are warned of by store_rows, from the table's `only`).
@@ -595,43 +638,16 @@ contains
     end if
   end subroutine check_friction
 
-  !> The motion table of a wall: the entries given are the leading non-sentinel ones.
+  !> The motion table of a wall (read_pair).
   subroutine read_motion(rd, io, v, w)
     type(reader_t), intent(inout) :: rd
     integer, intent(in) :: io
     type(values_t), intent(in) :: v
     type(wall_cfg_t), intent(inout) :: w
     real(wp) :: motion_t(max_table), motion_f(max_table)
-    integer :: nt, nf, k
+    integer :: nt
     logical :: table_ok
-    motion_t = vtab(v, 'motion_t')
-    motion_f = vtab(v, 'motion_f')
-    table_ok = .true.
-    call table_count(rd, io, 'motion_t', motion_t, nt, table_ok)
-    call table_count(rd, io, 'motion_f', motion_f, nf, table_ok)
-    if (table_ok .and. nt /= nf) then
-      call err_var(rd, io, 'motion_f', fmt_list(motion_f(1:nf)), itoa(nf)// &
-        ' values but motion_t has '//itoa(nt))
-      table_ok = .false.
-    end if
-    if (table_ok .and. nt > 0) then
-      if (motion_t(1) < 0.0_wp) then
-        call err_var(rd, io, 'motion_t', fmt_list(motion_t(1:nt)), 'motion_t(1) = '// &
-          fmt_real(motion_t(1))//' is negative')
-        table_ok = .false.
-      end if
-    end if
-    if (table_ok) then
-      do k = 2, nt
-        if (.not. (motion_t(k) > motion_t(k-1))) then
-          call err_var(rd, io, 'motion_t', fmt_list(motion_t(1:nt)), 'not strictly '// &
-            'increasing: motion_t('//itoa(k)//') = '//fmt_real(motion_t(k))// &
-            ' <= motion_t('//itoa(k-1)//') = '//fmt_real(motion_t(k-1)))
-          table_ok = .false.
-          exit
-        end if
-      end do
-    end if
+    call read_pair(rd, io, v, 'motion_t', 'motion_f', .false., motion_t, motion_f, nt, table_ok)
     if (table_ok) then
       w%n_motion = nt
       w%motion_t(1:nt) = motion_t(1:nt)
@@ -640,6 +656,45 @@ contains
         'ignored: the motion table replaces it')
     end if
   end subroutine read_motion
+
+  !> A table of two rows xn, yn (a wall's motion, a foam's curve): the entries given are the
+  !! leading non-sentinel ones, as many in each; x(1) >= 0 (0 with first_zero), x strictly
+  !! increasing. ok: no problem found (n is the count given).
+  subroutine read_pair(rd, io, v, xn, yn, first_zero, x, y, n, ok)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io
+    type(values_t), intent(in) :: v
+    character(len=*), intent(in) :: xn, yn       !! the names of the rows
+    logical, intent(in) :: first_zero            !! x(1) must be 0
+    real(wp), intent(out) :: x(max_table), y(max_table)
+    integer, intent(out) :: n
+    logical, intent(out) :: ok
+    integer :: ny, k
+    x = vtab(v, xn)
+    y = vtab(v, yn)
+    ok = .true.
+    call table_count(rd, io, xn, x, n, ok)
+    call table_count(rd, io, yn, y, ny, ok)
+    if (ok .and. n /= ny) then
+      call err_var(rd, io, yn, fmt_list(y(1:ny)), itoa(ny)//' values but '//xn//' has '//itoa(n))
+      ok = .false.
+    end if
+    if (ok .and. n > 0) then
+      if (x(1) < 0.0_wp .or. (first_zero .and. x(1) /= 0.0_wp)) then
+        call err_var(rd, io, xn, fmt_list(x(1:n)), xn//'(1) = '//fmt_real(x(1))// &
+          trim(merge(' is not 0   ', ' is negative', first_zero .and. x(1) > 0.0_wp)))
+        ok = .false.
+      end if
+    end if
+    do k = 2, n
+      if (.not. ok) exit
+      if (.not. (x(k) > x(k-1))) then
+        call err_var(rd, io, xn, fmt_list(x(1:n)), 'not strictly increasing: '//xn//'('// &
+          itoa(k)//') = '//fmt_real(x(k))//' <= '//xn//'('//itoa(k-1)//') = '//fmt_real(x(k-1)))
+        ok = .false.
+      end if
+    end do
+  end subroutine read_pair
 
   !> &contact: two different bodies, or 0, 0 (checked against the &body groups in
   !! mpm_config_check: they may come later in the file), friction only with Coulomb.

@@ -69,7 +69,7 @@ contains
     if (fbar .and. (cfg%solver%plane_id == PLANE_STRESS .or. any(cfg%materials%model_id == &
         MODEL_NEOHOOKEAN))) call err_var(rd, io_solver, 'volumetric', vname, 'needs plane = '// &
       '''strain'' and no &material of model = ''neohookean''', '''standard'', or ''fbar'' or '// &
-      '''fbarwall'' with plane = ''strain'' and the models ''elastic'' and ''j2''')
+      '''fbarwall'' with plane = ''strain'' and the models ''elastic'', ''j2'', ''foam''')
     if (fbar .and. (size(cfg%bodies) > 1 .or. any(cfg%bodies%self_contact))) call err_var(rd, &
       io_solver, 'volumetric', vname, 'averages the volume change within one velocity field; '// &
       'here are '//itoa(size(cfg%bodies) + count(cfg%bodies%self_contact))//' (one per body, '// &

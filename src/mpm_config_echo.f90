@@ -10,7 +10,7 @@
 module mpm_config_echo
   use mpm_kinds, only: wp
   use mpm_constants, only: EXIT_IO, max_table, shape_names, shape_plural, FLOW_JOHNSON_COOK, &
-                           VOLUMETRIC_FBAR
+                           VOLUMETRIC_FBAR, MODEL_FOAM
   use mpm_config_types, only: config_t, unset_real
   use mpm_config_text, only: itoa, quote, fmt_real, fmt_vec, fmt_logical, finite
   use mpm_config_table, only: specs, n_specs, n_groups, group_names, group_specs, echo_comment, &
@@ -33,7 +33,8 @@ module mpm_config_echo
     logical :: hide(n_specs) = .false.
     logical :: silent(n_specs) = .false.   ! rows left out without a comment (their default)
     character(len=64) :: why(n_specs) = ''  ! the reason a row is left out ('': no comment)
-    integer :: n_motion = 0
+    integer :: n_motion = 0                ! entries of the table (a wall's motion, a foam curve)
+    character(len=12) :: table = 'motion table'  ! its name in the comment before it
     integer :: n_vertices = 0                !! a tube's vertices (its row holds 2 per vertex)
   end type echo_t
 
@@ -181,8 +182,21 @@ contains
       e%hide(idx) = cfg%grid%fitted .and. specs(idx)%n == 2
       e%why = 'not given, the domain is fitted around the bodies and walls'
     case (4)
-      e%hide(idx) = cfg%materials(k)%flow_stress_id /= FLOW_JOHNSON_COOK .and. &
-        (specs(idx)%name == 'flow_stress' .or. specs(idx)%name(1:3) == 'jc_')
+      associate (m => cfg%materials(k))
+        e%hide(idx) = m%flow_stress_id /= FLOW_JOHNSON_COOK .and. &
+          (specs(idx)%name == 'flow_stress' .or. specs(idx)%name(1:3) == 'jc_')
+        e%n_motion = m%n_curve              ! foam: the curve, or the law; one of nu_p, alpha
+        e%table = 'foam curve'
+        do j = 1, size(idx)
+          r = idx(j)
+          if (specs(r)%only == 'foam') e%hide(r) = m%model_id /= MODEL_FOAM .or. &
+            (specs(r)%n == max_table .and. m%n_curve == 0) .or. &
+            (specs(r)%name == 'nu_plastic' .and. m%foam_alpha > 0.0_wp)
+          if (specs(r)%only == 'foam' .and. m%n_curve > 0) e%hide(r) = e%hide(r) .or. &
+            index(' sigma_p foam_gamma foam_alpha2 foam_beta eps_d ', ' '// &
+                  trim(specs(r)%name)//' ') > 0
+        end do
+      end associate
     case (5)
       shape = shape_names(1)                 ! (a record not resolved: as a ring)
       j = cfg%bodies(k)%shape_id
@@ -247,7 +261,7 @@ contains
       end if
       names = ''
       if (specs(r)%n == max_table) then
-        if (specs(idx(j-1))%n /= max_table) call w_line(w, '  ! motion table: '// &
+        if (specs(idx(j-1))%n /= max_table) call w_line(w, '  ! '//trim(e%table)//': '// &
           echo_comment(r)//' and '//echo_comment(idx(j+1)))
         call w_table(w, trim(specs(r)%name), e%v%r(1:e%n_motion, r))
       else if (specs(r)%name == 'vertices') then

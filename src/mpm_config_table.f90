@@ -50,7 +50,8 @@ module mpm_config_table
     logical :: lo_open = .false., hi_open = .false.  !! lo < x (not <=), x < hi (not <=)
     integer :: max_len = name_len           !! longest text
     character(len=40) :: only = ''          !! the body shapes the variable belongs to
-                                            !! (names separated by blanks; '' = every shape)
+                                            !! (names separated by blanks; '' = every shape),
+                                            !! or for &material the model ('foam')
     character(len=4) :: unset = ''          !! echo: not set when neg (-1), huge, empty, zero
     character(len=56) :: unset_note = ''    !! echo comment when not set ('' when required:
                                             !! 'required: ' and the comment, unset_note())
@@ -170,6 +171,33 @@ module mpm_config_table
     var_spec_t('material', 'jc_rate0', r0=1.0_wp, lo=0.0_wp, lo_open=.true., &
       allowed='a real number > 0 [1/s] (default 1)', &
       comment='Johnson-Cook reference strain rate [1/s]'), &
+    var_spec_t('material', 'sigma_p', own=.true., r0=big, lo=0.0_wp, lo_open=.true., &
+      only='foam', unset='neg', allowed='a real number > 0 [Pa] (required for model = '// &
+      '''foam'' without curve_strain, curve_stress)', comment='foam plateau stress [Pa]'), &
+    var_spec_t('material', 'nu_plastic', own=.true., r0=big, lo=-1.0_wp, lo_open=.true., &
+      hi=0.5_wp, hi_open=.true., only='foam', allowed='a real number with -1 < nu_plastic '// &
+      '< 0.5, not with foam_alpha (default 0: alpha = 2.12)', &
+      comment='foam plastic Poisson''s ratio [-]'), &
+    var_spec_t('material', 'foam_alpha', own=.true., r0=big, lo=0.0_wp, lo_open=.true., &
+      only='foam', unset='neg', unset_note='default: from nu_plastic', allowed='a real '// &
+      'number > 0, not with nu_plastic (default: from nu_plastic)', &
+      comment='foam yield surface shape alpha [-]'), &
+    var_spec_t('material', 'foam_gamma', lo=0.0_wp, only='foam', allowed='a real number '// &
+      '>= 0 [Pa], not with a curve (default 0)', comment='foam hardening gamma [Pa]'), &
+    var_spec_t('material', 'foam_alpha2', lo=0.0_wp, only='foam', allowed='a real number '// &
+      '>= 0 [Pa], not with a curve (default 0)', comment='foam densification alpha2 [Pa]'), &
+    var_spec_t('material', 'foam_beta', r0=1.0_wp, lo=0.0_wp, lo_open=.true., only='foam', &
+      allowed='a real number > 0, not with a curve (default 1)', &
+      comment='foam densification exponent beta [-]'), &
+    var_spec_t('material', 'eps_d', own=.true., r0=big, lo=0.0_wp, lo_open=.true., &
+      only='foam', unset='neg', allowed='a real number > 0 (required for model = ''foam'' '// &
+      'without curve_strain, curve_stress)', comment='foam densification strain [-]'), &
+    var_spec_t('material', 'curve_strain', n=max_table, r0=big, own=.true., only='foam', &
+      allowed='up to 64 plastic strains, the first 0, strictly increasing, as many as '// &
+      'curve_stress (default none: the law)', comment='plastic strains [-]'), &
+    var_spec_t('material', 'curve_stress', n=max_table, r0=big, own=.true., only='foam', &
+      allowed='up to 64 yield stresses > 0 [Pa], not decreasing, as many as '// &
+      'curve_strain (default none)', comment='uniaxial yield stresses [Pa]'), &
     ! ---------------------------------------------------------------------------- &body
     var_spec_t('body', 'shape', 'e', c0='ring', comment='%'), &
     var_spec_t('body', 'material', 'c', unset='emp', unset_note='default: the first material', &
@@ -425,6 +453,15 @@ contains
         call bind(f, 'material', 'jc_n', x=g%jc_n)
         call bind(f, 'material', 'jc_c', x=g%jc_c)
         call bind(f, 'material', 'jc_rate0', x=g%jc_rate0)
+        call bind(f, 'material', 'sigma_p', x=g%sigma_p)
+        call bind(f, 'material', 'nu_plastic', x=g%nu_plastic)
+        call bind(f, 'material', 'foam_alpha', x=g%foam_alpha)
+        call bind(f, 'material', 'foam_gamma', x=g%foam_gamma)
+        call bind(f, 'material', 'foam_alpha2', x=g%foam_alpha2)
+        call bind(f, 'material', 'foam_beta', x=g%foam_beta)
+        call bind(f, 'material', 'eps_d', x=g%eps_d)
+        call bind(f, 'material', 'curve_strain', v=g%curve_strain, i=g%n_curve)
+        call bind(f, 'material', 'curve_stress', v=g%curve_stress, i=g%n_curve)
       end associate
     case (5)
       associate (g => cfg%bodies(k))

@@ -432,8 +432,8 @@ contains
   !! through its field: reals (chk_r, chk_v), integers given when required and >= lo, texts
   !! given when required and not too long, names of a list (case-insensitive; stored as the
   !! list spells them, with their code). Left to the group's own rules: rows marked `own`.
-  !! Rows `only` for another body shape than the one given (the row `shape` comes first) are not
-  !! stored, and a warning names those given.
+  !! Rows `only` for another body shape or material model than the one given (the row `shape` or
+  !! `model` comes first) are not stored, and a warning names those given.
   subroutine store_rows(rd, io, v, f)
     type(reader_t), intent(inout) :: rd
     integer, intent(in) :: io
@@ -441,11 +441,13 @@ contains
     type(field_t), intent(in) :: f(n_specs)   !! bind_fields of the record to fill
     integer, allocatable :: idx(:), other(:)
     integer :: j, r, id, n
-    character(len=name_len) :: shape
+    character(len=name_len) :: shape     ! the value of `shape` or `model` (rows `only`)
+    character(len=5) :: sel              ! which of them
     character(len=:), allocatable :: name, t
     character(len=name_len), allocatable :: names(:)
     allocate(idx, source=group_specs(v%group))
     shape = ''
+    sel = ''
     allocate(other(0))
     do j = 1, size(idx)
       r = idx(j)
@@ -496,7 +498,8 @@ contains
           else
             f(r)%c = names(id)
             f(r)%i = id
-            if (name == 'shape') shape = names(id)
+            if (name == 'shape' .or. name == 'model') shape = names(id)
+            if (name == 'shape' .or. name == 'model') sel = name
           end if
         end select
       end associate
@@ -504,7 +507,7 @@ contains
     if (size(other) > 0 .and. len_trim(shape) > 0) then
       names = specs(other)%name
       call warn_group(rd, io, join_list(names, '')//trim(merge(' is ignored ', ' are ignored', &
-                      size(other) == 1))//' for shape = '''//trim(shape)//'''')
+                      size(other) == 1))//' for '//sel//' = '''//trim(shape)//'''')
     end if
   end subroutine store_rows
 

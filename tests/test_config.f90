@@ -11,16 +11,18 @@ program test_config
   use mpm_strings, only: itoa
   use mpm_constants, only: EXIT_INPUT, EXIT_IO, max_table, BASIS_CPDI1, BASIS_CPDI2, &
                            SCHEME_MUSL, SCHEME_USF, PLANE_STRAIN, PLANE_STRESS, MODEL_J2, &
-                           MODEL_ELASTIC, RATE_NONE, RATE_COWPER_SYMONDS, SHAPE_RING, SHAPE_RECT, &
-                           SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER, CONTACT_COULOMB, shape_names
+                           MODEL_ELASTIC, MODEL_FOAM, RATE_NONE, RATE_COWPER_SYMONDS, &
+                           SHAPE_RING, SHAPE_RECT, SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER, &
+                           CONTACT_COULOMB, shape_names, model_names
   use mpm_config_table, only: specs
   use mpm_config, only: config_t, read_config, write_config, write_config_unit, default_config, &
                         config_resolve
   use mpm_scene_builder, only: scene_new, scene_add_material, scene_add_ring, scene_add_wall
   implicit none
 
-  character(len=*), parameter :: nml_files(4) = [character(len=24) :: &
-    'namelists/default.nml', 'namelists/crush.nml', 'namelists/impact.nml', 'namelists/wave.nml']
+  character(len=*), parameter :: nml_files(5) = [character(len=32) :: &
+    'namelists/default.nml', 'namelists/crush.nml', 'namelists/impact.nml', 'namelists/wave.nml', &
+    'namelists/foam/foam_block.nml']
   character(len=*), parameter :: bad_files(42) = [character(len=32) :: &
     '01_empty', '02_missing_run', '03_only_run', '04_unknown_group', '05_unknown_variable', &
     '06_text_for_number', '07_integer_expected', '08_unquoted_text', '09_bad_enum', &
@@ -47,6 +49,7 @@ program test_config
   call test_defaults()
   call test_resolved_examples()
   call test_extreme_round_trip()
+  call test_foam_round_trip()
   call test_default_config()
   call test_warnings()
   call test_resolve()
@@ -88,6 +91,46 @@ contains
       call check(echo1 == echo2, 'second echo of '//trim(nml_files(k))//' is the same text')
     end do
   end subroutine test_round_trips
+
+  !> Foam: foam_alpha with a full 64-point curve, and nu_plastic with the law: read, echo, read
+  !! back identical; config_resolve of the case read keeps it.
+  subroutine test_foam_round_trip()
+    type(config_t) :: a, b
+    integer :: k, stat
+    character(len=:), allocatable :: f, f2, msg
+    character(len=2048), allocatable :: lines(:)
+    call begin_test('round trip of foam materials')
+    lines = [character(len=2048) :: run_ok, grid_ok, &
+      '&material name = ''f1'', model = ''FOAM'', E = 1e9, nu = 0.3, rho = 230, foam_alpha = 1.5', &
+      ' curve_strain =', ' curve_stress =', '/', &
+      '&material name = ''f2'', model = ''foam'', E = 1e9, nu = 0.3, rho = 230, sigma_p = 1.6e6', &
+      ' eps_d = 2.46, nu_plastic = -0.2, foam_gamma = 2e6, foam_alpha2 = 4e6, foam_beta = 3 /', &
+      '&body material = ''f1'', r_inner = 24e-3, r_outer = 26e-3 /']
+    do k = 1, max_table
+      lines(4) = trim(lines(4))//' '//e17(real(k - 1, wp)*0.03_wp)//','
+      lines(5) = trim(lines(5))//' '//e17(1.6e6_wp + real(k - 1, wp)**2*1.0e3_wp/3.0_wp)//','
+    end do
+    f = write_case('foam', lines)
+    call read_config(f, a, stat, msg)
+    call check(stat == 0, 'the foam case reads: '//msg)
+    if (stat /= 0) return
+    call check(a%materials(1)%model_id == MODEL_FOAM .and. a%materials(1)%n_curve == max_table &
+      .and. a%materials(1)%foam_alpha == 1.5_wp .and. a%materials(1)%sigma_p < 0.0_wp, &
+      'f1: foam, 64 curve points, foam_alpha, no sigma_p')
+    call check(a%materials(2)%n_curve == 0 .and. a%materials(2)%nu_plastic == -0.2_wp .and. &
+      a%materials(2)%foam_alpha < 0.0_wp .and. a%materials(2)%foam_beta == 3.0_wp .and. &
+      a%materials(2)%eps_d == 2.46_wp, 'f2: the law, nu_plastic')
+    f2 = dir//'/foam_echo.nml'
+    call write_config(a, f2, stat, msg)
+    call read_config(f2, b, stat, msg)
+    call check(stat == 0, 'the foam echo reads back: '//msg)
+    if (stat /= 0) return
+    call check(config_diff(a, b) == '', 'the foam echo reads back identical; differs in: '// &
+      config_diff(a, b))
+    call config_resolve(b, stat, msg)
+    call check(stat == 0 .and. config_diff(a, b) == '', 'config_resolve keeps the foam '// &
+      'case: '//msg//config_diff(a, b))
+  end subroutine test_foam_round_trip
 
   !> Extreme and awkward values survive write + read exactly.
   subroutine test_extreme_round_trip()
@@ -341,10 +384,29 @@ contains
     call check(count_of(echo, 'self_contact =') == 0, 'no ring here has self-contact: '// &
       'self_contact is left out without a line')
     do k = 1, size(specs)                    ! the echo names the shape from the row's `only`
-      if (len_trim(specs(k)%only) > 0) call check(any(shape_names == specs(k)%only), &
-        'the row '//trim(specs(k)%name)//' is only for a shape of shape_names: '//specs(k)%only)
+      if (len_trim(specs(k)%only) > 0 .and. specs(k)%group == 'body') call check( &
+        words_in(specs(k)%only, shape_names), 'the row '//trim(specs(k)%name)// &
+        ' is only for shapes of shape_names: '//specs(k)%only)
+      if (len_trim(specs(k)%only) > 0 .and. specs(k)%group /= 'body') call check( &
+        specs(k)%group == 'material' .and. words_in(specs(k)%only, model_names), 'the row '// &
+        trim(specs(k)%name)//' is only for models of model_names: '//specs(k)%only)
     end do
   end subroutine test_other_shape
+
+  !> Whether every blank-separated word of `list` is one of `names`.
+  pure logical function words_in(list, names)
+    character(len=*), intent(in) :: list, names(:)
+    integer :: p, q
+    character(len=len(list)) :: rest
+    words_in = .true.
+    rest = adjustl(list)
+    do while (len_trim(rest) > 0)
+      q = index(rest, ' ')
+      p = findloc(names, rest(1:q-1), 1)
+      words_in = words_in .and. p > 0
+      rest = adjustl(rest(q:))
+    end do
+  end function words_in
 
   !> How often `part` occurs in `text`.
   pure integer function count_of(text, part) result(n)
@@ -829,6 +891,12 @@ contains
         call cmp(d, x%hardening == y%hardening, 'materials%hardening')
         call cmp(d, x%cs_d == y%cs_d, 'materials%cs_d')
         call cmp(d, x%cs_q == y%cs_q, 'materials%cs_q')
+        call cmp(d, x%sigma_p == y%sigma_p .and. x%nu_plastic == y%nu_plastic .and. &
+          x%foam_alpha == y%foam_alpha .and. x%foam_gamma == y%foam_gamma .and. &
+          x%foam_alpha2 == y%foam_alpha2 .and. x%foam_beta == y%foam_beta .and. &
+          x%eps_d == y%eps_d, 'materials%(foam law)')
+        call cmp(d, x%n_curve == y%n_curve .and. all(x%curve_strain == y%curve_strain) .and. &
+          all(x%curve_stress == y%curve_stress), 'materials%(foam curve)')
       end associate
     end do
     do k = 1, size(a%bodies)

@@ -3,7 +3,7 @@
 """One scene classifier: tubempm's (``scene_of``, src/advice/mpm_advice.f90), which it writes into
 summary.nml (``scene``) and prints with ``--scene`` without running; the plots only read it.
 
-Every namelist of namelists/, namelists/contact/ and tests/scenes/ is classified both ways and
+Every namelist of namelists/, namelists/contact/, namelists/foam/ and tests/scenes/ is classified both ways and
 compared with the scene the file is known to be (the table below, written by hand from what each
 file models, not by running the classifier): ``tubempm --scene`` on the case file, and a run of a
 few steps (t_end cut to 1e-7 s) whose summary.nml must name it. mpmplot.scene.scene_kind must give
@@ -47,6 +47,7 @@ EXPECTED = {
     "namelists/contact/row3_single.nml": "crush",
     "namelists/contact/stack.nml": "crush",
     "namelists/contact/two_rings.nml": "impact",  # two rings flying at each other, no wall moves
+    "namelists/foam/foam_block.nml": "generic",   # a foam block between platens: no ring
     "tests/scenes/crush_quarter.nml": "crush",
     "tests/scenes/damped_quarter.nml": "wave",    # a platen pulse (triangle back to 0)
     "tests/scenes/elastic_quarter.nml": "wave",   # a platen pulse, as the wave scene's
@@ -84,7 +85,7 @@ def main() -> int:
     binary = os.environ.get("TUBEMPM", str(ROOT / "bin" / "tubempm"))
     os.environ["TUBEMPM"] = binary            # the plots ask the same binary
     files = sorted(str(p.relative_to(ROOT)) for d in ("namelists", "namelists/contact",
-                                                      "tests/scenes")
+                                                      "namelists/foam", "tests/scenes")
                    for p in (ROOT / d).glob("*.nml"))
     check(sorted(EXPECTED) == files, f"the table names every scene file ({files})")
     check(not hasattr(scene, "classify_inputs"), "no Python copy of the scene rule")

@@ -10,7 +10,7 @@ module mpm_constants
   public :: SCHEME_USL, SCHEME_USF, SCHEME_MUSL, scheme_names
   public :: PLANE_STRAIN, PLANE_STRESS, plane_names
   public :: VOLUMETRIC_STANDARD, VOLUMETRIC_FBAR, VOLUMETRIC_FBARWALL, volumetric_names
-  public :: MODEL_ELASTIC, MODEL_NEOHOOKEAN, MODEL_J2, model_names
+  public :: MODEL_ELASTIC, MODEL_NEOHOOKEAN, MODEL_J2, MODEL_FOAM, model_names
   public :: RATE_NONE, RATE_COWPER_SYMONDS, rate_law_names
   public :: FLOW_LINEAR, FLOW_JOHNSON_COOK, flow_stress_names
   public :: SHAPE_RING, SHAPE_RECT, SHAPE_TUBE, SHAPE_HONEYCOMB, SHAPE_WALLS, SHAPE_DISC, &
@@ -31,7 +31,7 @@ module mpm_constants
   integer, parameter :: name_len = 64       !! length of names and enumeration values
   integer, parameter :: path_len = 512      !! length of file paths
   integer, parameter :: msg_len = 4096      !! length of error messages (may hold several lines)
-  integer, parameter :: max_table = 64      !! points of a wall motion table
+  integer, parameter :: max_table = 64      !! points of a wall motion table, a foam curve
 
   ! Enumerations of the namelist input: the integer code is the index into the names array.
   integer, parameter :: BASIS_LINEAR = 1, BASIS_UGIMP = 2, BASIS_CPDI1 = 3, BASIS_CPDI2 = 4
@@ -44,9 +44,9 @@ module mpm_constants
   integer, parameter :: VOLUMETRIC_STANDARD = 1, VOLUMETRIC_FBAR = 2, VOLUMETRIC_FBARWALL = 3
   character(len=*), parameter :: volumetric_names(3) = [character(len=8) :: 'standard', 'fbar', &
                                                         'fbarwall']
-  integer, parameter :: MODEL_ELASTIC = 1, MODEL_NEOHOOKEAN = 2, MODEL_J2 = 3
-  character(len=*), parameter :: model_names(3) = [character(len=10) :: &
-    'elastic', 'neohookean', 'j2']
+  integer, parameter :: MODEL_ELASTIC = 1, MODEL_NEOHOOKEAN = 2, MODEL_J2 = 3, MODEL_FOAM = 4
+  character(len=*), parameter :: model_names(4) = [character(len=10) :: &
+    'elastic', 'neohookean', 'j2', 'foam']
   integer, parameter :: RATE_NONE = 1, RATE_COWPER_SYMONDS = 2
   character(len=*), parameter :: rate_law_names(2) = [character(len=14) :: &
     'none', 'cowper_symonds']

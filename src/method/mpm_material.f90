@@ -1,5 +1,5 @@
 !> Constitutive models: hypoelastic (Jaumann rate), J2 plasticity (radial return) with a linear
-!! or Johnson-Cook flow stress, Neo-Hookean.
+!! or Johnson-Cook flow stress, the crushable foam of Deshpande & Fleck (mpm_foam), Neo-Hookean.
 ! SPDX-License-Identifier: MIT
 !
 ! Stress storage: sig(4) = (xx, yy, xy, zz), Cauchy stress [Pa]; sig(3) is the tensor
@@ -9,9 +9,10 @@
 module mpm_material
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
   use mpm_kinds, only: wp
-  use mpm_constants, only: name_len, MODEL_ELASTIC, MODEL_NEOHOOKEAN, MODEL_J2, RATE_NONE, &
-                           RATE_COWPER_SYMONDS, PLANE_STRAIN, PLANE_STRESS, FLOW_LINEAR, &
-                           FLOW_JOHNSON_COOK
+  use mpm_constants, only: name_len, max_table, MODEL_ELASTIC, MODEL_NEOHOOKEAN, MODEL_J2, &
+                           MODEL_FOAM, RATE_NONE, RATE_COWPER_SYMONDS, PLANE_STRAIN, &
+                           PLANE_STRESS, FLOW_LINEAR, FLOW_JOHNSON_COOK
+  use mpm_foam, only: foam_law_t, foam_alpha, foam_return
   implicit none
   private
   public :: material_new, material_from, material_wave_speed, material_stress_update, &
@@ -33,7 +34,7 @@ module mpm_material
   !! component); the model reads them from material_t, which extends this type.
   type, public :: material_cfg_t
     character(len=name_len) :: name = ''           !! label used by &body
-    character(len=name_len) :: model = 'j2'        !! elastic | neohookean | j2
+    character(len=name_len) :: model = 'j2'        !! elastic | neohookean | j2 | foam
     character(len=name_len) :: rate_law = 'none'   !! none | cowper_symonds
     integer :: model_id = 0, rate_law_id = 0       !! codes of mpm_constants
     real(wp) :: E = -1.0_wp                        !! Young's modulus [Pa]
@@ -51,6 +52,16 @@ module mpm_material
     real(wp) :: jc_n = 1.0_wp                      !! Johnson-Cook n [-]
     real(wp) :: jc_c = 0.0_wp                      !! Johnson-Cook C [-]
     real(wp) :: jc_rate0 = 1.0_wp                  !! Johnson-Cook reference strain rate [1/s]
+    real(wp) :: sigma_p = -1.0_wp                  !! foam: plateau stress [Pa]
+    real(wp) :: nu_plastic = 0.0_wp                !! foam: plastic Poisson's ratio [-]
+    real(wp) :: foam_alpha = -1.0_wp               !! foam: shape factor (> 0: not nu_plastic) [-]
+    real(wp) :: foam_gamma = 0.0_wp                !! foam: linear hardening gamma [Pa]
+    real(wp) :: foam_alpha2 = 0.0_wp               !! foam: densification alpha2 [Pa]
+    real(wp) :: foam_beta = 1.0_wp                 !! foam: densification exponent beta [-]
+    real(wp) :: eps_d = -1.0_wp                    !! foam: densification strain [-]
+    integer :: n_curve = 0                         !! foam: points of the uniaxial curve (0: law)
+    real(wp) :: curve_strain(max_table) = 0.0_wp   !! foam: its equivalent plastic strains [-]
+    real(wp) :: curve_stress(max_table) = 0.0_wp   !! foam: its yield stresses [Pa]
   end type material_cfg_t
 
   !> A material: its parameters and the derived elastic constants.
@@ -58,6 +69,8 @@ module mpm_material
     real(wp) :: lambda     !! first Lame constant [Pa]
     real(wp) :: mu         !! shear modulus [Pa]
     real(wp) :: bulk       !! bulk modulus [Pa]
+    real(wp) :: alpha = 0.0_wp     !! foam: shape factor of the yield surface [-]
+    type(foam_law_t) :: foam       !! foam: the hardening
   end type material_t
 
 contains
@@ -73,6 +86,12 @@ contains
     mat%lambda = prm%E*prm%nu/((1.0_wp + prm%nu)*(1.0_wp - 2.0_wp*prm%nu))  ! Lame lambda
     mat%mu = prm%E/(2.0_wp*(1.0_wp + prm%nu))                       ! shear modulus
     mat%bulk = prm%E/(3.0_wp*(1.0_wp - 2.0_wp*prm%nu))              ! K = lambda + 2 mu / 3
+    if (prm%model_id /= MODEL_FOAM) return
+    mat%alpha = prm%foam_alpha
+    if (.not. prm%foam_alpha > 0.0_wp) mat%alpha = foam_alpha(prm%nu_plastic)
+    mat%foam = foam_law_t(sigma_p=prm%sigma_p, gamma=prm%foam_gamma, alpha2=prm%foam_alpha2, &
+      beta=prm%foam_beta, eps_d=prm%eps_d, n_curve=prm%n_curve, &
+      curve_strain=prm%curve_strain, curve_stress=prm%curve_stress)
   end function material_from
 
   !> material_from with the parameters as arguments (tests). The Johnson-Cook arguments
@@ -114,8 +133,9 @@ contains
   end function material_wave_speed
 
   !> Update the Cauchy stress of one particle over one step.
-  !! elastic/j2: exact 2-D Jaumann rotation by W = skew(L), elastic increment from D = sym(L),
-  !! then (j2) radial return; neohookean: stress from F, L and eqps ignored.
+  !! elastic/j2/foam: exact 2-D Jaumann rotation by W = skew(L), elastic increment from
+  !! D = sym(L), then (j2, foam) the return to the yield surface; neohookean: stress from F, L and
+  !! eqps ignored (foam: eqps is the work-conjugate strain of Deshpande & Fleck).
   !! stat: 0 ok, 1 return mapping or thickness iteration not converged, 2 non-finite or
   !! invalid input (or a non-finite result); on stat /= 0 sig and eqps are unchanged, dwp = 0.
   pure subroutine material_stress_update(mat, plane, L, dt, F, sig, eqps, dwp, stat, w)
@@ -142,7 +162,7 @@ contains
       if (.not. all(ieee_is_finite(F))) return
       call neohookean_stress(mat, plane, F, s, energy, stat)
       if (stat /= MATERIAL_OK) return
-    case (MODEL_ELASTIC, MODEL_J2)
+    case (MODEL_ELASTIC, MODEL_J2, MODEL_FOAM)
       ! Check before any arithmetic: an ordered comparison with NaN would itself trap.
       if (.not. (all(ieee_is_finite(L)) .and. ieee_is_finite(dt) .and. &
                  all(ieee_is_finite(sig)) .and. ieee_is_finite(eqps))) return
@@ -156,6 +176,10 @@ contains
         else
           call j2_return(mat, plane, dt, eqps, s, deqps, dissipation, stat)
         end if
+        if (stat /= MATERIAL_OK) return
+      else if (mat%model_id == MODEL_FOAM) then
+        call foam_return(plane, mat%E, mat%nu, mat%alpha, mat%foam, eqps, s, deqps, &
+                         dissipation, stat)
         if (stat /= MATERIAL_OK) return
       end if
       if (present(w)) energy = linear_energy(mat, plane, s)
@@ -174,7 +198,7 @@ contains
   end subroutine material_stress_update
 
   !> Stored elastic energy per unit current volume [J/m^3].
-  !! elastic/j2: (1/2) sigma : C^-1 : sigma with the 3-D compliance (sigma_zz = 0 in plane
+  !! elastic/j2/foam: (1/2) sigma : C^-1 : sigma with the 3-D compliance (sigma_zz = 0 in plane
   !! stress, sig(4) in plane strain); neohookean: W(F) / J with J = det(F_2d) F_zz.
   !! Returns a quiet NaN for an inadmissible F (det F <= 0) or unknown model/plane.
   pure function material_energy_density(mat, plane, sig, F) result(w)
@@ -188,7 +212,7 @@ contains
     w = ieee_value(w, ieee_quiet_nan)
     if (plane /= PLANE_STRAIN .and. plane /= PLANE_STRESS) return
     select case (mat%model_id)
-    case (MODEL_ELASTIC, MODEL_J2)
+    case (MODEL_ELASTIC, MODEL_J2, MODEL_FOAM)
       w = linear_energy(mat, plane, sig)
     case (MODEL_NEOHOOKEAN)
       if (.not. all(ieee_is_finite(F))) return
