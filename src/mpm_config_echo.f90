@@ -40,20 +40,6 @@ module mpm_config_echo
 
 contains
 
-  !> 'rings and tubes' for the row's shapes 'ring tube'.
-  function plurals(only) result(text)
-    character(len=*), intent(in) :: only
-    character(len=:), allocatable :: text
-    integer :: k, n
-    text = ''
-    n = 0
-    do k = 1, size(shape_names)
-      if (.not. for_shape(only, shape_names(k))) cycle
-      n = n + 1
-      if (n > 1) text = text//', '
-      text = text//trim(shape_plural(k))
-    end do
-  end function plurals
 
   !> Write every group as resolved (defaults filled in) to a file, readable back as input.
   subroutine write_config(cfg, path, stat, errmsg)
@@ -205,7 +191,7 @@ contains
         r = idx(j)
         if (for_shape(specs(r)%only, shape)) cycle
         e%hide(r) = .true.
-        e%why(r) = 'for '//plurals(specs(r)%only)//' only'
+        e%why(r) = 'not for '//trim(shape_plural(findloc(shape_names, shape, 1)))
       end do
       e%n_vertices = cfg%bodies(k)%n_vertices
       e%silent(idx) = specs(idx)%name == 'self_contact' .and. .not. e%hide(idx) .and. &

@@ -237,7 +237,7 @@ module mpm_config_table
     var_spec_t('body', 'vertices', n=2*max_vertices, r0=big, own=.true., only='tube', &
       allowed='3 to 64 points x, y [m] of the centreline polygon, counter-clockwise, '// &
       'finite (required for shape = ''tube'')', comment='centreline polygon x, y, ... [m]'), &
-    var_spec_t('body', 'thickness', r0=-1.0_wp, required=.true., lo=0.0_wp, lo_open=.true., &
+    var_spec_t('body', 'thickness', r0=big, required=.true., lo=0.0_wp, lo_open=.true., &
       only='tube honeycomb', unset='neg', allowed='a real number > 0 [m] (required for '// &
       'shape = ''tube'' and ''honeycomb'')', comment='wall thickness [m]'), &
     var_spec_t('body', 'corner_radius', lo=0.0_wp, only='tube', allowed='0 (sharp) or a '// &
@@ -245,10 +245,10 @@ module mpm_config_table
     var_spec_t('body', 'n_cells', own=.true., n=2, r0=0.0_wp, whole=.true., only='honeycomb', &
       unset='zero', allowed='2 whole numbers from 1 to 64: cells along x and y (required '// &
       'for shape = ''honeycomb'')', comment='cells along x and y'), &
-    var_spec_t('body', 'cell_l', r0=-1.0_wp, required=.true., lo=0.0_wp, lo_open=.true., &
+    var_spec_t('body', 'cell_l', r0=big, required=.true., lo=0.0_wp, lo_open=.true., &
       only='honeycomb', unset='neg', allowed='a real number > 0 [m] (required for shape '// &
       '= ''honeycomb'')', comment='inclined wall length [m]'), &
-    var_spec_t('body', 'cell_h', r0=-1.0_wp, required=.true., lo=0.0_wp, lo_open=.true., &
+    var_spec_t('body', 'cell_h', r0=big, required=.true., lo=0.0_wp, lo_open=.true., &
       only='honeycomb', unset='neg', allowed='a real number > 0 [m] (required for shape '// &
       '= ''honeycomb'')', comment='vertical wall length [m]'), &
     var_spec_t('body', 'cell_angle', r0=30.0_wp, lo=-80.0_wp, hi=80.0_wp, only='honeycomb', &

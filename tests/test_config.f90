@@ -377,10 +377,11 @@ contains
       'size = 0, 1 of a ring (one component given)')
     call write_config(c, dir//'/shape1_echo.nml', stat, msg)
     echo = file_text(dir//'/shape1_echo.nml')
-    call check(count_of(echo, '  ! size, n_x, n_y: for rectangles only') == 2, &
-      'the echo names the rectangles'' variables once per ring')
+    call check(count_of(echo, '  ! size, n_x, n_y, vertices, thickness, corner_radius, '// &
+      'n_cells, cell_l, cell_h, cell_angle, walls_file: not for rings') == 2, &
+      'the echo names the other shapes'' variables once per ring')
     call check(count_of(echo, '  ! r_inner, r_outer, n_thick, n_circ, sector, self_contact: '// &
-      'for rings only') == 4, 'the echo names the rings'' variables once per rectangle')
+      'not for rectangles') == 4, 'the echo names the rings'' variables once per rectangle')
     call check(count_of(echo, 'self_contact =') == 0, 'no ring here has self-contact: '// &
       'self_contact is left out without a line')
     do k = 1, size(specs)                    ! the echo names the shape from the row's `only`
@@ -566,11 +567,11 @@ contains
       body_ok], [character(len=100) :: ':4: &material #1: name = ''abcdefghij', &
       'too long (78 characters)'])
     call bad('b_shape', [character(len=100) :: run_ok, grid_ok, mat_ok, &
-      '&body shape = ''tube'' /'], [character(len=100) :: &
-      ':4: &body #1: shape = ''tube'': not an allowed value', '''ring'', ''rect'''])
+      '&body shape = ''tubes'' /'], [character(len=100) :: &
+      ':4: &body #1: shape = ''tubes'': not an allowed value', '''ring'', ''rect'', ''tube'''])
     call bad('b_n_thick', [character(len=100) :: run_ok, grid_ok, mat_ok, body_ok, &
       '&body r_inner = 1, r_outer = 2, n_thick = 0 /'], [character(len=100) :: &
-      ':5: &body #2: n_thick = 0: out of range', 'an integer >= 1'])
+      ':5: &body #2: n_thick = 0: out of range', 'an integer from 1 to 256'])
     call bad('b_n_circ', [character(len=100) :: run_ok, grid_ok, mat_ok, &
       '&body r_inner = 1, r_outer = 2', ' n_circ = 2 /'], [character(len=100) :: &
       ':5: &body #1: n_circ = 2: out of range', '0 (particles about square) or an integer >= 3'])
