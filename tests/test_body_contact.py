@@ -40,7 +40,7 @@ binary under test; every oracle is outside the contact code:
    symmetry the force at platen travel 2d is the single tube's at d; the mean forces over
    d/D 0.02-0.05, 0.05-0.10 and 0.10-0.15 within 3 %.
 
-    usage: TUBEMPM=build/debug/tubempm python3 tests/test_body_contact.py SCRATCH
+    usage: TUBEMPM=build/debug/tubempm python3 -m tests.test_body_contact SCRATCH
 """
 from __future__ import annotations
 
@@ -52,12 +52,11 @@ from pathlib import Path
 
 import numpy as np
 
+from plots.mpmplot import readers
+from tests.pycheck import Checks
+from tests.pyscene import run_scene
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "plots"))
-sys.path.insert(0, str(ROOT / "tests"))
-from mpmplot import readers  # noqa: E402
-from pycheck import Checks  # noqa: E402
-from pyscene import run_scene  # noqa: E402
 
 T = Checks("test_body_contact")
 check = T.check

@@ -17,7 +17,7 @@ debug build, on tests/scenes/stability_impact.nml (the stability study's impact 
    cpdi2 + usf at 1 per cell) the automatic value promises nothing: there `--check` must warn
    (the method failed at every cfl tried, or usl loses energy at any cfl), and no run is made.
 
-    usage: TUBEMPM=build/debug/tubempm python3 tests/test_cfl_auto.py SCRATCH
+    usage: TUBEMPM=build/debug/tubempm python3 -m tests.test_cfl_auto SCRATCH
 """
 from __future__ import annotations
 
@@ -28,11 +28,10 @@ import subprocess
 import sys
 from pathlib import Path
 
+from plots.mpmplot import readers
+from tests.pycheck import Checks, close
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "plots"))
-sys.path.insert(0, str(ROOT / "tests"))
-from mpmplot import readers  # noqa: E402
-from pycheck import Checks, close  # noqa: E402
 
 T = Checks("test_cfl_auto")
 check = T.check

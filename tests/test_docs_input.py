@@ -19,8 +19,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from pycheck import Checks  # noqa: E402
+from tests.pycheck import Checks
 
 ROOT = Path(__file__).resolve().parent.parent
 DOC = ROOT / "docs" / "input.md"

@@ -18,7 +18,7 @@
   the B-spline of the corners, inside the circle by R dtheta^2 / 8, the wall pushed nothing
   for 1.09 us), and the impulse equals the ring's momentum (to 1e-9).
 
-    TUBEMPM=build/debug/tubempm python3 tests/test_first_contact.py SCRATCH
+    TUBEMPM=build/debug/tubempm python3 -m tests.test_first_contact SCRATCH
 """
 from __future__ import annotations
 
@@ -29,11 +29,10 @@ from pathlib import Path
 
 import numpy as np
 
+from tests.pycheck import Checks
+from tests.pyscene import run_scene
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "plots"))
-sys.path.insert(0, str(ROOT / "tests"))
-from pycheck import Checks  # noqa: E402
-from pyscene import run_scene  # noqa: E402
 
 T = Checks("test_first_contact")
 check = T.check

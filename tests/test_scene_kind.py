@@ -12,7 +12,7 @@ the same answer from the output folder (summary.nml) and from the case file alon
 changed) and ask tubempm about input.nml when the entry is missing. No Python copy of the rule
 is left (``classify_inputs`` is gone), and ``--scene`` on a bad input prints no kind and exits 2.
 
-    TUBEMPM=build/debug/tubempm python3 tests/test_scene_kind.py SCRATCH
+    TUBEMPM=build/debug/tubempm python3 -m tests.test_scene_kind SCRATCH
 """
 from __future__ import annotations
 
@@ -22,11 +22,10 @@ import subprocess
 import sys
 from pathlib import Path
 
+from tests.pycheck import Checks
+from plots.mpmplot import namelist, scene
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-sys.path.insert(0, str(ROOT / "plots"))
-from pycheck import Checks  # noqa: E402
-from mpmplot import namelist, scene  # noqa: E402
 
 T = Checks("test_scene_kind")
 check = T.check

@@ -9,7 +9,7 @@ two tiny wave cases (0.4 us of a 2-particle-thick ring) with the binary named by
 check that finished runs are skipped, interrupted and changed runs re-run. The last line is
 `test_study: N passed, M failed` (exit 1 if M > 0).
 
-    TUBEMPM=build/debug/tubempm python3 tests/test_study.py
+    TUBEMPM=build/debug/tubempm python3 -m tests.test_study
 """
 from __future__ import annotations
 
@@ -24,19 +24,17 @@ from pathlib import Path
 
 import numpy as np
 
+from tests.pycheck import Checks, close
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tools"))
-sys.path.insert(0, str(ROOT / "plots"))
-sys.path.insert(0, str(ROOT / "tests"))
-from pycheck import Checks, close  # noqa: E402
 NAME = "test_study"
 T = Checks(NAME)
 check = T.check
 
 
 def test_render() -> None:
-    import batch
-    from mpmplot import namelist
+    from tools import batch
+    from plots.mpmplot import namelist
     base = (ROOT / "namelists" / "wave.nml").read_text()
     text = batch.render(base, {"grid.h": 0.25e-3, "body.n_thick": 16, "probe[7].point":
                                (0.0, 0.05), "solver.deterministic": True,
@@ -64,7 +62,7 @@ def test_render() -> None:
 
 
 def test_richardson() -> None:
-    import study
+    from tools import study
     for p in (1.0, 1.5, 2.0):
         f0, c = 3.0, 0.7
         vals = [f0 + c * h ** p for h in (0.4, 0.2, 0.1)]
@@ -77,7 +75,7 @@ def test_richardson() -> None:
 
 
 def test_pareto_advice() -> None:
-    import plot_study
+    from plots import plot_study
     pts = [(1.0, 0.5), (2.0, 0.6), (3.0, 0.1), (4.0, 0.1), (5.0, 0.01)]
     check(plot_study.pareto(pts) == [(1.0, 0.5), (3.0, 0.1), (5.0, 0.01)], "pareto front")
     rows = []
@@ -119,7 +117,7 @@ def test_pareto_advice() -> None:
 
 
 def test_batch_runs() -> None:
-    import batch
+    from tools import batch
     exe = Path(os.environ.get("TUBEMPM", ROOT / "build" / "debug" / "tubempm"))
     if not check(exe.is_file(), f"binary {exe} missing"):
         return
@@ -167,8 +165,8 @@ def test_crush_metrics() -> None:
     advances at a constant speed (delta = twice the advance). The absorbed energy at
     delta/D = 0.5 is then F0 D / 2 exactly, the window mean is F0, and a curve compared with
     itself has no error."""
-    import study
-    from mpmplot import namelist, scene
+    from tools import study
+    from plots.mpmplot import namelist, scene
     inputs = namelist.read_namelist(ROOT / "namelists" / "crush.nml")
     D = scene.ring_properties(inputs)["D"]
     tmp = Path(tempfile.mkdtemp(prefix="test_study_crush_"))
@@ -228,7 +226,7 @@ def test_check_advice() -> None:
               f"error {err} % vs table {100 * float(rows[0]['error'])} %")
     # an input at the reference's settings is not told "error 0 %": references are not in the
     # compiled table (their error was never measured)
-    import batch
+    from tools import batch
     ref_text = batch.render((ROOT / "namelists" / "crush.nml").read_text(),
                             {"grid.h": 1.48e-3 / 8, "body.n_thick": 16})
     with tempfile.NamedTemporaryFile("w", suffix=".nml", delete=False) as fh:
@@ -262,9 +260,9 @@ def test_volumetric_factor() -> None:
     """The anti-locking factor: 'fbar' runs carry the override and a name of their own, the
     standard runs keep their names and inputs (the committed runs stay valid), and every fbar run
     of a level has its standard twin."""
-    import batch
-    import study
-    from mpmplot import namelist
+    from tools import batch
+    from tools import study
+    from plots.mpmplot import namelist
     p_std = study.Point("crush", h_over_t=0.25, n_t=4)
     p_fb = study.Point("crush", h_over_t=0.25, n_t=4, volumetric="fbar")
     check(p_std.name == "crush_cpdi2_musl_h1_4_nt4_a1_cfl0.2", "volumetric: standard name kept")
@@ -299,8 +297,8 @@ def test_crush_against_fe() -> None:
     (1 + eps) times FE's (all linear in F), whatever the self-reference says; the self-referenced
     error is the second column. The FE curve's own mean force is the one docs/fe_reference's
     convergence table gives for the finest mesh."""
-    import study
-    from mpmplot import namelist, scene
+    from tools import study
+    from plots.mpmplot import namelist, scene
     fe = study.fe_metrics()
     if not check(fe is not None and "F_window" in fe, "FE curve read and over the window"):
         return
@@ -334,10 +332,10 @@ def test_quasi_static_design() -> None:
     shipped scene, every crush run is at the crush's centre cfl except the cfl sweep and issue
     17's points (h = t/4, n_t = 8, aspect 2 at cfl 1.2, 1.6 and automatic), and
     plots/plot_study.py knows the same centre cfl per scene."""
-    import batch
-    import plot_study
-    import study
-    from mpmplot import namelist, scene
+    from tools import batch
+    from plots import plot_study
+    from tools import study
+    from plots.mpmplot import namelist, scene
     pts = study.design("full")["crush"]
     case = pts[0].case()
     nml = namelist.parse_namelist(batch.render(case.base.read_text(), case.overrides), "crush")
@@ -367,8 +365,8 @@ def test_automatic_cfl() -> None:
     per cell (the 1-per-cell limits) as well as at two."""
     import re
     import subprocess
-    import batch
-    import study
+    from tools import batch
+    from tools import study
     exe = Path(os.environ.get("TUBEMPM", ROOT / "build" / "debug" / "tubempm"))
     if not check(exe.is_file(), f"binary {exe} present"):
         return
@@ -401,8 +399,8 @@ def test_mass_scaling_is_time_scaling() -> None:
     v / sqrt(m), the ramp, the record and the history interval times sqrt(m) is the same model in
     the time t sqrt(m). With m = 4 (sqrt(m) = 2: every scaling exact in binary) a short crush
     gives the same platen force at every history row, to round-off, at twice the time."""
-    import batch
-    from mpmplot import readers
+    from tools import batch
+    from plots.mpmplot import readers
     exe = Path(os.environ.get("TUBEMPM", ROOT / "build" / "debug" / "tubempm"))
     if not check(exe.is_file(), f"binary {exe} missing"):
         return

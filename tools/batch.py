@@ -316,7 +316,8 @@ def sbatch_script(tasks_file: Path, ntasks: int, threads: int, slurm: Slurm,
     lines += [f"#SBATCH {o}" for o in slurm.options]
     lines += ["# one tubempm run per array task, in its own folder (tools/batch.py --task)",
               f"export OMP_NUM_THREADS={threads}",
-              f"exec {slurm.python} {Path(__file__).resolve()} --task {tasks_file}", ""]
+              f"cd {ROOT}",
+              f"exec {slurm.python} -m tools.batch --task {tasks_file}", ""]
     return "\n".join(lines)
 
 
@@ -510,9 +511,7 @@ def private_binary(folder: Path, binary: Path = BINARY) -> Path:
 
 def read_summary(folder: Path) -> dict[str, Any]:
     """summary.nml of a finished case as a dict ({} if missing)."""
-    if str(ROOT / "plots") not in sys.path:
-        sys.path.insert(0, str(ROOT / "plots"))
-    from mpmplot import readers  # noqa: E402  (plots/ is not on the path by default)
+    from plots.mpmplot import readers
     path = folder / "summary.nml"
     return readers.read_summary(path) if path.is_file() else {}
 
@@ -582,7 +581,7 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(
         description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter,
         epilog=__doc__.split("\n\n", 1)[1] + "\nOn its own, it lists a batch folder (and writes "
-        "nothing):\n    python3 tools/batch.py --status build/stability\nor runs one task of a "
+        "nothing):\n    python3 -m tools.batch --status build/stability\nor runs one task of a "
         "Slurm job array (--task, what its sbatch script runs).")
     mode = ap.add_mutually_exclusive_group(required=True)
     mode.add_argument("--status", metavar="ROOT",

@@ -3,7 +3,7 @@
 """A parameter sweep of tubempm: a base namelist, a table of overrides, one run per row, and
 one table of results (``sweep.csv``) for plots/plot_sweep.py.
 
-    python3 tools/sweep.py BASE.nml --out DIR [--set KEY=VALUE ...] [--vary KEY=V1,V2,...]
+    python3 -m tools.sweep BASE.nml --out DIR [--set KEY=VALUE ...] [--vary KEY=V1,V2,...]
                            [--table ROWS.csv] [--jobs N] [--threads N] [--list] [--collect]
                            [--backend slurm [--partition P] [--time T] [--account A] ...]
 
@@ -31,9 +31,9 @@ the run's ``&results`` (``sea``, ``cfe``, ``mean_force``, ``absorbed_energy``, .
 
 A design chart, absorbed energy against D/t and impact speed:
 
-    python3 tools/sweep.py namelists/impact.nml --out out/chart \\
+    python3 -m tools.sweep namelists/impact.nml --out out/chart \\
         --vary ring.D_over_t=10,15,20,25 --vary ring.speed=10,20,30 --set run.t_end=1.0e-3
-    python3 plots/plot_sweep.py --dir out/chart --x ring.D_over_t --y plastic_end \\
+    python3 -m plots.plot_sweep --dir out/chart --x ring.D_over_t --y plastic_end \\
         --by ring.speed
 """
 from __future__ import annotations
@@ -48,12 +48,11 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from tools import batch
+from plots.mpmplot import namelist
+
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
-sys.path.insert(0, str(HERE))
-sys.path.insert(0, str(ROOT / "plots"))
-import batch  # noqa: E402
-from mpmplot import namelist  # noqa: E402
 
 #: the design variables of the first ring body (see the module's help)
 RING_KEYS = ("ring.d_over_t", "ring.t", "ring.speed")
@@ -250,7 +249,7 @@ def expand(base_path: Path, sets: list[str] | None = None, varies: list[str] | N
 
 def collect(cases: list[batch.Case], root: Path) -> Path:
     """sweep.csv from the run folders: one row per run (runs not finished have no numbers)."""
-    from mpmplot import readers  # noqa: PLC0415 (numpy only here)
+    from plots.mpmplot import readers  # noqa: PLC0415 (numpy only here)
     rows: list[dict[str, Any]] = []
     columns: list[str] = ["name"]
     for c in cases:
