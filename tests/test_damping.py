@@ -28,6 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
+from plots.mpmplot import namelist
 from tests.pycheck import Checks
 from tests.pyscene import run_scene
 
@@ -71,9 +72,8 @@ def free_block(scratch: Path) -> None:
 
 
 def slow_loading(scratch: Path) -> None:
-    text = (ROOT / "tests" / "scenes" / "damped_quarter.nml").read_text()
-    text = text.replace("title = 'damped_quarter'",
-                        "title = 'damped_quarter', output_dir = 'OUT'")
+    text = namelist.set_values((ROOT / "tests" / "scenes" / "damped_quarter.nml").read_text(),
+                               {"run.output_dir": "OUT"})
     h, s = run_scene(T, scratch, "damped_quarter", text)
     if not h:
         return

@@ -31,6 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
+from plots.mpmplot import namelist
 from tests.pycheck import Checks
 from tests.pyscene import run_scene
 
@@ -57,8 +58,8 @@ DRAG = f"""&run
 
 
 def crush(scratch: Path) -> None:
-    text = (ROOT / "tests" / "scenes" / "stick_crush.nml").read_text()
-    text = text.replace("title = 'stick_crush'", "title = 'stick_crush', output_dir = 'OUT'")
+    text = namelist.set_values((ROOT / "tests" / "scenes" / "stick_crush.nml").read_text(),
+                               {"run.output_dir": "OUT"})
     h, s = run_scene(T, scratch, "stick_crush", text)
     if not h:
         return

@@ -24,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
+from plots.mpmplot import namelist
 from tests.pycheck import Checks, close
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -33,12 +34,11 @@ check = T.check
 
 
 def test_render() -> None:
-    from tools import batch
-    from plots.mpmplot import namelist
+    """namelist.set_values, what batch writes each run's case.nml with."""
     base = (ROOT / "namelists" / "wave.nml").read_text()
-    text = batch.render(base, {"grid.h": 0.25e-3, "body.n_thick": 16, "probe[7].point":
-                               (0.0, 0.05), "solver.deterministic": True,
-                               "run.title": "a'b"})
+    text = namelist.set_values(base, {"grid.h": 0.25e-3, "body.n_thick": 16, "probe[7].point":
+                                      (0.0, 0.05), "solver.deterministic": True,
+                                      "run.title": "a'b"})
     nml = namelist.parse_namelist(text, "rendered")
     check(close(nml["grid"][0]["h"], 0.25e-3), "render: replaced h")
     check(nml["body"][0]["n_thick"] == 16, "render: replaced n_thick")
@@ -52,13 +52,22 @@ def test_render() -> None:
     check(same, "render: groups without overrides unchanged")
     for bad in ({"probe[8].point": (0.0, 0.0)}, {"grid h": 1.0}):
         try:
-            batch.render(base, bad)
+            namelist.set_values(base, bad)
             refused = False
         except ValueError:
             refused = True
         check(refused, f"render: {bad} is refused with ValueError")
-    check(batch.fortran_value([1.5, 2]) == "1.5, 2", "fortran_value of a list")
-    check(batch.fortran_value(False) == ".false.", "fortran_value of a bool")
+    # a whole line is replaced with its comment (which spoke of the old value); an
+    # assignment that shares its line, or a group on one line, is edited in place
+    line = namelist.set_values("&grid\n  h = 1.0e-3   ! t/4\n/\n", {"grid.h": 2.0e-3})
+    check(line == "&grid\n  h = 0.002\n/\n", f"render: the line replaced: {line!r}")
+    one = "&run title = 'a', cfl = 0.2 ! c\n/\n&grid h = 1.0 /\n&grid h = 2.0 /\n"
+    text = namelist.set_values(one, {"run.cfl": 0.5, "run.t_end": 1e-3, "grid[2].h": 3.0,
+                                     "grid[1].n": 4})
+    check(text == "&run title = 'a', cfl = 0.5 ! c\n  t_end = 0.001\n/\n&grid h = 1.0\n  n = 4\n/\n"
+          "&grid h = 3.0 /\n", f"render: one-line groups edited in place: {text!r}")
+    check(namelist.format_value([1.5, 2]) == "1.5, 2", "format_value of a list")
+    check(namelist.format_value(False) == ".false.", "format_value of a bool")
 
 
 def test_richardson() -> None:
@@ -166,7 +175,7 @@ def test_crush_metrics() -> None:
     delta/D = 0.5 is then F0 D / 2 exactly, the window mean is F0, and a curve compared with
     itself has no error."""
     from tools import study
-    from plots.mpmplot import namelist, scene
+    from plots.mpmplot import scene
     inputs = namelist.read_namelist(ROOT / "namelists" / "crush.nml")
     D = scene.ring_properties(inputs)["D"]
     tmp = Path(tempfile.mkdtemp(prefix="test_study_crush_"))
@@ -226,9 +235,8 @@ def test_check_advice() -> None:
               f"error {err} % vs table {100 * float(rows[0]['error'])} %")
     # an input at the reference's settings is not told "error 0 %": references are not in the
     # compiled table (their error was never measured)
-    from tools import batch
-    ref_text = batch.render((ROOT / "namelists" / "crush.nml").read_text(),
-                            {"grid.h": 1.48e-3 / 8, "body.n_thick": 16})
+    ref_text = namelist.set_values((ROOT / "namelists" / "crush.nml").read_text(),
+                                   {"grid.h": 1.48e-3 / 8, "body.n_thick": 16})
     with tempfile.NamedTemporaryFile("w", suffix=".nml", delete=False) as fh:
         fh.write(ref_text)
     try:
@@ -262,14 +270,13 @@ def test_volumetric_factor() -> None:
     of a level has its standard twin."""
     from tools import batch
     from tools import study
-    from plots.mpmplot import namelist
     p_std = study.Point("crush", h_over_t=0.25, n_t=4)
     p_fb = study.Point("crush", h_over_t=0.25, n_t=4, volumetric="fbar")
     check(p_std.name == "crush_cpdi2_musl_h1_4_nt4_a1_cfl0.2", "volumetric: standard name kept")
     check(p_fb.name == p_std.name + "_fbar", "volumetric: fbar name")
     check("solver.volumetric" not in p_std.case().overrides,
           "volumetric: no override for standard (input hashes of earlier runs unchanged)")
-    text = batch.render(p_fb.case().base.read_text(), p_fb.case().overrides)
+    text = namelist.set_values(p_fb.case().base.read_text(), p_fb.case().overrides)
     nml = namelist.parse_namelist(text, "fbar")
     check(nml["solver"][0].get("volumetric") == "fbar", "volumetric: fbar in the namelist")
     check(p_fb.labels()["volumetric"] == "fbar" and "volumetric" in study.COLUMNS,
@@ -298,7 +305,7 @@ def test_crush_against_fe() -> None:
     error is the second column. The FE curve's own mean force is the one docs/fe_reference's
     convergence table gives for the finest mesh."""
     from tools import study
-    from plots.mpmplot import namelist, scene
+    from plots.mpmplot import scene
     fe = study.fe_metrics()
     if not check(fe is not None and "F_window" in fe, "FE curve read and over the window"):
         return
@@ -335,10 +342,10 @@ def test_quasi_static_design() -> None:
     from tools import batch
     from plots import plot_study
     from tools import study
-    from plots.mpmplot import namelist, scene
+    from plots.mpmplot import scene
     pts = study.design("full")["crush"]
     case = pts[0].case()
-    nml = namelist.parse_namelist(batch.render(case.base.read_text(), case.overrides), "crush")
+    nml = namelist.parse_namelist(namelist.set_values(case.base.read_text(), case.overrides), "crush")
     inputs = namelist.read_namelist(case.base)
     D = scene.ring_properties(inputs)["D"]
     w = nml["wall"][0]
@@ -380,7 +387,7 @@ def test_automatic_cfl() -> None:
         for p in pts:
             case = p.case()
             path = Path(tmp) / f"{p.name}.nml"
-            path.write_text(batch.render(case.base.read_text(), case.overrides))
+            path.write_text(namelist.set_values(case.base.read_text(), case.overrides))
             out = subprocess.run([str(exe), "--check", "--quiet", str(path)],
                                  capture_output=True, text=True).stdout
             m = re.search(r"cfl: ([\d.]+), automatic \(cfl = 0\)", out)

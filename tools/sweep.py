@@ -68,31 +68,26 @@ class SweepError(ValueError):
 
 
 def parse_value(text: str) -> Any:
-    """A value as written on the command line or in a table cell: int, float, bool, text, or
-    a list of those when it has several words."""
-    words = text.split()
-    if len(words) > 1:
-        return [parse_value(w) for w in words]
-    t = text.strip()
-    low = t.lower()
-    if low in (".true.", "true"):
-        return True
-    if low in (".false.", "false"):
-        return False
-    if re.fullmatch(r"[+-]?\d+", t):
-        return int(t)
+    """A value as written on the command line or in a table cell, read as the value of a
+    namelist assignment (``mpmplot.namelist.parse_values``): int, float, logical (``.true.``,
+    ``false``, ``T``), text (quoted or not), or a list of those when it has several words;
+    a cell that is no namelist value (``h/t``) stays text."""
+    if not text.strip():
+        return ""
     try:
-        return namelist.fortran_float(t)
-    except ValueError:
-        return t.strip("'\"")
+        return namelist.parse_values(text)
+    except namelist.NamelistError:
+        return text.strip()
 
 
 def _check_key(key: str, where: str) -> str:
     if key.lower() in RING_KEYS:
         return key
-    if not batch._KEY.match(key):
+    try:
+        namelist.split_key(key)
+    except ValueError:
         raise SweepError(f"{where}: key {key!r}: expected group.var, group[k].var or one of "
-                         f"ring.D_over_t, ring.t, ring.speed")
+                         f"ring.D_over_t, ring.t, ring.speed") from None
     return key
 
 
@@ -243,7 +238,7 @@ def expand(base_path: Path, sets: list[str] | None = None, varies: list[str] | N
         raise SweepError(f"two runs have the same name {dup[0]!r}: the table repeats a row, "
                          "or name the runs with a 'name' column")
     for c in cases:                                # a bad key fails here, before any run
-        batch.render(c.base.read_text(), c.overrides)
+        namelist.set_values(c.base.read_text(), c.overrides, str(c.base))
     return cases
 
 
@@ -334,7 +329,7 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     if args.list:
         for c in cases:
-            print(f"{c.name:40s} " + ", ".join(f"{k} = {batch.fortran_value(v)}"
+            print(f"{c.name:40s} " + ", ".join(f"{k} = {namelist.format_value(v)}"
                                                for k, v in c.overrides.items()))
         print(f"{len(cases)} runs")
         return 0
