@@ -13,10 +13,10 @@ docs/output.md: the computed sector followed by its images), its computed-sector
 first np rows, the first ncorner rows of `corners`) is compared with the other side's
 snapshot datasets, and the images themselves are not compared.
 
-    tools/check_identical.py                      # HEAD against the work tree, every scene
-    tools/check_identical.py --ref origin/main    # another reference
-    tools/check_identical.py --quick 0.1          # each scene to 10 % of its t_end
-    tools/check_identical.py --cases namelists/default.nml
+    python3 -m tools.check_identical              # HEAD against the work tree, every scene
+    python3 -m tools.check_identical --ref origin/main   # another reference
+    python3 -m tools.check_identical --quick 0.1  # each scene to 10 % of its t_end
+    python3 -m tools.check_identical --cases namelists/default.nml
 
 Exit 0 when every output is identical, 1 when any differs (each difference is named), 2 on a
 usage or build error. Nothing is written into the repository: the reference is built in a
