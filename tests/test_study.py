@@ -64,8 +64,9 @@ def test_render() -> None:
     one = "&run title = 'a', cfl = 0.2 ! c\n/\n&grid h = 1.0 /\n&grid h = 2.0 /\n"
     text = namelist.set_values(one, {"run.cfl": 0.5, "run.t_end": 1e-3, "grid[2].h": 3.0,
                                      "grid[1].n": 4})
-    check(text == "&run title = 'a', cfl = 0.5 ! c\n  t_end = 0.001\n/\n&grid h = 1.0\n  n = 4\n/\n"
-          "&grid h = 3.0 /\n", f"render: one-line groups edited in place: {text!r}")
+    check(text == "&run title = 'a', cfl = 0.5 ! c\n  t_end = 0.001\n/\n"
+          "&grid h = 1.0\n  n = 4\n/\n&grid h = 3.0 /\n",
+          f"render: one-line groups edited in place: {text!r}")
     check(namelist.format_value([1.5, 2]) == "1.5, 2", "format_value of a list")
     check(namelist.format_value(False) == ".false.", "format_value of a bool")
 
@@ -345,7 +346,8 @@ def test_quasi_static_design() -> None:
     from plots.mpmplot import scene
     pts = study.design("full")["crush"]
     case = pts[0].case()
-    nml = namelist.parse_namelist(namelist.set_values(case.base.read_text(), case.overrides), "crush")
+    nml = namelist.parse_namelist(namelist.set_values(case.base.read_text(), case.overrides),
+                                  "crush")
     inputs = namelist.read_namelist(case.base)
     D = scene.ring_properties(inputs)["D"]
     w = nml["wall"][0]

@@ -4,8 +4,9 @@
 git reference and with the binary of the work tree, and compare their outputs bit for bit.
 
 Compared: history.csv (the text, byte for byte; where the work tree adds columns, every common
-column's text, row by row, and the added columns are named), summary.nml (the value of every entry but the timings,
-group by group; a group that only the work tree writes is named, not a difference),
+column's text, row by row, and the added columns are named), summary.nml (the value of every
+entry but the timings, as plots.mpmplot.namelist reads it, group by group; a group that only
+the work tree writes is named, not a difference),
 input.nml (byte for byte) and every dataset of particles.h5 (exact equality of the arrays,
 NaN equal to NaN). Each binary is the release build, run on one thread. Where only one side
 writes the mirror images of a half or quarter model (the subgroup `mirrored` of each snapshot,
