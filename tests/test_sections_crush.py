@@ -36,7 +36,6 @@ import numpy as np
 from tests.pycheck import Checks
 from tests.pyscene import run_scene
 
-
 T = Checks("test_sections_crush")
 check = T.check
 H = 0.5e-3
