@@ -67,6 +67,8 @@ def test_render() -> None:
     check(text == "&run title = 'a', cfl = 0.5 ! c\n  t_end = 0.001\n/\n"
           "&grid h = 1.0\n  n = 4\n/\n&grid h = 3.0 /\n",
           f"render: one-line groups edited in place: {text!r}")
+    gone = namelist.set_values("&m\n  a = 1   ! x\n  b = 2, c = 3\n/\n", {"m.a": None, "m.b": None})
+    check(gone == "&m\n  c = 3\n/\n", f"render: None removes an assignment: {gone!r}")
     check(namelist.format_value([1.5, 2]) == "1.5, 2", "format_value of a list")
     check(namelist.format_value(False) == ".false.", "format_value of a bool")
 

@@ -308,13 +308,14 @@ def set_values(text: str, values: dict[str, Any], where: str = "<text>") -> str:
     An assignment of the variable already in that group instance is replaced: the whole line
     (its comment, which described the old value, goes too) when the line holds nothing else,
     else the assignment alone. Otherwise the assignment is added on a line of its own before
-    the group's closing ``/``. Everything else stays as it is. A group instance that is not in
+    the group's closing ``/``. The value None removes the variable's assignments (the same
+    way: their lines, or the assignments alone). Everything else stays as it is. A group instance that is not in
     the text is a ValueError, and so is a key of another form.
     """
     wanted: dict[tuple[str, int], dict[str, str]] = {}
     for key, value in values.items():
         group, k, var = split_key(key)
-        wanted.setdefault((group, k), {})[var] = format_value(value)
+        wanted.setdefault((group, k), {})[var] = None if value is None else format_value(value)
     count: dict[str, int] = {}
     edits: list[tuple[int, int, str]] = []         # (start, end, new text), in text order
     for group in _scan(text, where):
@@ -325,15 +326,25 @@ def set_values(text: str, values: dict[str, Any], where: str = "<text>") -> str:
             if a.name not in todo:
                 continue
             done.add(a.name)
-            new = f"{a.name} = {todo[a.name]}"
+            value = todo[a.name]
             head = _line_start(text, a.first.start)
             tail = _line_end(text, a.last.end)
             rest = _strip_comment(text[a.last.end:tail]).strip()
             if text[head:a.first.start].strip() == "" and rest in ("", ","):
-                edits.append((head, tail, text[head:a.first.start] + new))
+                if value is None:                  # the line and its line end
+                    edits.append((head, min(tail + 1, len(text)), ""))
+                else:
+                    edits.append((head, tail, text[head:a.first.start] + f"{a.name} = {value}"))
+            elif value is None:                    # the assignment, its comma and blanks
+                after = text[a.last.end:tail]
+                gap = len(after) - len(after.lstrip(" \t"))
+                if after[gap:gap + 1] == ",":
+                    gap += 1 + len(after[gap + 1:]) - len(after[gap + 1:].lstrip(" \t"))
+                edits.append((a.first.start, a.last.end + gap, ""))
             else:
-                edits.append((a.first.start, a.last.end, new))
-        added = [f"  {var} = {val}" for var, val in todo.items() if var not in done]
+                edits.append((a.first.start, a.last.end, f"{a.name} = {value}"))
+        added = [f"  {var} = {val}" for var, val in todo.items()
+                 if var not in done and val is not None]
         if added:
             close = group.closing
             head = _line_start(text, close.start)
