@@ -122,7 +122,7 @@ test-slurm: all
 ## run: build, run CASE (default namelists/default.nml), then plot it
 run: all
 	bin/tubempm $(CASE)
-	$(PYTHON) plots/plot_case.py --case $(CASE)
+	$(PYTHON) -m plots.plot_case --case $(CASE)
 
 ## bench: release build, then the fixed benchmark scenes (4-6 min, run it on an idle machine);
 ##        table and plot in docs/bench/ (BENCH_FLAGS=--quick: up to 1e5 particles only), and
@@ -130,8 +130,8 @@ run: all
 BENCH_BLD := $(if $(filter command line,$(origin BLD)),$(BLD),build/release)
 bench: deps
 	@$(MAKE) --no-print-directory BUILD=release BLD=$(BENCH_BLD) $(BENCH_BLD)/bench
-	$(PYTHON) tools/bench.py --exe $(BENCH_BLD)/bench --out docs/bench $(BENCH_FLAGS)
-	$(PYTHON) tools/advice_tables.py --bench    # --check's wall-time estimate
+	$(PYTHON) -m tools.bench --exe $(BENCH_BLD)/bench --out docs/bench $(BENCH_FLAGS)
+	$(PYTHON) -m tools.advice_tables --bench    # --check's wall-time estimate
 
 $(BLD)/bench: tools/bench.f90 $(LIBOBJ) | $(BLD) $(BLD)/tmod_bench
 	$(FC_ALL) $(HDF5_FFLAGS) -I$(BLD) -J$(BLD)/tmod_bench -o $@ $< $(LIBOBJ) $(HDF5_LIBS)
@@ -143,9 +143,9 @@ $(BLD)/bench: tools/bench.f90 $(LIBOBJ) | $(BLD) $(BLD)/tmod_bench
 LEVEL ?= quick
 BACKEND ?= local
 study: all
-	$(PYTHON) tools/study.py --level $(LEVEL) --backend $(BACKEND) $(BATCH_FLAGS)
-	$(PYTHON) plots/plot_study.py --level $(LEVEL)
-	$(PYTHON) tools/advice_tables.py --study
+	$(PYTHON) -m tools.study --level $(LEVEL) --backend $(BACKEND) $(BATCH_FLAGS)
+	$(PYTHON) -m plots.plot_study --level $(LEVEL)
+	$(PYTHON) -m tools.advice_tables --study
 	@$(MAKE) --no-print-directory all    # --check's advice table may have changed
 
 ## figures: regenerate the study's figures (docs/study/) from the committed table and curves,
@@ -153,9 +153,9 @@ study: all
 ##          rebuilt when it changed); the stability study's figures (docs/stability/) from its
 ##          committed tables
 figures: deps
-	$(PYTHON) plots/plot_study.py --level full
-	$(PYTHON) plots/plot_stability.py --level full
-	$(PYTHON) tools/advice_tables.py --study
+	$(PYTHON) -m plots.plot_study --level full
+	$(PYTHON) -m plots.plot_stability --level full
+	$(PYTHON) -m tools.advice_tables --study
 	@$(MAKE) --no-print-directory all
 
 ## cfl-accuracy: the accuracy limit of the automatic time step: an elastic impact per basis x
@@ -163,8 +163,8 @@ figures: deps
 ##               within 1 % (tools/cfl_accuracy.py, about 8 min on two cores; runs reused from
 ##               build/cfl_accuracy/), into docs/stability/cfl_accuracy_*.csv and the compiled table
 cfl-accuracy: all
-	$(PYTHON) tools/cfl_accuracy.py
-	$(PYTHON) tools/advice_tables.py --stability
+	$(PYTHON) -m tools.cfl_accuracy
+	$(PYTHON) -m tools.advice_tables --stability
 
 ## fe-reference: the CalculiX reference of the study's crush (installs calculix-ccx where
 ##               missing; about 20 CPU min, one thread): decks, curves and convergence in
@@ -175,11 +175,11 @@ cfl-accuracy: all
 ##               then fe-dynamic
 fe-reference: deps
 	@bash tools/install-deps.sh --ccx
-	$(PYTHON) tools/fe_reference/fe_reference.py
-	$(PYTHON) plots/plot_fe_reference.py
+	$(PYTHON) -m tools.fe_reference.fe_reference
+	$(PYTHON) -m plots.plot_fe_reference
 	$(MAKE) --no-print-directory all BUILD=release
-	$(PYTHON) tools/fe_reference/shear_reference.py
-	$(PYTHON) plots/plot_fe_shear.py
+	$(PYTHON) -m tools.fe_reference.shear_reference
+	$(PYTHON) -m plots.plot_fe_shear
 	@$(MAKE) --no-print-directory fe-dynamic
 
 ## fe-dynamic: the dynamic FE references of the impact and wave (the project's explicit FE code
@@ -190,15 +190,15 @@ fe-reference: deps
 .PHONY: fe-dynamic
 fe-dynamic: all
 	@bash tools/install-deps.sh --ccx
-	OMP_NUM_THREADS=1 $(PYTHON) tools/fe_reference/fe_dynamic.py
-	OMP_NUM_THREADS=1 $(PYTHON) tools/fe_reference/ccx_dynamic.py
-	OMP_NUM_THREADS=1 $(PYTHON) tools/fe_reference/compare_dynamic.py --study
+	OMP_NUM_THREADS=1 $(PYTHON) -m tools.fe_reference.fe_dynamic
+	OMP_NUM_THREADS=1 $(PYTHON) -m tools.fe_reference.ccx_dynamic
+	OMP_NUM_THREADS=1 $(PYTHON) -m tools.fe_reference.compare_dynamic --study
 
 ## design-example: design charts of tube absorbers (docs/design.md): seven quasi-static crushes
 ##                 (steel and aluminium at D/t 15, 25, 35; a nested pair), about 2.5 min on two
 ##                 cores; charts and table in out/design_example/; BACKEND=slurm, BATCH_FLAGS
 design-example: all
-	$(PYTHON) tools/design_example.py --backend $(BACKEND) $(BATCH_FLAGS)
+	$(PYTHON) -m tools.design_example --backend $(BACKEND) $(BATCH_FLAGS)
 
 ## stability: the stability study of docs/stability.md (release build, one run at a time, one
 ##            thread): LEVEL=quick (default, < 10 min; tables and figures in out/stability-quick/)
@@ -206,9 +206,9 @@ design-example: all
 ##            then --check's cfl limits from docs/stability/ (tools/advice_tables.py writes
 ##            src/advice/mpm_stability_table.inc); BACKEND=slurm and BATCH_FLAGS as for study
 stability: all
-	$(PYTHON) tools/stability.py --level $(LEVEL) --backend $(BACKEND) $(BATCH_FLAGS)
-	$(PYTHON) plots/plot_stability.py --level $(LEVEL)
-	$(PYTHON) tools/advice_tables.py --stability
+	$(PYTHON) -m tools.stability --level $(LEVEL) --backend $(BACKEND) $(BATCH_FLAGS)
+	$(PYTHON) -m plots.plot_stability --level $(LEVEL)
+	$(PYTHON) -m tools.advice_tables --stability
 	@$(MAKE) --no-print-directory all    # --check's cfl limits may have changed
 
 ## check-paraview: install Debian's ParaView (pvbatch, xvfb) if missing, then open a run's
@@ -224,13 +224,13 @@ check-namelists: all
 
 ## fuzz: mutate the shipped namelists N times (default 5000) through --check (release build)
 fuzz: all
-	$(PYTHON) tools/fuzz_namelists.py --bin bin/tubempm --count $(or $(N),5000) --seed $(or $(SEED),1) --out build/fuzz
+	$(PYTHON) -m tools.fuzz_namelists --bin bin/tubempm --count $(or $(N),5000) --seed $(or $(SEED),1) --out build/fuzz
 
 ## fuzz-scenes: run N (default 200) valid but extreme scenes to their end (tools/fuzz_scenes.py)
 ##              on the debug build (BUILD=asan: the sanitizer build); failures kept in build/
 fuzz-scenes: deps
 	@$(MAKE) --no-print-directory BUILD=$(TEST_BUILD) build/$(TEST_BUILD)/tubempm
-	$(PYTHON) tools/fuzz_scenes.py --bin build/$(TEST_BUILD)/tubempm --count $(or $(N),200) \
+	$(PYTHON) -m tools.fuzz_scenes --bin build/$(TEST_BUILD)/tubempm --count $(or $(N),200) \
 	  --seed $(or $(SEED),1) --out build/fuzz_scenes
 
 ## clean: remove build/ and bin/

@@ -9,9 +9,9 @@ force (that platen's force) and the normal contact force of every pair of bodies
 body (plastic dissipation + stored elastic energy, body<k>_plastic + body<k>_strain) and its
 kinetic energy.
 
-    python3 plots/plot_bodies.py --case namelists/contact/nested.nml
-    python3 plots/plot_bodies.py --dir out/stack --out stack_bodies.png
-    python3 plots/plot_bodies.py --case namelists/contact/row3.nml \
+    python3 -m plots.plot_bodies --case namelists/contact/nested.nml
+    python3 -m plots.plot_bodies --dir out/stack --out stack_bodies.png
+    python3 -m plots.plot_bodies --case namelists/contact/row3.nml \
         --reference out/row3_single --scale 3
 
 --reference OUTDIR draws the force of another run (its first moving platen against that
@@ -27,11 +27,10 @@ import sys
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import style  # noqa: E402  (Agg backend and rcParams, before pyplot)
-from mpmplot import readers, scene  # noqa: E402
+from plots import style  # Agg backend and rcParams, before pyplot
+from plots.mpmplot import readers, scene
 
-import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.pyplot as plt
 
 
 def bodies(history: dict[str, np.ndarray]) -> int:

@@ -21,8 +21,8 @@ there are several bodies):
 
 The key numbers are printed to standard output.
 
-    python3 plots/plot_case.py --case namelists/impact.nml
-    python3 plots/plot_case.py --dir out/crush --experiment xiang.csv --out crush.png
+    python3 -m plots.plot_case --case namelists/impact.nml
+    python3 -m plots.plot_case --dir out/crush --experiment xiang.csv --out crush.png
 
 Measured curves (--experiment, CSV with a header line; docs in plots/README.md):
 crush ``displacement_m,force_N``; impact ``time_s,force_N``; wave ``angle_deg,arrival_s``.
@@ -39,11 +39,10 @@ from typing import Any
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import style  # noqa: E402,F401  (Agg backend and rcParams, before pyplot)
-from mpmplot import analysis, readers, scene, theory  # noqa: E402
+from plots import style  # noqa: F401  (Agg backend and rcParams, before pyplot)
+from plots.mpmplot import analysis, readers, scene, theory
 
-import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.pyplot as plt
 
 Inputs = dict[str, list[dict[str, Any]]]
 History = dict[str, np.ndarray]

@@ -6,7 +6,7 @@ DeRuntz-Hodge P0 / sqrt(1 - (delta/D_m)^2) (the four-hinge mechanism with geomet
 once the platen gap H = D - delta is below 2t, the densification bound (2/sqrt 3) sigma_y
 (pi D_m / 2 - pi H / 2) (the flattened double wall pressed as a plane-strain strip).
 
-    python3 plots/plot_densify.py --case namelists/contact/densify.nml \\
+    python3 -m plots.plot_densify --case namelists/contact/densify.nml \\
         --compare out/densify_weld "one velocity field (welds)" --out densify.png
 """
 from __future__ import annotations
@@ -18,11 +18,10 @@ import sys
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import style  # noqa: E402  (Agg backend and rcParams, before pyplot)
-from mpmplot import readers, scene, theory  # noqa: E402
+from plots import style  # noqa: F401  (Agg backend and rcParams, before pyplot)
+from plots.mpmplot import readers, scene, theory
 
-import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.pyplot as plt
 
 
 def curve(outdir: str, inputs: dict) -> tuple[np.ndarray, np.ndarray]:

@@ -13,7 +13,7 @@ mesh, the same after the study's moving average over delta/D = 0.02 of both curv
 response without the MPM force's high-frequency content), the mean force over the window and
 its ratio to FE's and to DeRuntz-Hodge's.
 
-    python3 plots/plot_fe_reference.py [--docs docs/fe_reference] [--curves docs/study/curves]
+    python3 -m plots.plot_fe_reference [--docs docs/fe_reference] [--curves docs/study/curves]
 """
 from __future__ import annotations
 
@@ -25,12 +25,12 @@ from pathlib import Path
 
 import numpy as np
 
-import style  # noqa: F401  (Agg backend, shared rcParams; before pyplot)
-import matplotlib.pyplot as plt  # noqa: E402
+from plots import style  # noqa: F401  (Agg backend, shared rcParams; before pyplot)
+import matplotlib.pyplot as plt
+
+from plots.mpmplot import analysis, namelist, scene, theory
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "plots"))
-from mpmplot import analysis, namelist, scene, theory  # noqa: E402
 
 WINDOW = (0.05, 0.5)
 

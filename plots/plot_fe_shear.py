@@ -7,7 +7,7 @@ Reads docs/fe_reference/shear_<law>_nt*_nc*.csv (the FE meshes) and shear_<law>_
 the normal force and the sideways force the ring exerts on the moving platen and the sideways
 motion of the ring's centre over the platen's sideways travel, against delta/D.
 
-    python3 plots/plot_fe_shear.py [--docs docs/fe_reference]
+    python3 -m plots.plot_fe_shear [--docs docs/fe_reference]
 """
 from __future__ import annotations
 
@@ -18,12 +18,12 @@ from pathlib import Path
 
 import numpy as np
 
-import style  # noqa: F401  (Agg backend, shared rcParams; before pyplot)
-import matplotlib.pyplot as plt  # noqa: E402
+from plots import style  # noqa: F401  (Agg backend, shared rcParams; before pyplot)
+import matplotlib.pyplot as plt
+
+from tools.fe_reference import shear_reference as sr
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tools" / "fe_reference"))
-import shear_reference as sr  # noqa: E402
 
 LABEL = {"bonded": "bonded (fixed group)", "coulomb": f"coulomb, mu {sr.MU} (loose group)"}
 

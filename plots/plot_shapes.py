@@ -11,9 +11,9 @@ with the whole tube drawn, also their images in the mirror planes).
 A half or quarter model is drawn as the whole tube, from the mirror images that tubempm writes
 into particles.h5 (docs/output.md; `--sector` draws the computed part only).
 
-    python3 plots/plot_shapes.py --case namelists/crush.nml
-    python3 plots/plot_shapes.py --dir out/impact --frames 0 5 -1 --out impact_shapes.png
-    python3 plots/plot_shapes.py --dir out/crush --h5 out/crush/crash_001234.h5
+    python3 -m plots.plot_shapes --case namelists/crush.nml
+    python3 -m plots.plot_shapes --dir out/impact --frames 0 5 -1 --out impact_shapes.png
+    python3 -m plots.plot_shapes --dir out/crush --h5 out/crush/crash_001234.h5
 """
 from __future__ import annotations
 
@@ -26,13 +26,12 @@ from typing import Any
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import style  # noqa: E402  (Agg backend and rcParams, before pyplot)
-from mpmplot import readers, scene  # noqa: E402
+from plots import style  # Agg backend and rcParams, before pyplot
+from plots.mpmplot import readers, scene
 
-import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib.collections import PolyCollection  # noqa: E402
-from matplotlib.colors import BoundaryNorm, ListedColormap, Normalize  # noqa: E402
+import matplotlib.pyplot as plt
+from matplotlib.collections import PolyCollection
+from matplotlib.colors import BoundaryNorm, ListedColormap, Normalize
 
 MAX_DEFAULT_FRAMES = 6
 

@@ -5,9 +5,9 @@
 map_impact_ppc*.png (largest stable cfl per basis and scheme), map_crush.png, noise.png,
 thinwall.png, distortion.png and flip_pic.png, written next to the tables they are drawn from.
 
-    python3 plots/plot_stability.py                  # tables of the quick level (out/stability-quick/)
-    python3 plots/plot_stability.py --level full     # the committed study (docs/stability/)
-    python3 plots/plot_stability.py --dir FOLDER     # tables elsewhere
+    python3 -m plots.plot_stability                  # tables of the quick level (out/stability-quick/)
+    python3 -m plots.plot_stability --level full     # the committed study (docs/stability/)
+    python3 -m plots.plot_stability --dir FOLDER     # tables elsewhere
 """
 from __future__ import annotations
 
@@ -18,14 +18,13 @@ from typing import Any
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "plots"))
-sys.path.insert(0, str(ROOT / "tools"))
-import style  # noqa: E402,F401  (Agg backend and the shared rcParams, before pyplot)
-import matplotlib.pyplot as plt  # noqa: E402
-import stability  # noqa: E402
-from stability import (BASES, D_CRUSH, ENERGY_OK, NOISY, SCHEMES, T_CRUSH, WRONG,  # noqa: E402
+from plots import style  # noqa: F401  (Agg backend and the shared rcParams, before pyplot)
+import matplotlib.pyplot as plt
+from tools import stability
+from tools.stability import (BASES, D_CRUSH, ENERGY_OK, NOISY, SCHEMES, T_CRUSH, WRONG,
                        fmt)
+
+ROOT = Path(__file__).resolve().parent.parent
 
 #: Folder of the tables and the figures (set by main).
 DIR: Path = stability.DOCS
@@ -34,8 +33,6 @@ DIR: Path = stability.DOCS
 def read_csv(name: str) -> list[dict[str, Any]]:
     """A table of the study from DIR ([] when missing)."""
     return stability.read_csv(name, DIR)
-
-
 
 SHORT = {"energy growth": "energy\ngrowth", "det F <= 0": "det F\n<= 0",
          "folded domain": "folded", "left grid": "left\ngrid", "non-finite": "non-\nfinite"}

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
 """Figures of the refinement study (docs/validation.md) from its table and curves.
 
-    python3 plots/plot_study.py [--level quick|full] [--out FOLDER]   (default: quick)
+    python3 -m plots.plot_study [--level quick|full] [--out FOLDER]   (default: quick)
 
 Reads study_<level>.csv and the compact curves curves/<run>.csv that tools/study.py wrote
 (docs/study/ for the full level, out/study-quick/ for the quick one), and writes into --out
@@ -28,11 +28,10 @@ from typing import Any
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import style  # noqa: E402,F401  (sets the matplotlib defaults)
-import matplotlib.pyplot as plt  # noqa: E402
-from mpmplot import namelist, readers, scene, theory  # noqa: E402
-from plot_case import EXPERIMENT_COLUMNS  # noqa: E402
+from plots import style  # noqa: F401  (sets the matplotlib defaults)
+import matplotlib.pyplot as plt
+from plots.mpmplot import namelist, readers, scene, theory
+from plots.plot_case import EXPERIMENT_COLUMNS
 
 ROOT = Path(__file__).resolve().parent.parent
 SCENES = ("crush", "impact", "wave")
@@ -497,8 +496,9 @@ def fig_shapes(rows, out: Path) -> None:
     if not (run / "particles.h5").is_file():
         print(f"  crush_shapes.png: {run} not found (run the study); kept the old figure")
         return
-    subprocess.run([sys.executable, str(ROOT / "plots" / "plot_shapes.py"), "--case",
-                    str(run / "case.nml"), "--out", str(out / "crush_shapes.png")], check=True,
+    subprocess.run([sys.executable, "-m", "plots.plot_shapes", "--case",
+                    str((run / "case.nml").resolve()), "--out",
+                    str((out / "crush_shapes.png").resolve())], check=True, cwd=ROOT,
                    stdout=subprocess.DEVNULL)
 
 

@@ -3,7 +3,7 @@
 """A sweep's chart: one column of sweep.csv (tools/sweep.py) against another, one line per
 value of a third.
 
-    python3 plots/plot_sweep.py --dir out/chart --x ring.D_over_t --y plastic_end --by ring.speed
+    python3 -m plots.plot_sweep --dir out/chart --x ring.D_over_t --y plastic_end --by ring.speed
 
 Reads DIR/sweep.csv and writes DIR/sweep_<y>.png (or --out). Runs that did not complete
 (exit code not 0) are left out and named. --x and --by are any column (the swept keys, labels,
@@ -20,8 +20,8 @@ import math
 import sys
 from pathlib import Path
 
-import style  # noqa: F401  (Agg backend, shared rcParams; before pyplot)
-import matplotlib.pyplot as plt  # noqa: E402
+from plots import style  # noqa: F401  (Agg backend, shared rcParams; before pyplot)
+import matplotlib.pyplot as plt
 
 #: axis labels of the common columns (others are labelled with their name)
 UNITS = {"plastic": "J", "kinetic": "J", "strain": "J", "external": "J", "damped": "J",

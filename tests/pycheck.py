@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
 """Check counting for the Python tests, the counterpart of tests/testing.f90.
 
-    from pycheck import Checks, close
+    from tests.pycheck import Checks, close
     t = Checks("test_name")
     t.check(x > 0, "x is positive")          # counts; prints a FAIL line when false
     sys.exit(t.summary())                    # prints `test_name: N passed, M failed`, 1 if M > 0

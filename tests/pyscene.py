@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
 """Run one scene with the binary under test, for the Python tests that run scenes.
 
-    from pyscene import run_scene
+    from tests.pyscene import run_scene
     h, s = run_scene(T, scratch, "name", text)   # text: a case with OUT for its output folder
 
 The case is written to SCRATCH/name/name.nml with OUT replaced by SCRATCH/name/out and run
@@ -13,12 +13,11 @@ from __future__ import annotations
 
 import os
 import subprocess
-import sys
 from pathlib import Path
 
+from plots.mpmplot import readers
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "plots"))
-from mpmplot import readers  # noqa: E402
 
 
 def run_scene(checks, scratch: Path, name: str, text: str) -> tuple[dict, dict]:

@@ -23,8 +23,8 @@ import sys
 import tempfile
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from pycheck import Checks  # noqa: E402
+from plots.mpmplot import namelist
+from tests.pycheck import Checks
 
 ROOT = Path(__file__).resolve().parent.parent
 BIN = os.environ.get("TUBEMPM", str(ROOT / "bin" / "tubempm"))
@@ -40,39 +40,27 @@ def check_case(path: Path) -> tuple[int, str, str]:
     return p.returncode, p.stdout, p.stderr
 
 
-def setting(text: str, name: str) -> str:
-    """The value text of `name = ...` (first occurrence, without a trailing comment)."""
-    m = re.search(rf"(?im)^\s*{name}\s*=\s*([^!\n]*)", text)
-    return m.group(1).strip().rstrip(",") if m else ""
-
-
-def apply(text: str, name: str, value: str, group: str) -> str:
-    """Set `name = value` in the input: replace its line, or add it after `&group`."""
-    pat = re.compile(rf"(?im)^(\s*){name}\s*=[^!\n]*")
-    if pat.search(text):
-        return pat.sub(lambda m: f"{m.group(1)}{name} = {value}", text, count=1)
-    return re.sub(rf"(?im)^(\s*&{group}\b)", rf"\1\n  {name} = {value}", text, count=1)
+def apply(text: str, values: dict) -> str:
+    """The input with values set (``{"grid.h": 1e-3}``; a ``&solver`` group is added when the
+    input has none)."""
+    if "solver" not in namelist.parse_namelist(text):
+        text += "\n&solver /\n"
+    return namelist.set_values(text, values)
 
 
 def advised(text: str, line: re.Match) -> str:
     """The input with the settings of one advice line."""
-    r_in = float(setting(text, "r_inner").replace("d", "e"))
-    r_out = float(setting(text, "r_outer").replace("d", "e"))
+    body = namelist.parse_namelist(text)["body"][0]
+    r_in, r_out = body["r_inner"], body["r_outer"]
     t = r_out - r_in
     hot, nt, aspect = float(line.group(2)), int(line.group(3)), float(line.group(4))
     # particles round the whole ring so that the arc per particle / (t / n_t) is the aspect,
     # a multiple of 4 (as tools/study.py makes them)
     n_circ = max(4, 4 * round(2.0 * math.pi * 0.5 * (r_in + r_out) * nt / (aspect * t) / 4.0))
-    for name, value, group in (("h", repr(hot * t), "grid"), ("n_thick", str(nt), "body"),
-                               ("n_circ", str(n_circ), "body"),
-                               ("basis", f"'{line.group(5)}'", "solver"),
-                               ("scheme", "'musl'", "solver"), ("flip", "1.0", "solver"),
-                               ("cfl", line.group(6), "run"),
-                               ("volumetric", f"'{line.group(7) or 'standard'}'", "solver")):
-        if group == "solver" and not re.search(r"(?im)^\s*&solver\b", text):
-            text = text.replace("&grid", "&solver /\n\n&grid", 1)
-        text = apply(text, name, value, group)
-    return text
+    return apply(text, {"grid.h": hot * t, "body.n_thick": nt, "body.n_circ": n_circ,
+                        "solver.basis": line.group(5), "solver.scheme": "musl",
+                        "solver.flip": 1.0, "run.cfl": float(line.group(6)),
+                        "solver.volumetric": line.group(7) or "standard"})
 
 
 @functools.lru_cache(maxsize=1)
@@ -110,10 +98,8 @@ def check_volumetric_warnings(scratch: Path, crush: str) -> None:
         return 100.0 * (float(study_row(name)["force_over_fe"]) - 1.0)
 
     def run(vol: str, h_over_t: float, nt: int, n_circ: int = 0) -> str:
-        text = apply(crush, "volumetric", f"'{vol}'", "solver")
-        text = apply(text, "h", repr(h_over_t * t), "grid")
-        text = apply(text, "n_thick", str(nt), "body")
-        text = apply(text, "n_circ", str(n_circ), "body")
+        text = apply(crush, {"solver.volumetric": vol, "grid.h": h_over_t * t,
+                             "body.n_thick": nt, "body.n_circ": n_circ})
         path = scratch / f"crush_{vol}_h{h_over_t:g}_nt{nt}_nc{n_circ}.nml"
         path.write_text(text)
         rc, _, err = check_case(path)
@@ -235,9 +221,9 @@ def check_advice_fits(scratch: Path, cases: dict[str, str]) -> None:
     with open(ROOT / "docs" / "study" / "advice_full.csv", newline="") as fh:
         pick = next(r for r in csv.DictReader(fh) if r["scene"] == "crush"
                     and float(r["target"]) == 0.05)
-    for n_circ in ("840", "208"):        # square at n_thick 8, aspect 2 at n_thick 4
+    for n_circ in (840, 208):            # square at n_thick 8, aspect 2 at n_thick 4
         path = scratch / f"crush_nc{n_circ}.nml"
-        path.write_text(apply(cases["crush"], "n_circ", n_circ, "body"))
+        path.write_text(apply(cases["crush"], {"body.n_circ": n_circ}))
         got = [m for m in ADVICE.finditer(advice(path)) if float(m.group(1)) == 5.0]
         check(len(got) == 1 and int(got[0].group(3)) == int(pick["n_t"])
               and math.isclose(float(got[0].group(4)), float(pick["aspect"]))
@@ -249,9 +235,8 @@ def check_advice_fits(scratch: Path, cases: dict[str, str]) -> None:
         check(adv != "" and "fbar" not in adv, f"contact/{scene}.nml: advice without 'fbar' or "
               f"'fbarwall', which it cannot take ({adv!r})")
     t = 2.0e-3                                  # the impact ring's wall (r 24/26 mm)
-    text = apply(cases["impact"], "volumetric", "'fbarwall'", "solver")
-    text = apply(text, "h", repr(0.5 * t), "grid")
-    text = apply(text, "n_thick", "4", "body")
+    text = apply(cases["impact"], {"solver.volumetric": "fbarwall", "grid.h": 0.5 * t,
+                                   "body.n_thick": 4})
     path = scratch / "impact_fbarwall_h2_nt4.nml"
     path.write_text(text)
     _, _, err = check_case(path)
@@ -263,8 +248,8 @@ def main() -> int:
     scratch = Path(sys.argv[1]) if len(sys.argv) > 1 else Path(tempfile.mkdtemp())
     scratch.mkdir(parents=True, exist_ok=True)
     cases = {p.stem: p.read_text() for p in sorted((ROOT / "namelists").glob("*.nml"))}
-    cases["wave_nt2"] = apply(cases["wave"], "n_thick", "2", "body")
-    cases["impact_h2"] = apply(cases["impact"], "h", "1.0e-3", "grid")
+    cases["wave_nt2"] = apply(cases["wave"], {"body.n_thick": 2})
+    cases["impact_h2"] = apply(cases["impact"], {"grid.h": 1.0e-3})
     for name, text in cases.items():
         path = scratch / f"{name}.nml"
         path.write_text(text)

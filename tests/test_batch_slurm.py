@@ -14,7 +14,7 @@ one, tests/slurm/):
 
 The last line is `test_batch_slurm: N passed, M failed` (exit 1 if M > 0).
 
-    TUBEMPM=build/debug/tubempm python3 tests/test_batch_slurm.py
+    TUBEMPM=build/debug/tubempm python3 -m tests.test_batch_slurm
 """
 from __future__ import annotations
 
@@ -29,13 +29,11 @@ import time
 import traceback
 from pathlib import Path
 
+from tests.pycheck import Checks, close
+from tools import batch
+from plots.mpmplot import readers
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tools"))
-sys.path.insert(0, str(ROOT / "plots"))
-sys.path.insert(0, str(ROOT / "tests"))
-from pycheck import Checks, close  # noqa: E402
-import batch  # noqa: E402
-from mpmplot import readers  # noqa: E402
 
 T = Checks("test_batch_slurm")
 check = T.check
@@ -65,8 +63,9 @@ FAKE_SQUEUE = "#!/bin/bash\nprintf '%s' \"${FAKE_QUEUE:-}\"\n"
 
 def sweep_cli(args: list[str], env: dict | None = None) -> subprocess.CompletedProcess:
     # the binary under test (make test builds only the debug one; bin/ may not exist)
-    return subprocess.run([sys.executable, str(ROOT / "tools" / "sweep.py")] + args
-                          + ["--binary", str(EXE)], capture_output=True, text=True, env=env)
+    return subprocess.run([sys.executable, "-m", "tools.sweep"] + args
+                          + ["--binary", str(EXE)], capture_output=True, text=True, env=env,
+                          cwd=ROOT)
 
 
 def test_dry_run(tmp: Path) -> None:
@@ -86,7 +85,8 @@ def test_dry_run(tmp: Path) -> None:
     check(any(ln.startswith(f"#SBATCH --output={out.resolve()}/slurm/%A_%a.out")
               for ln in lines), "dry run: Slurm's output per task in <out>/slurm/")
     exe = [ln for ln in lines if ln.startswith("exec ")]
-    check(len(exe) == 1 and f"{ROOT / 'tools' / 'batch.py'} --task {out.resolve()}/slurm/"
+    check(f"cd {ROOT}" in lines, "dry run: the task starts in the repository root")
+    check(len(exe) == 1 and f" -m tools.batch --task {out.resolve()}/slurm/"
           in exe[0] and exe[0].endswith(".tasks"), f"dry run: the task line {exe}")
     listed = [ln.split()[-1] for ln in lines if ln.startswith("#   ")]
     check(listed == [str((out / f"cfl{c}").resolve()) for c in ("0p1", "0p2", "0p3")],
@@ -115,8 +115,8 @@ def test_dry_run(tmp: Path) -> None:
     p = sweep_cli([str(WAVE), "--out", str(out), "--vary", "run.cfl=0.1", "--partition", "x"])
     check(p.returncode == 2 and "--partition" in p.stderr and "--backend slurm" in p.stderr,
           f"--partition without --backend slurm refused: {p.stderr.strip()!r}")
-    p = subprocess.run([sys.executable, str(ROOT / "tools" / "batch.py"), "--task", "x"],
-                       capture_output=True, text=True,
+    p = subprocess.run([sys.executable, "-m", "tools.batch", "--task", "x"],
+                       capture_output=True, text=True, cwd=ROOT,
                        env={k: v for k, v in os.environ.items() if k != "SLURM_ARRAY_TASK_ID"})
     check(p.returncode == 2 and "SLURM_ARRAY_TASK_ID" in p.stderr,
           "--task outside a job array refused")
@@ -202,8 +202,8 @@ def start_task(root: Path, name: str) -> tuple[subprocess.Popen, Path]:
     tasks = root / "slurm" / f"{name}.tasks"
     tasks.parent.mkdir(parents=True, exist_ok=True)
     tasks.write_text(f"{folder}\n")
-    p = subprocess.Popen([sys.executable, str(ROOT / "tools" / "batch.py"), "--task",
-                          str(tasks)], env=dict(os.environ, SLURM_ARRAY_TASK_ID="0",
+    p = subprocess.Popen([sys.executable, "-m", "tools.batch", "--task",
+                          str(tasks)], cwd=ROOT, env=dict(os.environ, SLURM_ARRAY_TASK_ID="0",
                                                 SLURM_ARRAY_JOB_ID="7"),
                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     t0 = time.monotonic()

@@ -32,7 +32,7 @@ Coulomb friction (docs/method.md, "Bonded walls").
   rebounds cannot be tied), friction < 0 is refused as for 'coulomb', friction > 0 is
   accepted with 'bonded' (for what is not tied) and still refused with 'stick'.
 
-    TUBEMPM=build/debug/tubempm python3 tests/test_bonded.py SCRATCH
+    TUBEMPM=build/debug/tubempm python3 -m tests.test_bonded SCRATCH
 """
 from __future__ import annotations
 
@@ -44,11 +44,10 @@ from pathlib import Path
 
 import numpy as np
 
+from tests.pycheck import Checks
+from tests.pyscene import run_scene
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "plots"))
-sys.path.insert(0, str(ROOT / "tests"))
-from pycheck import Checks  # noqa: E402
-from pyscene import run_scene  # noqa: E402
 
 T = Checks("test_bonded")
 check = T.check

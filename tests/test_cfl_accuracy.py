@@ -14,7 +14,7 @@ MUSL (where it is not: the accuracy limit is in use; its test must see that):
 3. the oracle can fail: where the accuracy limit is in use, a run at the stability-based value
    (the automatic cfl before it) is outside TOL.
 
-    TUBEMPM=build/debug/tubempm python3 tests/test_cfl_accuracy.py SCRATCH
+    TUBEMPM=build/debug/tubempm python3 -m tests.test_cfl_accuracy SCRATCH
 """
 from __future__ import annotations
 
@@ -25,13 +25,12 @@ import subprocess
 import sys
 from pathlib import Path
 
+from tests.pycheck import Checks
+from tools import batch
+from tools import cfl_accuracy
+
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
-sys.path.insert(0, str(HERE))
-sys.path.insert(0, str(ROOT / "tools"))
-from pycheck import Checks  # noqa: E402
-import batch  # noqa: E402
-import cfl_accuracy  # noqa: E402
 
 T = Checks("test_cfl_accuracy")
 check = T.check

@@ -17,7 +17,7 @@ debug build, on tests/scenes/stability_impact.nml (the stability study's impact 
    cpdi2 + usf at 1 per cell) the automatic value promises nothing: there `--check` must warn
    (the method failed at every cfl tried, or usl loses energy at any cfl), and no run is made.
 
-    usage: TUBEMPM=build/debug/tubempm python3 tests/test_cfl_auto.py SCRATCH
+    usage: TUBEMPM=build/debug/tubempm python3 -m tests.test_cfl_auto SCRATCH
 """
 from __future__ import annotations
 
@@ -28,11 +28,10 @@ import subprocess
 import sys
 from pathlib import Path
 
+from plots.mpmplot import namelist, readers
+from tests.pycheck import Checks, close
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "plots"))
-sys.path.insert(0, str(ROOT / "tests"))
-from mpmplot import readers  # noqa: E402
-from pycheck import Checks, close  # noqa: E402
 
 T = Checks("test_cfl_auto")
 check = T.check
@@ -41,7 +40,7 @@ MARGIN = 0.5            # docs/stability.md, "The automatic cfl"
 ENERGY_TOL = 0.05       # the run's guard and the study's accurate/wrong line
 BASES = ("linear", "ugimp", "cpdi1", "cpdi2")
 SCHEMES = ("usl", "usf", "musl")
-DENSITY = {"ppc2": "h = 1.0e-3", "ppc1": "h = 0.5e-3"}   # t = 2 mm, n_thick = 4
+DENSITY = {"ppc2": 1.0e-3, "ppc1": 0.5e-3}   # the cell size h [m]: t = 2 mm, n_thick = 4
 
 
 def study_limits(ppc: str) -> tuple[dict[tuple[str, str], float], float]:
@@ -62,14 +61,12 @@ def accuracy_limits(ppc: str) -> dict[tuple[str, str], float]:
         return {(r["basis"], r["scheme"]): float(r["accurate_cfl"]) for r in csv.DictReader(fh)}
 
 
-def namelist(folder: Path, basis: str, scheme: str, ppc: str) -> Path:
+def case_file(folder: Path, basis: str, scheme: str, ppc: str) -> Path:
     """The test scene with the basis, scheme and cell size; no cfl (the default)."""
     text = (ROOT / "tests" / "scenes" / "stability_impact.nml").read_text()
-    text = re.sub(r"basis = '\w+', scheme = '\w+'", f"basis = '{basis}', scheme = '{scheme}'",
-                  text)
-    text = text.replace("h = 1.0e-3", DENSITY[ppc])
-    text = text.replace("&run ", f"&run output_dir = '{folder}', ", 1)
-    assert "cfl" not in text.split("&run", 1)[1].split("/", 1)[0], "the scene sets cfl"
+    assert "cfl" not in namelist.parse_namelist(text)["run"][0], "the scene sets cfl"
+    text = namelist.set_values(text, {"solver.basis": basis, "solver.scheme": scheme,
+                                      "grid.h": DENSITY[ppc], "run.output_dir": str(folder)})
     path = folder.with_suffix(".nml")
     path.write_text(text)
     return path
@@ -91,7 +88,7 @@ def main() -> int:
                 acc = accurate[(basis, scheme)]
                 by_accuracy = 0.0 < acc < by_stability     # an impact: the accuracy limit
                 expect = acc if by_accuracy else by_stability
-                nml = namelist(scratch / name, basis, scheme, ppc)
+                nml = case_file(scratch / name, basis, scheme, ppc)
                 # 1. the value chosen, as --check reports it
                 res = subprocess.run([str(binary), "--check", str(nml)], env=env,
                                      capture_output=True, text=True)

@@ -10,11 +10,10 @@ import re
 import sys
 from pathlib import Path
 
+from tests.pycheck import Checks
+from tools import code_size
+
 HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE))
-sys.path.insert(0, str(HERE.parent / "tools"))
-from pycheck import Checks  # noqa: E402
-import code_size  # noqa: E402
 
 T = Checks("test_code_size")
 check = T.check

@@ -18,7 +18,7 @@ G2P, and the `damped` energy is the kinetic energy the particles lose by it (doc
   particles lost and the run stopped with exit 4, "energy growth", 5.0 % at 0.19 ms) with an
   energy error under 1 % (measured 0.05 % to 0.1 %).
 
-    TUBEMPM=build/debug/tubempm python3 tests/test_damping.py SCRATCH
+    TUBEMPM=build/debug/tubempm python3 -m tests.test_damping SCRATCH
 """
 from __future__ import annotations
 
@@ -28,11 +28,11 @@ from pathlib import Path
 
 import numpy as np
 
+from plots.mpmplot import namelist
+from tests.pycheck import Checks
+from tests.pyscene import run_scene
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "plots"))
-sys.path.insert(0, str(ROOT / "tests"))
-from pycheck import Checks  # noqa: E402
-from pyscene import run_scene  # noqa: E402
 
 T = Checks("test_damping")
 check = T.check
@@ -72,9 +72,8 @@ def free_block(scratch: Path) -> None:
 
 
 def slow_loading(scratch: Path) -> None:
-    text = (ROOT / "tests" / "scenes" / "damped_quarter.nml").read_text()
-    text = text.replace("title = 'damped_quarter'",
-                        "title = 'damped_quarter', output_dir = 'OUT'")
+    text = namelist.set_values((ROOT / "tests" / "scenes" / "damped_quarter.nml").read_text(),
+                               {"run.output_dir": "OUT"})
     h, s = run_scene(T, scratch, "damped_quarter", text)
     if not h:
         return

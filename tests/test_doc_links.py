@@ -6,7 +6,7 @@ docs/**/*.md and plots/README.md names an existing file, and its #anchor a headi
 anchor; and every
 `docs/<file>.md#<anchor>` that the code prints (warnings and errors in src/) is one too.
 
-    python3 tests/test_doc_links.py [SCRATCH]
+    python3 -m tests.test_doc_links [SCRATCH]
 """
 from __future__ import annotations
 
@@ -14,9 +14,9 @@ import re
 import sys
 from pathlib import Path
 
+from tests.pycheck import Checks
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tests"))
-from pycheck import Checks  # noqa: E402
 
 T = Checks("test_doc_links")
 LINK = re.compile(r"\]\(([^)\s]+)\)")

@@ -18,7 +18,7 @@
 Each quote is looked for with a pattern; a required quote that is not found is a failure too,
 so rewording a sentence cannot make the test pass by silence.
 
-    python3 tests/test_doc_numbers.py [SCRATCH]      (SCRATCH is not used)
+    python3 -m tests.test_doc_numbers [SCRATCH]      (SCRATCH is not used)
 """
 from __future__ import annotations
 
@@ -27,9 +27,9 @@ import re
 import sys
 from pathlib import Path
 
+from tests.pycheck import Checks
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tests"))
-from pycheck import Checks  # noqa: E402
 
 T = Checks("test_doc_numbers")
 DATE = re.compile(r"\b20\d\d-[01]\d-[0-3]\d\b")

@@ -19,8 +19,8 @@ import subprocess
 import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from pycheck import Checks  # noqa: E402
+from plots.mpmplot import namelist
+from tests.pycheck import Checks
 
 ROOT = Path(__file__).resolve().parent.parent
 DOC = ROOT / "docs" / "input.md"
@@ -91,23 +91,11 @@ def doc_groups(text):
 def example_names(text):
     """{group: set of variables assigned} in the fenced example block of the docs."""
     m = re.search(r"## Full example.*?```\w*\n(.*?)```", text, re.DOTALL)
-    used = {}
     if not m:
         return None
-    group = None
-    for line in m.group(1).splitlines():
-        line = line.split("!", 1)[0].strip()
-        g = re.match(r"^&(\w+)", line)
-        if g:
-            group = g.group(1).lower()
-            used.setdefault(group, set())
-            line = line[g.end():]
-        if group is None:
-            continue
-        for name in re.findall(r"([A-Za-z_]\w*)\s*(?:\([^)]*\))?\s*=", line):
-            used[group].add(name.lower())
-        if line.endswith("/"):
-            group = None
+    used = {}
+    for group, entries in namelist.parse_namelist(m.group(1), "docs/input.md").items():
+        used.setdefault(group, set()).update(k for e in entries for k in e)
     return used
 
 

@@ -23,7 +23,7 @@
 * Inputs a free wall cannot take are refused with the group, the variable and what to do:
   a ramp, a motion table, a stroke, a 'slip' law, a velocity along the wall, no t_end.
 
-    TUBEMPM=build/debug/tubempm python3 tests/test_drop_weight.py SCRATCH
+    TUBEMPM=build/debug/tubempm python3 -m tests.test_drop_weight SCRATCH
 """
 from __future__ import annotations
 
@@ -35,11 +35,10 @@ from pathlib import Path
 
 import numpy as np
 
+from tests.pycheck import Checks
+from tests.pyscene import run_scene, readers
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "plots"))
-sys.path.insert(0, str(ROOT / "tests"))
-from pycheck import Checks  # noqa: E402
-from pyscene import run_scene, readers  # noqa: E402
 
 T = Checks("test_drop_weight")
 check = T.check
@@ -171,7 +170,6 @@ def test_ring(scratch: Path) -> None:
     print(f"  drop on a ring: energy imbalance {np.max(imbalance) / e0:.2e} of M v0^2/2, "
           f"plastic {plastic:.1f} J of {e0:.1f} J, momentum difference "
           f"{dev / (M_DROP * V_DROP):.1e} of M v0")
-
 
 BAD = {
     "ramp": ("ramp = 1.0e-4", "ramp"),

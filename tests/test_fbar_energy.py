@@ -22,7 +22,7 @@ through the wall (h = t/4) and at two (h = t/2).
 - the treatment acts: at one particle per cell the plastic work with 'fbar' and 'fbarwall'
   differs from the standard run's by more than 3 % (locking stores more).
 
-    usage: TUBEMPM=build/debug/tubempm python3 tests/test_fbar_energy.py SCRATCH
+    usage: TUBEMPM=build/debug/tubempm python3 -m tests.test_fbar_energy SCRATCH
 Prints `test_fbar_energy: N passed, M failed`.
 """
 from __future__ import annotations
@@ -32,11 +32,10 @@ import subprocess
 import sys
 from pathlib import Path
 
+from plots.mpmplot import readers
+from tests.pycheck import Checks
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "plots"))
-sys.path.insert(0, str(ROOT / "tests"))
-from mpmplot import readers  # noqa: E402
-from pycheck import Checks  # noqa: E402
 
 T = Checks("test_fbar_energy")
 check = T.check

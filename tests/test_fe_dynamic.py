@@ -25,7 +25,7 @@ Builds xfe with the debug flags (-Og -fcheck=all, FP traps) in the scratch folde
 - a failing case is seen to fail: the arrival checked against the bar speed sqrt(E / rho)
   misses the 1 % tolerance.
 
-    python3 tests/test_fe_dynamic.py [SCRATCH]
+    python3 -m tests.test_fe_dynamic [SCRATCH]
 """
 from __future__ import annotations
 
@@ -35,14 +35,11 @@ import sys
 import tempfile
 from pathlib import Path
 
+from tests.pycheck import Checks
+from tools.fe_reference import fe_dynamic
+from plots.mpmplot import analysis, readers
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tests"))
-sys.path.insert(0, str(ROOT / "tools"))
-sys.path.insert(0, str(ROOT / "tools" / "fe_reference"))
-sys.path.insert(0, str(ROOT / "plots"))
-from pycheck import Checks  # noqa: E402
-import fe_dynamic  # noqa: E402
-from mpmplot import analysis, readers  # noqa: E402
 
 T = Checks("test_fe_dynamic")
 check = T.check
@@ -131,8 +128,8 @@ def test_committed(scratch: Path) -> None:
     numbers (1e-6; the CSV keeps 9 digits); the meshes halve the element size."""
     import json
     import shutil
-    import study
-    from mpmplot import namelist
+    from tools import study
+    from plots.mpmplot import namelist
     docs = ROOT / "docs" / "fe_reference"
     conv = json.loads((docs / "dynamic_convergence.json").read_text())
     imp = conv["impact"]["meshes"]

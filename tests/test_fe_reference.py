@@ -20,7 +20,7 @@ decks:
   committed ones (so generator and decks cannot drift); when ccx is on PATH, the coarsest deck
   is run (about 30 CPU s) and its curve must match the committed CSV to 1e-6.
 
-    python3 tests/test_fe_reference.py [SCRATCH]
+    python3 -m tests.test_fe_reference [SCRATCH]
 """
 from __future__ import annotations
 
@@ -33,13 +33,11 @@ from pathlib import Path
 
 import numpy as np
 
+from tests.pycheck import Checks
+from tools.fe_reference import fe_reference as fe
+from plots.mpmplot import namelist, scene, theory
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tools" / "fe_reference"))
-sys.path.insert(0, str(ROOT / "plots"))
-sys.path.insert(0, str(ROOT / "tests"))
-from pycheck import Checks  # noqa: E402
-import fe_reference as fe  # noqa: E402
-from mpmplot import namelist, scene, theory  # noqa: E402
 
 T = Checks("test_fe_reference")
 check = T.check

@@ -14,7 +14,7 @@ docs/fe_reference/README.md "The sheared ring"). No ccx, no tubempm run; about a
   at delta/D = 0.2 (the scene is symmetric under a half turn about the midpoint between the
   platens: a consistency check, not a sign of rolling).
 
-    python3 tests/test_fe_shear.py
+    python3 -m tests.test_fe_shear
 """
 from __future__ import annotations
 
@@ -24,11 +24,10 @@ from pathlib import Path
 
 import numpy as np
 
+from tests.pycheck import Checks
+from tools.fe_reference import shear_reference as sr
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tools" / "fe_reference"))
-sys.path.insert(0, str(ROOT / "tests"))
-from pycheck import Checks  # noqa: E402
-import shear_reference as sr  # noqa: E402
 
 T = Checks("test_fe_shear")
 check = T.check

@@ -20,21 +20,21 @@ frictionless platens with free sides (plane stress: uniaxial stress), against cl
   micrometres, 0.4 % of the height at the end) is why the strain comes from the particles and
   not from the platen's travel.
 
-    TUBEMPM=build/debug/tubempm python3 tests/test_foam_block.py SCRATCH
+    TUBEMPM=build/debug/tubempm python3 -m tests.test_foam_block SCRATCH
 """
 from __future__ import annotations
 
 import math
-import re
 import sys
 from pathlib import Path
 
 import numpy as np
 
+from plots.mpmplot import namelist
+from tests.pycheck import Checks
+from tests.pyscene import run_scene
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tests"))
-from pycheck import Checks  # noqa: E402
-from pyscene import run_scene  # noqa: E402
 
 T = Checks("test_foam_block")
 check = T.check
@@ -57,20 +57,22 @@ def y_curve(e):
 
 def case(curve: bool) -> str:
     text = (ROOT / "namelists" / "foam" / "foam_block.nml").read_text()
-    text = text.replace("title = 'foam_block'", "title = 'foam_block', output_dir = 'OUT'")
-    text = text.replace("snapshot_every = 1.0e-3", "snapshot_every = 1.0")
+    values: dict = {"run.output_dir": "OUT", "run.snapshot_every": 1.0}
     if curve:
-        for a, b in [("n_x = 16", "n_x = 8"), ("n_y = 16", "n_y = 8"),
-                     ("nu_plastic = 0.0", "nu_plastic = 0.2")]:
-            check(a in text, f"namelists/foam/foam_block.nml has {a!r}")
-            text = text.replace(a, b)
-        law = re.compile(r"^\s*(sigma_p|foam_gamma|foam_alpha2|foam_beta|eps_d)\s*=.*\n", re.M)
-        text, n = law.subn("", text)
+        base = namelist.parse_namelist(text, "foam_block.nml")
+        for key, was, now in (("body.n_x", 16, 8), ("body.n_y", 16, 8),
+                              ("material.nu_plastic", 0.0, 0.2)):
+            group, var = key.split(".")
+            check(base[group][0].get(var) == was,
+                  f"namelists/foam/foam_block.nml has {var} = {was}")
+            values[key] = now
+        law = ("sigma_p", "foam_gamma", "foam_alpha2", "foam_beta", "eps_d")
+        n = sum(v in base["material"][0] for v in law)
         check(n == 5, f"the law's five variables replaced by the curve ({n} found)")
-        text = re.sub(r"(?m)^(\s*nu_plastic = 0.2.*\n)", r"\1  curve_strain = "
-                      + ", ".join(f"{x}" for x in CURVE_E) + "\n  curve_stress = "
-                      + ", ".join(f"{x:.6e}" for x in CURVE_S) + "\n", text)
-    return text
+        values.update({f"material.{v}": None for v in law})
+        values["material.curve_strain"] = [float(x) for x in CURVE_E]
+        values["material.curve_stress"] = [float(f"{x:.6e}") for x in CURVE_S]
+    return namelist.set_values(text, values)
 
 
 def block(scratch: Path, curve: bool) -> None:

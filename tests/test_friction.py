@@ -15,7 +15,7 @@ At cfl 0.1 (the friction's loss, its impulses times the slip they leave: 0.624, 
 * the energy error (which counts `contact_loss`) under 5 %; without it the friction's loss
   shows as an energy error of about 100 % here.
 
-    TUBEMPM=build/debug/tubempm python3 tests/test_friction.py SCRATCH
+    TUBEMPM=build/debug/tubempm python3 -m tests.test_friction SCRATCH
 """
 from __future__ import annotations
 
@@ -23,11 +23,10 @@ import math
 import sys
 from pathlib import Path
 
+from tests.pycheck import Checks
+from tests.pyscene import run_scene
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "plots"))
-sys.path.insert(0, str(ROOT / "tests"))
-from pycheck import Checks  # noqa: E402
-from pyscene import run_scene  # noqa: E402
 
 T = Checks("test_friction")
 check = T.check

@@ -4,7 +4,7 @@
 # exit 0, or exit 2 with an ERROR line, within 10 s. `make fuzz` runs thousands.
 set -u
 scratch=${1:-$(mktemp -d)}
-out=$(${PYTHON:-python3} tools/fuzz_namelists.py --bin "${TUBEMPM:-bin/tubempm}" --count 200 \
+out=$(${PYTHON:-python3} -m tools.fuzz_namelists --bin "${TUBEMPM:-bin/tubempm}" --count 200 \
       --seed 2026 --out "$scratch/fuzz" 2>&1)
 rc=$?
 echo "$out" | grep -v "passed, .* failed$"

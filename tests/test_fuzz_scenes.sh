@@ -7,7 +7,7 @@
 # 120 s. `make fuzz-scenes N=...` runs more.
 set -u
 scratch=${1:-$(mktemp -d)}
-out=$(${PYTHON:-python3} tools/fuzz_scenes.py --bin "${TUBEMPM:-bin/tubempm}" --count 14 \
+out=$(${PYTHON:-python3} -m tools.fuzz_scenes --bin "${TUBEMPM:-bin/tubempm}" --count 14 \
       --seed 2026 --out "$scratch/fuzz_scenes" 2>&1)
 rc=$?
 echo "$out" | grep -v "passed, .* failed$"

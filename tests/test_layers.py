@@ -13,10 +13,10 @@ import re
 import sys
 from pathlib import Path
 
+from tests.pycheck import Checks
+
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
-sys.path.insert(0, str(HERE))
-from pycheck import Checks  # noqa: E402
 
 T = Checks("test_layers")
 check = T.check

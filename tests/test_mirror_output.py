@@ -27,8 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from pycheck import Checks  # noqa: E402
+from tests.pycheck import Checks
 
 ROOT = Path(__file__).resolve().parent.parent
 BIN = os.environ.get("TUBEMPM", str(ROOT / "bin" / "tubempm"))

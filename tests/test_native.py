@@ -13,7 +13,7 @@ difference is printed. The chaotic scenes (namelists/impact.nml and crush.nml: c
 amplifies any round-off change) differ by more, as they do for any change of the rounding
 (docs/performance.md).
 
-    usage: python3 tests/test_native.py SCRATCH
+    usage: python3 -m tests.test_native SCRATCH
 """
 from __future__ import annotations
 
@@ -23,11 +23,10 @@ import subprocess
 import sys
 from pathlib import Path
 
+from tools import check_identical as ci
+from tests.pycheck import Checks
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tools"))
-sys.path.insert(0, str(ROOT / "tests"))
-import check_identical as ci  # noqa: E402
-from pycheck import Checks  # noqa: E402
 
 T = Checks("test_native")
 check = T.check

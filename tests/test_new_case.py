@@ -14,7 +14,7 @@
 * the seven designs of tools/design_example.py (make design-example) pass --check too.
 Each case passes `tubempm --check` with exit 0 and no WARNING line.
 
-    TUBEMPM=build/debug/tubempm python3 tests/test_new_case.py SCRATCH
+    TUBEMPM=build/debug/tubempm python3 -m tests.test_new_case SCRATCH
 """
 from __future__ import annotations
 
@@ -25,24 +25,23 @@ import subprocess
 import sys
 from pathlib import Path
 
+from tests.pycheck import Checks, close
+from plots.mpmplot import namelist
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tests"))
-sys.path.insert(0, str(ROOT / "plots"))
-from pycheck import Checks, close  # noqa: E402
-from mpmplot import namelist  # noqa: E402
 
 T = Checks("test_new_case")
 check = T.check
 EXE = os.environ.get("TUBEMPM", str(ROOT / "bin" / "tubempm"))
-TOOL = ROOT / "tools" / "new_case.py"
+TOOL = ["-m", "tools.new_case"]
 D, TT = 50.86e-3, 1.48e-3
 E, NU, RHO = 210.0e9, 0.3, 7800.0
 
 
 def make(scratch: Path, name: str, *args: str) -> tuple[Path, dict]:
     out = scratch / f"{name}.nml"
-    r = subprocess.run([sys.executable, str(TOOL), *args, "--out", str(out)],
-                       capture_output=True, text=True)
+    r = subprocess.run([sys.executable, *TOOL, *args, "--out", str(out)],
+                       capture_output=True, text=True, cwd=ROOT)
     check(r.returncode == 0 and out.is_file(), f"{name}: written ({r.stderr.strip()[:200]})")
     return out, (namelist.read_namelist(out) if out.is_file() else {})
 
@@ -104,14 +103,14 @@ def main() -> int:
         out = checked(path, "shear --fixed")
         check(out.count("bonded: ") == 2 and "tied" in out,
               "shear --fixed: --check reports the points tied to each platen")
-    sys.path.insert(0, str(ROOT / "tools"))
-    import design_example  # noqa: PLC0415
+    from tools import design_example  # noqa: PLC0415
     cases = design_example.designs(scratch / "design")
     check(len(cases) == 7, f"design example: 7 designs ({len(cases)})")
     for c in cases:
         checked(c.base, f"design example {c.name}")
-    r = subprocess.run([sys.executable, str(TOOL), "crush", "--D", "50.86", "--t", "1.48",
-                        "--out", str(scratch / "mm.nml")], capture_output=True, text=True)
+    r = subprocess.run([sys.executable, *TOOL, "crush", "--D", "50.86", "--t", "1.48",
+                        "--out", str(scratch / "mm.nml")], capture_output=True, text=True,
+                       cwd=ROOT)
     check(r.returncode == 2 and "metres" in r.stderr and "Traceback" not in r.stderr,
           f"millimetres as metres refused, saying metres ({r.stderr.strip()[:200]!r})")
     return T.summary()

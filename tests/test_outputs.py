@@ -9,7 +9,7 @@ SCRATCHDIR and run with the binary named by the environment variable TUBEMPM; th
 counted and the last line is `test_outputs: N passed, M failed` (exit 1 if M > 0; a crash of
 this script is reported as a failure too).
 
-    TUBEMPM=build/debug/tubempm python3 tests/test_outputs.py SCRATCHDIR
+    TUBEMPM=build/debug/tubempm python3 -m tests.test_outputs SCRATCHDIR
 
 Standard library, numpy and h5py only (plus plots/mpmplot, the readers under test).
 """
@@ -24,12 +24,10 @@ import traceback
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
+from tests.pycheck import Checks, close
+from plots.mpmplot import namelist, readers, scene
+
 ROOT = Path(__file__).resolve().parent.parent
-PLOTS = ROOT / "plots"
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-sys.path.insert(0, str(PLOTS))
-from pycheck import Checks, close  # noqa: E402
-from mpmplot import namelist, readers, scene  # noqa: E402
 NAME = "test_outputs"
 
 T = Checks(NAME)
@@ -105,7 +103,6 @@ def expected_header(nwall: int, nprobe: int) -> list[str]:
         cols += [f"probe{k}_{s}" for s in ("x", "y", "vx", "vy", "eqps")]
     cols += ["damped", "contact_loss", "step", "dt", "energy_error"]
     return cols
-
 
 SUMMARY_FIELDS = ["status", "scene", "steps", "particles", "nodes", "sim_time", "wall_seconds",
                   "runtime_ratio", "updates_per_second", "threads", "energy_error", "dt_last",
@@ -295,7 +292,6 @@ def check_h5(outdir: Path, summary: dict | None) -> list[dict]:
               snaps[-1].get("time", -1.0) > T_END, "last snapshot at t_end")
     return snaps
 
-
 XDMF_ARRAYS = ["eqps", "mass", "volume", "vx", "vy", "sxx", "syy", "sxy", "szz", "body"]
 
 
@@ -484,17 +480,17 @@ def main() -> int:
 
     # the plots
     kind = scene.scene_kind(outdir, case)
-    proc = run([sys.executable, str(PLOTS / "plot_case.py"), "--case", str(case)], timeout=300)
+    proc = run([sys.executable, "-m", "plots.plot_case", "--case", str(case)], timeout=300)
     if not check(proc.returncode == 0, f"plot_case.py exits 0 (got {proc.returncode})"):
         show(proc)
     check_png(outdir / f"{kind}.png", "plot_case.py")
-    proc = run([sys.executable, str(PLOTS / "plot_case.py"), "--dir", str(outdir),
+    proc = run([sys.executable, "-m", "plots.plot_case", "--dir", str(outdir),
                 "--kind", "impact", "--out", str(scratch / "impact.png")], timeout=300)
     if not check(proc.returncode == 0, f"plot_case.py --kind impact exits 0 (got "
                  f"{proc.returncode})"):
         show(proc)
     check_png(scratch / "impact.png", "plot_case.py --kind impact")
-    proc = run([sys.executable, str(PLOTS / "plot_shapes.py"), "--case", str(case)], timeout=300)
+    proc = run([sys.executable, "-m", "plots.plot_shapes", "--case", str(case)], timeout=300)
     if not check(proc.returncode == 0, f"plot_shapes.py exits 0 (got {proc.returncode})"):
         show(proc)
     check_png(outdir / "shapes.png", "plot_shapes.py")

@@ -25,7 +25,7 @@ their command line in this process; the figure they save is caught and its artis
   is asked of the binary named by TUBEMPM (`tubempm --scene input.nml`), so the made-up
   input.nml files are valid cases.
 
-    TUBEMPM=build/debug/tubempm python3 tests/test_plots.py SCRATCH
+    TUBEMPM=build/debug/tubempm python3 -m tests.test_plots SCRATCH
 """
 from __future__ import annotations
 
@@ -38,15 +38,14 @@ from pathlib import Path
 
 import numpy as np
 
+from tests.pycheck import Checks
+from plots import plot_case  # (selects the Agg backend through style)
+from plots import plot_shapes
+from plots.mpmplot import namelist, scene
+from matplotlib.figure import Figure
+from matplotlib.collections import PolyCollection
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-sys.path.insert(0, str(ROOT / "plots"))
-from pycheck import Checks  # noqa: E402
-import plot_case  # noqa: E402  (selects the Agg backend through style)
-import plot_shapes  # noqa: E402
-from mpmplot import namelist, scene  # noqa: E402
-from matplotlib.figure import Figure  # noqa: E402
-from matplotlib.collections import PolyCollection  # noqa: E402
 
 T = Checks("test_plots")
 check = T.check

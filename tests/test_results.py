@@ -18,9 +18,8 @@ import math
 import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from pycheck import Checks, close  # noqa: E402
-from pyscene import run_scene, readers  # noqa: E402
+from tests.pycheck import Checks, close
+from tests.pyscene import run_scene, readers
 
 T = Checks("test_results")
 RI, RO, RHO = 0.02375, 0.02625, 7800.0

@@ -12,7 +12,7 @@ the same answer from the output folder (summary.nml) and from the case file alon
 changed) and ask tubempm about input.nml when the entry is missing. No Python copy of the rule
 is left (``classify_inputs`` is gone), and ``--scene`` on a bad input prints no kind and exits 2.
 
-    TUBEMPM=build/debug/tubempm python3 tests/test_scene_kind.py SCRATCH
+    TUBEMPM=build/debug/tubempm python3 -m tests.test_scene_kind SCRATCH
 """
 from __future__ import annotations
 
@@ -22,11 +22,10 @@ import subprocess
 import sys
 from pathlib import Path
 
+from tests.pycheck import Checks
+from plots.mpmplot import namelist, scene
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-sys.path.insert(0, str(ROOT / "plots"))
-from pycheck import Checks  # noqa: E402
-from mpmplot import namelist, scene  # noqa: E402
 
 T = Checks("test_scene_kind")
 check = T.check
@@ -62,12 +61,9 @@ EXPECTED = {
 
 def prepare(case: Path, folder: Path) -> Path:
     """A copy of the case writing into folder/out, cut to a few steps."""
-    text = case.read_text()
-    text = re.sub(r"(?im)^\s*output_dir\s*=.*$", "", text)
-    text, cut = re.subn(r"(?i)\bt_end\s*=\s*[0-9.eEdD+-]+", "t_end = 1.0e-7", text, count=1)
-    # a case whose walls all have a stroke may omit t_end (it ends at the stroke): give it one
-    extra = "" if cut else " t_end = 1.0e-7,"
-    text = re.sub(r"(?i)(&run\b)", rf"\1 output_dir = '{folder / 'out'}',{extra}", text, count=1)
+    # (a case whose walls all have a stroke may omit t_end: it gets one too)
+    text = namelist.set_values(case.read_text(), {"run.output_dir": str(folder / "out"),
+                                                  "run.t_end": 1.0e-7}, str(case))
     folder.mkdir(parents=True, exist_ok=True)
     path = folder / case.name
     path.write_text(text)

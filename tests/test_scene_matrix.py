@@ -42,7 +42,7 @@ to ENERGY_TOL_USL, and `--check` must warn of it. Basis 'linear' with 'usl' fail
 the stability study tried: it is not in the array; one run of it must stop cleanly instead
 (exit 4, the last good state saved, the project's own error line), after a `--check` warning.
 
-    TUBEMPM=build/debug/tubempm python3 tests/test_scene_matrix.py SCRATCH [--list]
+    TUBEMPM=build/debug/tubempm python3 -m tests.test_scene_matrix SCRATCH [--list]
 """
 from __future__ import annotations
 
@@ -52,12 +52,12 @@ import subprocess
 import sys
 from pathlib import Path
 
+from plots.mpmplot import readers
+from tests.pycheck import Checks
+from tests.pyscene import run_scene
+
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
-sys.path.insert(0, str(HERE))
-from pycheck import Checks  # noqa: E402
-from pyscene import run_scene  # noqa: E402
-from mpmplot import readers  # noqa: E402
 
 T = Checks("test_scene_matrix")
 check = T.check
@@ -183,7 +183,6 @@ def check_warnings(nml: Path) -> str:
     res = subprocess.run([os.environ.get("TUBEMPM", str(ROOT / "bin" / "tubempm")), "--check",
                           str(nml)], capture_output=True, text=True)
     return res.stderr
-
 
 MATERIAL = ("&material name = 'al', model = 'j2', E = 70.0e9, nu = 0.33, rho = 2700.0, "
             "sigma_y = 150.0e6, hardening = 200.0e6 /\n")

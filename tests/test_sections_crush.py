@@ -23,7 +23,7 @@ its own particles) and was a wall thickness or more from it at t = 0: the walls 
 not cross. The crossing measure is itself
 checked on two overlapping squares, where it must find the overlap.
 
-    TUBEMPM=build/debug/tubempm python3 tests/test_sections_crush.py SCRATCH
+    TUBEMPM=build/debug/tubempm python3 -m tests.test_sections_crush SCRATCH
 """
 from __future__ import annotations
 
@@ -33,10 +33,8 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE))
-from pycheck import Checks  # noqa: E402
-from pyscene import run_scene  # noqa: E402
+from tests.pycheck import Checks
+from tests.pyscene import run_scene
 
 T = Checks("test_sections_crush")
 check = T.check

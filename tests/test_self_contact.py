@@ -33,7 +33,7 @@ flat along the whole ring.
    it, a CPDI2 one to use CPDI1, a quarter model (its mirror plane is the contact) neither;
    namelists/contact/densify.nml draws no warning.
 
-    usage: TUBEMPM=build/debug/tubempm python3 tests/test_self_contact.py SCRATCH
+    usage: TUBEMPM=build/debug/tubempm python3 -m tests.test_self_contact SCRATCH
 """
 from __future__ import annotations
 
@@ -45,11 +45,10 @@ from pathlib import Path
 
 import numpy as np
 
+from plots.mpmplot import readers
+from tests.pycheck import Checks
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "plots"))
-sys.path.insert(0, str(ROOT / "tests"))
-from mpmplot import readers  # noqa: E402
-from pycheck import Checks  # noqa: E402
 
 T = Checks("test_self_contact")
 check = T.check

@@ -40,11 +40,10 @@ grep -q "ERROR \[run\].*time step dt = .* (cfl" "$scratch/cfl15.log" && ok \
 grep -q "ERROR \[run\].*lower cfl" "$scratch/cfl15.log" && ok || bad "cfl 1.5: no remedy given"
 grep -q "status = 'unstable'" "$scratch/cfl15/summary.nml" 2>/dev/null && ok \
   || bad "cfl 1.5: summary.nml does not say 'unstable'"
-$py - "$scratch/cfl15" "$root/plots" <<'PY' && ok || bad "cfl 1.5: last good state not readable or not good"
+(cd "$root" && $py - "$scratch/cfl15") <<'PY' && ok || bad "cfl 1.5: last good state not readable or not good"
 import glob, os, sys
-sys.path.insert(0, sys.argv[2])
 import numpy as np
-from mpmplot import readers
+from plots.mpmplot import readers
 d = sys.argv[1]
 crash = glob.glob(os.path.join(d, "crash_*.h5"))
 assert len(crash) == 1, crash
@@ -65,10 +64,9 @@ PY
 variant stability_impact cfl02 ""
 "$bin" --quiet "$scratch/cfl02.nml" > "$scratch/cfl02.log" 2>&1; rc=$?
 [ $rc -eq 0 ] && ok || bad "default cfl: exit $rc, expected 0: $(grep ERROR "$scratch/cfl02.log")"
-$py - "$scratch/cfl02/summary.nml" "$root/plots" <<'PY' && ok || bad "default cfl: not completed or energy error >= 5 %"
+(cd "$root" && $py - "$scratch/cfl02/summary.nml") <<'PY' && ok || bad "default cfl: not completed or energy error >= 5 %"
 import sys
-sys.path.insert(0, sys.argv[2])
-from mpmplot import readers
+from plots.mpmplot import readers
 s = readers.read_summary(sys.argv[1])
 print("default cfl:", s["status"], "energy error", s["energy_error"])
 assert s["status"] == "completed" and s["energy_error"] < 0.05

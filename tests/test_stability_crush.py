@@ -13,7 +13,7 @@ study's overrides), only shorter:
    exit 4, a message naming the folded domain, the time step and the remedy, a readable last
    good state, and the approach at the fold within 0.03 D of the study's.
 
-    usage: TUBEMPM=build/debug/tubempm python3 tests/test_stability_crush.py SCRATCH
+    usage: TUBEMPM=build/debug/tubempm python3 -m tests.test_stability_crush SCRATCH
 """
 from __future__ import annotations
 
@@ -22,16 +22,13 @@ import os
 import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tools"))
-sys.path.insert(0, str(ROOT / "plots"))
-import numpy as np  # noqa: E402
-from mpmplot import namelist, readers, scene  # noqa: E402
-import stability  # noqa: E402
-from batch import run_batch  # noqa: E402
+import numpy as np
+from plots.mpmplot import namelist, readers, scene
+from tools import stability
+from tools.batch import run_batch
+from tests.pycheck import Checks
 
-sys.path.insert(0, str(ROOT / "tests"))
-from pycheck import Checks  # noqa: E402
+ROOT = Path(__file__).resolve().parent.parent
 
 T = Checks("test_stability_crush")
 check = T.check

@@ -21,7 +21,7 @@ leaves (docs/method.md, "Energies"): 'stick' leaves none and takes nothing.
   contact_loss stays under 1 % of the walls' work (measured 1e-5; counted as the nodes'
   kinetic energy change it was 26 % of it) and the energy error under 2 %.
 
-    TUBEMPM=build/debug/tubempm python3 tests/test_stick.py SCRATCH
+    TUBEMPM=build/debug/tubempm python3 -m tests.test_stick SCRATCH
 """
 from __future__ import annotations
 
@@ -31,11 +31,11 @@ from pathlib import Path
 
 import numpy as np
 
+from plots.mpmplot import namelist
+from tests.pycheck import Checks
+from tests.pyscene import run_scene
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "plots"))
-sys.path.insert(0, str(ROOT / "tests"))
-from pycheck import Checks  # noqa: E402
-from pyscene import run_scene  # noqa: E402
 
 T = Checks("test_stick")
 check = T.check
@@ -58,8 +58,8 @@ DRAG = f"""&run
 
 
 def crush(scratch: Path) -> None:
-    text = (ROOT / "tests" / "scenes" / "stick_crush.nml").read_text()
-    text = text.replace("title = 'stick_crush'", "title = 'stick_crush', output_dir = 'OUT'")
+    text = namelist.set_values((ROOT / "tests" / "scenes" / "stick_crush.nml").read_text(),
+                               {"run.output_dir": "OUT"})
     h, s = run_scene(T, scratch, "stick_crush", text)
     if not h:
         return

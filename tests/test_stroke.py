@@ -15,7 +15,7 @@ A quarter steel ring crushed by a platen at 20 m/s (ramp 0.1 ms, mass_scale 4) t
 * &results: stroke = 2 x 4 mm within h/10, and mean_force = absorbed_energy / stroke.
 A stroke the motion never reaches (a table that stops first) is refused, naming it.
 
-    TUBEMPM=build/debug/tubempm python3 tests/test_stroke.py SCRATCH
+    TUBEMPM=build/debug/tubempm python3 -m tests.test_stroke SCRATCH
 """
 from __future__ import annotations
 
@@ -24,10 +24,10 @@ import subprocess
 import sys
 from pathlib import Path
 
+from tests.pycheck import Checks, close
+from tests.pyscene import run_scene, readers
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tests"))
-from pycheck import Checks, close  # noqa: E402
-from pyscene import run_scene, readers  # noqa: E402
 
 T = Checks("test_stroke")
 check = T.check

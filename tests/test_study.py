@@ -9,7 +9,7 @@ two tiny wave cases (0.4 us of a 2-particle-thick ring) with the binary named by
 check that finished runs are skipped, interrupted and changed runs re-run. The last line is
 `test_study: N passed, M failed` (exit 1 if M > 0).
 
-    TUBEMPM=build/debug/tubempm python3 tests/test_study.py
+    TUBEMPM=build/debug/tubempm python3 -m tests.test_study
 """
 from __future__ import annotations
 
@@ -24,23 +24,21 @@ from pathlib import Path
 
 import numpy as np
 
+from plots.mpmplot import namelist
+from tests.pycheck import Checks, close
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tools"))
-sys.path.insert(0, str(ROOT / "plots"))
-sys.path.insert(0, str(ROOT / "tests"))
-from pycheck import Checks, close  # noqa: E402
 NAME = "test_study"
 T = Checks(NAME)
 check = T.check
 
 
 def test_render() -> None:
-    import batch
-    from mpmplot import namelist
+    """namelist.set_values, what batch writes each run's case.nml with."""
     base = (ROOT / "namelists" / "wave.nml").read_text()
-    text = batch.render(base, {"grid.h": 0.25e-3, "body.n_thick": 16, "probe[7].point":
-                               (0.0, 0.05), "solver.deterministic": True,
-                               "run.title": "a'b"})
+    text = namelist.set_values(base, {"grid.h": 0.25e-3, "body.n_thick": 16, "probe[7].point":
+                                      (0.0, 0.05), "solver.deterministic": True,
+                                      "run.title": "a'b"})
     nml = namelist.parse_namelist(text, "rendered")
     check(close(nml["grid"][0]["h"], 0.25e-3), "render: replaced h")
     check(nml["body"][0]["n_thick"] == 16, "render: replaced n_thick")
@@ -54,17 +52,29 @@ def test_render() -> None:
     check(same, "render: groups without overrides unchanged")
     for bad in ({"probe[8].point": (0.0, 0.0)}, {"grid h": 1.0}):
         try:
-            batch.render(base, bad)
+            namelist.set_values(base, bad)
             refused = False
         except ValueError:
             refused = True
         check(refused, f"render: {bad} is refused with ValueError")
-    check(batch.fortran_value([1.5, 2]) == "1.5, 2", "fortran_value of a list")
-    check(batch.fortran_value(False) == ".false.", "fortran_value of a bool")
+    # a whole line is replaced with its comment (which spoke of the old value); an
+    # assignment that shares its line, or a group on one line, is edited in place
+    line = namelist.set_values("&grid\n  h = 1.0e-3   ! t/4\n/\n", {"grid.h": 2.0e-3})
+    check(line == "&grid\n  h = 0.002\n/\n", f"render: the line replaced: {line!r}")
+    one = "&run title = 'a', cfl = 0.2 ! c\n/\n&grid h = 1.0 /\n&grid h = 2.0 /\n"
+    text = namelist.set_values(one, {"run.cfl": 0.5, "run.t_end": 1e-3, "grid[2].h": 3.0,
+                                     "grid[1].n": 4})
+    check(text == "&run title = 'a', cfl = 0.5 ! c\n  t_end = 0.001\n/\n"
+          "&grid h = 1.0\n  n = 4\n/\n&grid h = 3.0 /\n",
+          f"render: one-line groups edited in place: {text!r}")
+    gone = namelist.set_values("&m\n  a = 1   ! x\n  b = 2, c = 3\n/\n", {"m.a": None, "m.b": None})
+    check(gone == "&m\n  c = 3\n/\n", f"render: None removes an assignment: {gone!r}")
+    check(namelist.format_value([1.5, 2]) == "1.5, 2", "format_value of a list")
+    check(namelist.format_value(False) == ".false.", "format_value of a bool")
 
 
 def test_richardson() -> None:
-    import study
+    from tools import study
     for p in (1.0, 1.5, 2.0):
         f0, c = 3.0, 0.7
         vals = [f0 + c * h ** p for h in (0.4, 0.2, 0.1)]
@@ -77,7 +87,7 @@ def test_richardson() -> None:
 
 
 def test_pareto_advice() -> None:
-    import plot_study
+    from plots import plot_study
     pts = [(1.0, 0.5), (2.0, 0.6), (3.0, 0.1), (4.0, 0.1), (5.0, 0.01)]
     check(plot_study.pareto(pts) == [(1.0, 0.5), (3.0, 0.1), (5.0, 0.01)], "pareto front")
     rows = []
@@ -119,7 +129,7 @@ def test_pareto_advice() -> None:
 
 
 def test_batch_runs() -> None:
-    import batch
+    from tools import batch
     exe = Path(os.environ.get("TUBEMPM", ROOT / "build" / "debug" / "tubempm"))
     if not check(exe.is_file(), f"binary {exe} missing"):
         return
@@ -167,8 +177,8 @@ def test_crush_metrics() -> None:
     advances at a constant speed (delta = twice the advance). The absorbed energy at
     delta/D = 0.5 is then F0 D / 2 exactly, the window mean is F0, and a curve compared with
     itself has no error."""
-    import study
-    from mpmplot import namelist, scene
+    from tools import study
+    from plots.mpmplot import scene
     inputs = namelist.read_namelist(ROOT / "namelists" / "crush.nml")
     D = scene.ring_properties(inputs)["D"]
     tmp = Path(tempfile.mkdtemp(prefix="test_study_crush_"))
@@ -228,9 +238,8 @@ def test_check_advice() -> None:
               f"error {err} % vs table {100 * float(rows[0]['error'])} %")
     # an input at the reference's settings is not told "error 0 %": references are not in the
     # compiled table (their error was never measured)
-    import batch
-    ref_text = batch.render((ROOT / "namelists" / "crush.nml").read_text(),
-                            {"grid.h": 1.48e-3 / 8, "body.n_thick": 16})
+    ref_text = namelist.set_values((ROOT / "namelists" / "crush.nml").read_text(),
+                                   {"grid.h": 1.48e-3 / 8, "body.n_thick": 16})
     with tempfile.NamedTemporaryFile("w", suffix=".nml", delete=False) as fh:
         fh.write(ref_text)
     try:
@@ -262,16 +271,15 @@ def test_volumetric_factor() -> None:
     """The anti-locking factor: 'fbar' runs carry the override and a name of their own, the
     standard runs keep their names and inputs (the committed runs stay valid), and every fbar run
     of a level has its standard twin."""
-    import batch
-    import study
-    from mpmplot import namelist
+    from tools import batch
+    from tools import study
     p_std = study.Point("crush", h_over_t=0.25, n_t=4)
     p_fb = study.Point("crush", h_over_t=0.25, n_t=4, volumetric="fbar")
     check(p_std.name == "crush_cpdi2_musl_h1_4_nt4_a1_cfl0.2", "volumetric: standard name kept")
     check(p_fb.name == p_std.name + "_fbar", "volumetric: fbar name")
     check("solver.volumetric" not in p_std.case().overrides,
           "volumetric: no override for standard (input hashes of earlier runs unchanged)")
-    text = batch.render(p_fb.case().base.read_text(), p_fb.case().overrides)
+    text = namelist.set_values(p_fb.case().base.read_text(), p_fb.case().overrides)
     nml = namelist.parse_namelist(text, "fbar")
     check(nml["solver"][0].get("volumetric") == "fbar", "volumetric: fbar in the namelist")
     check(p_fb.labels()["volumetric"] == "fbar" and "volumetric" in study.COLUMNS,
@@ -299,8 +307,8 @@ def test_crush_against_fe() -> None:
     (1 + eps) times FE's (all linear in F), whatever the self-reference says; the self-referenced
     error is the second column. The FE curve's own mean force is the one docs/fe_reference's
     convergence table gives for the finest mesh."""
-    import study
-    from mpmplot import namelist, scene
+    from tools import study
+    from plots.mpmplot import scene
     fe = study.fe_metrics()
     if not check(fe is not None and "F_window" in fe, "FE curve read and over the window"):
         return
@@ -334,13 +342,14 @@ def test_quasi_static_design() -> None:
     shipped scene, every crush run is at the crush's centre cfl except the cfl sweep and issue
     17's points (h = t/4, n_t = 8, aspect 2 at cfl 1.2, 1.6 and automatic), and
     plots/plot_study.py knows the same centre cfl per scene."""
-    import batch
-    import plot_study
-    import study
-    from mpmplot import namelist, scene
+    from tools import batch
+    from plots import plot_study
+    from tools import study
+    from plots.mpmplot import scene
     pts = study.design("full")["crush"]
     case = pts[0].case()
-    nml = namelist.parse_namelist(batch.render(case.base.read_text(), case.overrides), "crush")
+    nml = namelist.parse_namelist(namelist.set_values(case.base.read_text(), case.overrides),
+                                  "crush")
     inputs = namelist.read_namelist(case.base)
     D = scene.ring_properties(inputs)["D"]
     w = nml["wall"][0]
@@ -367,8 +376,8 @@ def test_automatic_cfl() -> None:
     per cell (the 1-per-cell limits) as well as at two."""
     import re
     import subprocess
-    import batch
-    import study
+    from tools import batch
+    from tools import study
     exe = Path(os.environ.get("TUBEMPM", ROOT / "build" / "debug" / "tubempm"))
     if not check(exe.is_file(), f"binary {exe} present"):
         return
@@ -382,7 +391,7 @@ def test_automatic_cfl() -> None:
         for p in pts:
             case = p.case()
             path = Path(tmp) / f"{p.name}.nml"
-            path.write_text(batch.render(case.base.read_text(), case.overrides))
+            path.write_text(namelist.set_values(case.base.read_text(), case.overrides))
             out = subprocess.run([str(exe), "--check", "--quiet", str(path)],
                                  capture_output=True, text=True).stdout
             m = re.search(r"cfl: ([\d.]+), automatic \(cfl = 0\)", out)
@@ -401,8 +410,8 @@ def test_mass_scaling_is_time_scaling() -> None:
     v / sqrt(m), the ramp, the record and the history interval times sqrt(m) is the same model in
     the time t sqrt(m). With m = 4 (sqrt(m) = 2: every scaling exact in binary) a short crush
     gives the same platen force at every history row, to round-off, at twice the time."""
-    import batch
-    from mpmplot import readers
+    from tools import batch
+    from plots.mpmplot import readers
     exe = Path(os.environ.get("TUBEMPM", ROOT / "build" / "debug" / "tubempm"))
     if not check(exe.is_file(), f"binary {exe} missing"):
         return

@@ -8,7 +8,7 @@ from run folders written by hand (end, minimum and maximum of a known history).
 
 The last line is `test_sweep: N passed, M failed` (exit 1 if M > 0).
 
-    python3 tests/test_sweep.py
+    python3 -m tests.test_sweep
 """
 from __future__ import annotations
 
@@ -22,14 +22,12 @@ import tempfile
 import traceback
 from pathlib import Path
 
+from tests.pycheck import Checks, close
+from tools import batch
+from tools import sweep
+from plots.mpmplot import namelist
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tools"))
-sys.path.insert(0, str(ROOT / "plots"))
-sys.path.insert(0, str(ROOT / "tests"))
-from pycheck import Checks, close  # noqa: E402
-import batch  # noqa: E402
-import sweep  # noqa: E402
-from mpmplot import namelist  # noqa: E402
 
 T = Checks("test_sweep")
 check = T.check
@@ -148,14 +146,14 @@ def test_refusals(tmp: Path) -> None:
           "a repeated row")
     bad.write_text("ring.speed,run.cfl\n5,\n")
     check(refused(ex, IMPACT, [], [], sweep.read_table(bad), words="empty"), "an empty cell")
-    p = subprocess.run([sys.executable, str(ROOT / "tools" / "sweep.py"), str(IMPACT), "--out",
+    p = subprocess.run([sys.executable, "-m", "tools.sweep", str(IMPACT), "--out",
                         str(tmp / "x"), "--vary", "ring.D_over_t=0.5"], capture_output=True,
-                       text=True)
+                       text=True, cwd=ROOT)
     check(p.returncode == 2 and p.stderr.startswith("ERROR [sweep]: ") and
           not (tmp / "x").exists(), f"the command line: exit 2, one ERROR line: {p.stderr!r}")
-    p = subprocess.run([sys.executable, str(ROOT / "tools" / "sweep.py"), str(IMPACT), "--out",
+    p = subprocess.run([sys.executable, "-m", "tools.sweep", str(IMPACT), "--out",
                         str(tmp / "x"), "--vary", "ring.speed=1,2,3", "--list"],
-                       capture_output=True, text=True)
+                       capture_output=True, text=True, cwd=ROOT)
     check(p.returncode == 0 and p.stdout.strip().endswith("3 runs") and
           "body[1].velocity = 0.0, -2.0" in p.stdout, f"--list: {p.stdout!r}")
 
@@ -200,17 +198,18 @@ def test_collect_and_plot(tmp: Path) -> None:
     rows = list(csv.DictReader(open(sweep.collect(cases, root))))
     check(rows[0]["status"] == "not run" and rows[0].get("plastic_end", "") == "",
           "an older input's run is 'not run'")
-    import plot_sweep
+    from plots import plot_sweep
     s = plot_sweep.series(rows, "ring.speed", "plastic_end", None)
     check(list(s) == [""] and s[""][0] == [20.0], f"the chart's points: completed only {s}")
     out = tmp / "chart.png"
-    p = subprocess.run([sys.executable, str(ROOT / "plots" / "plot_sweep.py"), "--dir",
+    p = subprocess.run([sys.executable, "-m", "plots.plot_sweep", "--dir",
                         str(root), "--x", "ring.speed", "--y", "plastic_end", "--out",
-                        str(out)], capture_output=True, text=True)
+                        str(out)], capture_output=True, text=True, cwd=ROOT)
     check(p.returncode == 0 and out.is_file() and out.stat().st_size > 1000 and
           "left out 2" in p.stdout, f"plot_sweep draws the chart: {p.stdout} {p.stderr}")
-    p = subprocess.run([sys.executable, str(ROOT / "plots" / "plot_sweep.py"), "--dir",
-                        str(root), "--x", "D_over_t"], capture_output=True, text=True)
+    p = subprocess.run([sys.executable, "-m", "plots.plot_sweep", "--dir",
+                        str(root), "--x", "D_over_t"], capture_output=True, text=True,
+                       cwd=ROOT)
     check(p.returncode == 2 and "no such column" in p.stderr, "an unknown column is refused")
 
 

@@ -34,10 +34,10 @@ sleep 1.1                                  # a file written now is strictly newe
 status0=$(git_state)
 scenes_sum0=$(cksum docs/figures/scenes.txt 2>/dev/null)
 
-tools=$(ls tools/*.py tools/*.sh plots/plot_*.py plots/style.py)
+tools=$(ls tools/*.py tools/*.sh plots/plot_*.py plots/style.py | grep -v __init__)
 for t in $tools; do
   case $t in
-    *.py) cmd=("$py" "$t") ;;
+    *.py) m=${t%.py}; cmd=("$py" -m "${m//\//.}") ;;
     *.sh) cmd=(bash "$t") ;;
   esac
   out=$(timeout 60 "${cmd[@]}" --help 2> "$scratch/err" < /dev/null); rc=$?
@@ -57,12 +57,12 @@ grep -q "unknown scene 'nosuchscene'" "$scratch/rs.out" && ok \
   || bad "docs/figures/scenes.txt changed"
 
 # tools/stability.py and make stability default to the same level (quick)
-level=$("$py" -c "import sys; sys.path.insert(0, 'tools'); import stability; \
-print(stability.parse_args([]).level)" 2> "$scratch/err")
+level=$("$py" -c "from tools import stability; print(stability.parse_args([]).level)" \
+        2> "$scratch/err")
 [ "$level" = quick ] && ok || bad "tools/stability.py defaults to '$level', expected quick: $(head -c 300 "$scratch/err")"
-make -n --no-print-directory stability 2>/dev/null | grep -q "tools/stability.py --level quick" && ok \
-  || bad "make stability does not run tools/stability.py --level quick"
-make -n --no-print-directory stability 2>/dev/null | grep -q "plots/plot_stability.py --level quick" && ok \
+make -n --no-print-directory stability 2>/dev/null | grep -qF -- "-m tools.stability --level quick" && ok \
+  || bad "make stability does not run python3 -m tools.stability --level quick"
+make -n --no-print-directory stability 2>/dev/null | grep -qF -- "-m plots.plot_stability --level quick" && ok \
   || bad "make stability does not draw the quick level's figures"
 
 # the product cites its own docs and the literature, not the project's internal notes

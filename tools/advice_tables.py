@@ -20,7 +20,7 @@
 A file is rewritten only when its text changes (no rebuild otherwise). `make study`,
 `make figures` and `make stability` call this script; plots/ writes nothing into src/.
 
-    python3 tools/advice_tables.py [--study] [--stability] [--bench]   (no option: all)
+    python3 -m tools.advice_tables [--study] [--stability] [--bench]   (no option: all)
 """
 from __future__ import annotations
 
@@ -32,7 +32,6 @@ from pathlib import Path
 from typing import Any
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "plots"))
 
 SCHEMES = ("usl", "usf", "musl")          # the order of mpm_constants' scheme codes
 BASES = ("linear", "ugimp", "cpdi1", "cpdi2")   # the order of its basis codes
@@ -57,7 +56,7 @@ def study_include(rows: list[dict[str, Any]], adv: list[dict[str, Any]], source:
     """The study's runs (centre-point settings and errors) and the scenes and targets of the
     advice, as Fortran parameters (tubempm --check picks the run per target: the cheapest within
     it that its own warnings do not condemn)."""
-    from plot_study import SCENES, cfl_used, nominal, robust_error, variants, volumetric
+    from plots.plot_study import SCENES, cfl_used, nominal, robust_error, variants, volumetric
     # the references are left out: their error (0 by definition) was not measured; the
     # alignment variants are not settings of their own: a run's error is the worst of its
     # variants' (robust_error), and --check quotes and picks by that
@@ -219,7 +218,7 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     both = not (args.study or args.stability or args.bench)
     if args.study or both:
-        from plot_study import advice, read_table
+        from plots.plot_study import advice, read_table
         table = ROOT / "docs" / "study" / "study_full.csv"
         rows = read_table(table)
         write_if_changed(ROOT / "src" / "advice" / "mpm_advice_table.inc",

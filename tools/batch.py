@@ -28,7 +28,6 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-import re
 import shutil
 import signal
 import subprocess
@@ -39,6 +38,8 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
+
+from plots.mpmplot import namelist  # the standard library only, as the array tasks need
 
 ROOT = Path(__file__).resolve().parent.parent
 BINARY = ROOT / "bin" / "tubempm"
@@ -52,7 +53,8 @@ class Case:
     """One run: a base namelist and the variables to set in it.
 
     ``overrides`` maps ``"group.var"`` (first instance of the group) or ``"group[k].var"``
-    (k-th instance, 1-based) to a Python value: str, bool, int, float or a sequence of those.
+    (k-th instance, 1-based) to a Python value: str, bool, int, float or a sequence of those
+    (written into the base by ``mpmplot.namelist.set_values``).
     ``labels`` are free fields (scene, factor, level, ...) carried into result tables.
     """
     name: str
@@ -61,87 +63,18 @@ class Case:
     labels: dict[str, Any] = field(default_factory=dict)
 
 
-def fortran_value(value: Any) -> str:
-    """A Python value as namelist text."""
-    if isinstance(value, bool):
-        return ".true." if value else ".false."
-    if isinstance(value, str):
-        return "'" + value.replace("'", "''") + "'"
-    if isinstance(value, int):
-        return str(value)
-    if isinstance(value, float):
-        return repr(value).replace("inf", "Inf")
-    if isinstance(value, (list, tuple)):
-        return ", ".join(fortran_value(v) for v in value)
-    raise TypeError(f"no namelist form for {value!r}")
-
-
-_KEY = re.compile(r"^([a-z_]\w*)(?:\[(\d+)\])?\.([a-z_]\w*)$", re.IGNORECASE)
-_GROUP_START = re.compile(r"^\s*&([a-z_]\w*)", re.IGNORECASE)
-_GROUP_END = re.compile(r"^\s*/\s*(!.*)?$")
-
-
-def render(text: str, overrides: dict[str, Any]) -> str:
-    """The namelist ``text`` with ``overrides`` applied (see Case).
-
-    An assignment already present in the group instance is replaced (the whole line, which
-    must hold that one assignment); otherwise the assignment is added before the group's
-    closing ``/``. A group instance that does not exist is an error.
-    """
-    wanted: dict[tuple[str, int], dict[str, str]] = {}
-    for key, value in overrides.items():
-        m = _KEY.match(key)
-        if not m:
-            raise ValueError(f"override key {key!r}: expected 'group.var' or 'group[k].var'")
-        group, k, var = m.group(1).lower(), int(m.group(2) or 1), m.group(3).lower()
-        wanted.setdefault((group, k), {})[var] = fortran_value(value)
-    lines = text.splitlines()
-    out: list[str] = []
-    count: dict[str, int] = {}
-    current: tuple[str, int] | None = None
-    done: set[tuple[tuple[str, int], str]] = set()
-    for line in lines:
-        if current is None:
-            m = _GROUP_START.match(line)
-            if m:
-                g = m.group(1).lower()
-                count[g] = count.get(g, 0) + 1
-                current = (g, count[g])
-            out.append(line)
-            continue
-        if _GROUP_END.match(line):
-            for var, val in wanted.get(current, {}).items():
-                if (current, var) not in done:
-                    out.append(f"  {var} = {val}")
-                    done.add((current, var))
-            current = None
-            out.append(line)
-            continue
-        m = re.match(r"^(\s*)([a-z_]\w*)\s*=", line, re.IGNORECASE)
-        if m and m.group(2).lower() in wanted.get(current, {}):
-            var = m.group(2).lower()
-            out.append(f"{m.group(1)}{var} = {wanted[current][var]}")
-            done.add((current, var))
-            continue
-        out.append(line)
-    missing = [f"&{g}[{k}]" for (g, k) in wanted if count.get(g, 0) < k]
-    if missing:
-        raise ValueError("override of a group instance not in the base namelist: "
-                         + ", ".join(missing))
-    return "\n".join(out) + "\n"
-
-
 def case_text(case: Case, folder: Path) -> str:
     """case.nml for ``case`` run in ``folder``."""
     overrides = {"run.title": case.name, "run.output_dir": str(folder)}
     overrides.update(case.overrides)
-    return render(case.base.read_text(), overrides)
+    return namelist.set_values(case.base.read_text(), overrides, str(case.base))
 
 
 def input_hash(case: Case) -> str:
     """Hash of a case's input without its folder (title and output_dir): a study folder can
     be moved without re-running, and a changed input is noticed."""
-    return hashlib.sha256(render(case.base.read_text(), case.overrides).encode()).hexdigest()[:16]
+    text = namelist.set_values(case.base.read_text(), case.overrides, str(case.base))
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
 def _file_hash(path: Path) -> str:
@@ -316,7 +249,8 @@ def sbatch_script(tasks_file: Path, ntasks: int, threads: int, slurm: Slurm,
     lines += [f"#SBATCH {o}" for o in slurm.options]
     lines += ["# one tubempm run per array task, in its own folder (tools/batch.py --task)",
               f"export OMP_NUM_THREADS={threads}",
-              f"exec {slurm.python} {Path(__file__).resolve()} --task {tasks_file}", ""]
+              f"cd {ROOT}",
+              f"exec {slurm.python} -m tools.batch --task {tasks_file}", ""]
     return "\n".join(lines)
 
 
@@ -510,9 +444,7 @@ def private_binary(folder: Path, binary: Path = BINARY) -> Path:
 
 def read_summary(folder: Path) -> dict[str, Any]:
     """summary.nml of a finished case as a dict ({} if missing)."""
-    if str(ROOT / "plots") not in sys.path:
-        sys.path.insert(0, str(ROOT / "plots"))
-    from mpmplot import readers  # noqa: E402  (plots/ is not on the path by default)
+    from plots.mpmplot import readers  # noqa: PLC0415 (numpy: only here)
     path = folder / "summary.nml"
     return readers.read_summary(path) if path.is_file() else {}
 
@@ -582,7 +514,7 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(
         description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter,
         epilog=__doc__.split("\n\n", 1)[1] + "\nOn its own, it lists a batch folder (and writes "
-        "nothing):\n    python3 tools/batch.py --status build/stability\nor runs one task of a "
+        "nothing):\n    python3 -m tools.batch --status build/stability\nor runs one task of a "
         "Slurm job array (--task, what its sbatch script runs).")
     mode = ap.add_mutually_exclusive_group(required=True)
     mode.add_argument("--status", metavar="ROOT",

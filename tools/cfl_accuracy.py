@@ -19,7 +19,7 @@ src/advice/mpm_stability_table.inc, where the automatic cfl of a dynamic scene t
 (docs/stability.md#the-automatic-cfl). Runs go to build/cfl_accuracy/ (reused when the input
 is unchanged). About 10 CPU minutes, two runs at a time.
 
-    python3 tools/cfl_accuracy.py [--exe bin/tubempm] [--jobs 2]
+    python3 -m tools.cfl_accuracy [--exe bin/tubempm] [--jobs 2]
 """
 from __future__ import annotations
 
@@ -31,10 +31,10 @@ import sys
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
+from tools import batch
+
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
-sys.path.insert(0, str(HERE))
-import batch  # noqa: E402
 DOCS = ROOT / "docs" / "stability"
 RUNS = ROOT / "build" / "cfl_accuracy"
 BASES = ("linear", "ugimp", "cpdi1", "cpdi2")

@@ -4,8 +4,9 @@
 git reference and with the binary of the work tree, and compare their outputs bit for bit.
 
 Compared: history.csv (the text, byte for byte; where the work tree adds columns, every common
-column's text, row by row, and the added columns are named), summary.nml (every entry but the timings,
-group by group; a group that only the work tree writes is named, not a difference),
+column's text, row by row, and the added columns are named), summary.nml (the value of every
+entry but the timings, as plots.mpmplot.namelist reads it, group by group; a group that only
+the work tree writes is named, not a difference),
 input.nml (byte for byte) and every dataset of particles.h5 (exact equality of the arrays,
 NaN equal to NaN). Each binary is the release build, run on one thread. Where only one side
 writes the mirror images of a half or quarter model (the subgroup `mirrored` of each snapshot,
@@ -13,10 +14,10 @@ docs/output.md: the computed sector followed by its images), its computed-sector
 first np rows, the first ncorner rows of `corners`) is compared with the other side's
 snapshot datasets, and the images themselves are not compared.
 
-    tools/check_identical.py                      # HEAD against the work tree, every scene
-    tools/check_identical.py --ref origin/main    # another reference
-    tools/check_identical.py --quick 0.1          # each scene to 10 % of its t_end
-    tools/check_identical.py --cases namelists/default.nml
+    python3 -m tools.check_identical              # HEAD against the work tree, every scene
+    python3 -m tools.check_identical --ref origin/main   # another reference
+    python3 -m tools.check_identical --quick 0.1  # each scene to 10 % of its t_end
+    python3 -m tools.check_identical --cases namelists/default.nml
 
 Exit 0 when every output is identical, 1 when any differs (each difference is named), 2 on a
 usage or build error. Nothing is written into the repository: the reference is built in a
@@ -31,12 +32,14 @@ import subprocess
 import sys
 import tempfile
 
+from plots.mpmplot import namelist
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 # summary.nml entries that measure the machine, not the result
-TIMING_KEYS = re.compile(r'^\s*(wall_seconds|runtime_ratio|updates_per_second|time_\w+|'
+TIMING_KEYS = re.compile(r'(wall_seconds|runtime_ratio|updates_per_second|time_\w+|'
                          r'seconds_\w+|\w+_seconds|eta\w*|started|finished|host\w*|'
-                         r'binary\w*|version)\s*=', re.IGNORECASE)
+                         r'binary\w*|version)$', re.IGNORECASE)
 DEFAULT_CASES = ['namelists/*.nml', 'tests/scenes/*.nml']
 
 
@@ -54,12 +57,11 @@ def build(tree, bld, log):
 def prepare(case, folder, quick):
     """A copy of the namelist in `folder` with output_dir = 'out' (and t_end scaled)."""
     text = open(case).read()
-    text = re.sub(r"(?im)^\s*output_dir\s*=.*$", "", text)
-    text = re.sub(r"(?i)(&run\b)", r"\1 output_dir = 'out',", text, count=1)
-    if quick:
-        def scale(m):
-            return '%st_end = %.17g' % (m.group(1), float(m.group(2).replace('d', 'e')) * quick)
-        text = re.sub(r"(?i)(\b)t_end\s*=\s*([0-9.eEdD+-]+)", scale, text, count=1)
+    values = {'run.output_dir': 'out'}
+    t_end = namelist.parse_namelist(text, case)['run'][0].get('t_end')
+    if quick and t_end is not None:
+        values['run.t_end'] = float(t_end) * quick
+    text = namelist.set_values(text, values, case)
     os.makedirs(folder, exist_ok=True)
     path = os.path.join(folder, os.path.basename(case))
     with open(path, 'w') as f:
@@ -75,16 +77,9 @@ def run(binary, nml, folder):
 
 
 def summary_groups(path):
-    """summary.nml's groups as {name: [lines]}, without the timing entries."""
-    groups, name = {}, None
-    for ln in open(path):
-        ln = ln.rstrip()
-        if ln.startswith('&'):
-            name = ln[1:].split()[0].lower() if ln[1:].split() else ''
-            groups[name] = []
-        elif name is not None and not TIMING_KEYS.match(ln):
-            groups[name].append(ln)
-    return groups
+    """summary.nml's groups as {name: {entry: value}}, without the timing entries."""
+    return {name: {k: v for k, v in entries[-1].items() if not TIMING_KEYS.match(k)}
+            for name, entries in namelist.read_namelist(path).items()}
 
 
 def compare_h5(a, b):
@@ -176,10 +171,13 @@ def compare(out_a, out_b, notes=None):
             sa, sb = ga[g], gb.get(g)
             if sb is None:
                 diffs.append('summary.nml: group &%s missing' % g)
-            elif sa != sb:
-                extra = [ln for ln in sb if ln not in sa]
-                gone = [ln for ln in sa if ln not in sb]
-                diffs.append('summary.nml &%s: differs: %s -> %s' % (g, gone[:3], extra[:3]))
+                continue
+            # repr: a float's shortest exact text, so NaN equals NaN and 0.0 is not -0.0
+            keys = [k for k in list(sa) + [k for k in sb if k not in sa]
+                    if repr(sa.get(k)) != repr(sb.get(k))]
+            if keys:
+                diffs.append('summary.nml &%s: differs: %s' % (g, ', '.join(
+                    '%s = %r -> %r' % (k, sa.get(k), sb.get(k)) for k in keys[:3])))
         added = [g for g in gb if g not in ga]
         if added:
             if notes is not None:

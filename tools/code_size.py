@@ -3,9 +3,9 @@
 """Size of the Fortran sources: lines per module (file) and per routine, and the lines of the
 input reader (src/mpm_config*.f90), against the limits of docs/architecture.md.
 
-    tools/code_size.py             # the report: largest modules and routines, the reader's total
-    tools/code_size.py --check     # exit 1 when a limit is passed (tests/test_code_size.py)
-    tools/code_size.py --top 20    # more rows
+    python3 -m tools.code_size           # largest modules and routines, the reader's total
+    python3 -m tools.code_size --check   # exit 1 when a limit is passed (tests/test_code_size.py)
+    python3 -m tools.code_size --top 20  # more rows
 
 A routine is a subroutine or function from its first line to its `end subroutine` or
 `end function` line, both included (internal routines count in their host as well). Lines are

@@ -3,7 +3,7 @@
 """Design charts of tube absorbers (`make design-example`): several designs crushed
 quasi-statically to half their diameter, compared on one figure (docs/design.md).
 
-    python3 tools/design_example.py [--out out/design_example] [--jobs 2]
+    python3 -m tools.design_example [--out out/design_example] [--jobs 2]
                                     [--backend slurm [--partition P] ...] [--collect]
 
 The designs: single tubes of 50 mm outer diameter in steel and in aluminium at D/t = 15, 25
@@ -24,12 +24,11 @@ from pathlib import Path
 
 import numpy as np
 
+from tools import batch
+from tools import new_case
+
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
-sys.path.insert(0, str(HERE))
-sys.path.insert(0, str(ROOT / "plots"))
-import batch  # noqa: E402
-import new_case  # noqa: E402
 
 D = 50.0e-3
 D_OVER_T = (15.0, 25.0, 35.0)
@@ -69,7 +68,7 @@ def designs(root: Path) -> list[batch.Case]:
 
 
 def collect(cases: list[batch.Case], root: Path) -> list[dict]:
-    from mpmplot import readers  # noqa: PLC0415
+    from plots.mpmplot import readers  # noqa: PLC0415
     rows = []
     for c in cases:
         folder = root / c.name
@@ -100,7 +99,7 @@ def collect(cases: list[batch.Case], root: Path) -> list[dict]:
 
 
 def chart(rows: list[dict], out: Path) -> None:
-    import style  # noqa: F401,PLC0415  (Agg backend, rcParams)
+    from plots import style  # noqa: F401,PLC0415  (Agg backend, rcParams)
     import matplotlib.pyplot as plt  # noqa: PLC0415
     colour = {"steel": "C0", "aluminium": "C1"}
     fig, ax = plt.subplots(2, 2, layout="constrained", figsize=(11, 8.5))

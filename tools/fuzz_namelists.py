@@ -7,7 +7,7 @@ A mutant passes when the program exits 0, or exits 2 with at least one line star
 error without an ERROR line, exit 1/3/4, a hang) is a failure, and the mutant is kept in the
 output folder for reproduction.
 
-    python3 tools/fuzz_namelists.py --bin bin/tubempm --count 200 --seed 1 --out DIR
+    python3 -m tools.fuzz_namelists --bin bin/tubempm --count 200 --seed 1 --out DIR
 
 Mutations: deleted, repeated and swapped lines; values replaced by wrong types, huge, tiny,
 negative, zero, NaN and Inf numbers; unknown names; truncated files; binary noise; mangled

@@ -9,7 +9,7 @@ runtime report: no `Fortran runtime error`, no `AddressSanitizer`/`runtime error
 sanitizer build (make test BUILD=asan), no backtrace. Anything else (exit 1 or 3, a signal,
 a hang, a report) fails, and the scene is kept in the output folder for reproduction.
 
-    python3 tools/fuzz_scenes.py --bin build/debug/tubempm --count 12 --seed 1 --out DIR
+    python3 -m tools.fuzz_scenes --bin build/debug/tubempm --count 12 --seed 1 --out DIR
 
 Kinds of scene, in turn:
   edge    a ring or rectangle in a fixed grid with 0 to 2 cells of room, moving towards its edge

@@ -2,9 +2,9 @@
 # SPDX-License-Identifier: MIT
 """Write a commented tubempm namelist for a tube absorber from what an engineer knows.
 
-    python3 tools/new_case.py crush --D 50.86e-3 --t 1.48e-3 --material steel --stroke 15e-3
-    python3 tools/new_case.py drop  --D 60e-3 --t 2e-3 --material aluminium --mass 10 --speed 6
-    python3 tools/new_case.py shear --D 50e-3 --t 2e-3 --material steel --stroke 10e-3 \
+    python3 -m tools.new_case crush --D 50.86e-3 --t 1.48e-3 --material steel --stroke 15e-3
+    python3 -m tools.new_case drop  --D 60e-3 --t 2e-3 --material aluminium --mass 10 --speed 6
+    python3 -m tools.new_case shear --D 50e-3 --t 2e-3 --material steel --stroke 10e-3 \
         --shear-ratio 0.5 --fixed
     (add --out FILE, default out/<title>.nml; --title; --sigma-y, --hardening, --E, --nu, --rho
      to change the material; --symmetry full|half|quarter)

@@ -62,7 +62,7 @@ for s in tests/test_*.sh; do
 done
 for s in tests/test_*.py; do
   [ -f "$s" ] || continue
-  add "$(basename "$s" .py)" env TUBEMPM="$bld/tubempm" ${PYTHON:-python3} "$s"
+  add "$(basename "$s" .py)" env TUBEMPM="$bld/tubempm" ${PYTHON:-python3} -m "tests.$(basename "$s" .py)"
 done
 report() {  # print a finished test's result and add its counts
   local r="$scratch/$1.result"

@@ -68,20 +68,20 @@ for c in $scenes; do
   [ -f "out/$c/summary.nml" ] || continue
   { echo "== $c"; grep -E "status|steps|particles|wall_seconds|runtime_ratio|updates_per_second|energy_error" "out/$c/summary.nml"
     if [ "$c" = densify ]; then
-      $py plots/plot_case.py --case "$(nml "$c")" --out "build/densify_case.png"
-      $py plots/plot_densify.py --case "$(nml "$c")" --compare out/densify_weld \
+      $py -m plots.plot_case --case "$(nml "$c")" --out "build/densify_case.png"
+      $py -m plots.plot_densify --case "$(nml "$c")" --compare out/densify_weld \
         "one velocity field (welds)" --out docs/figures/densify.png
-      $py plots/plot_shapes.py --case "$(nml "$c")" --out "docs/figures/${c}_shapes.png"
+      $py -m plots.plot_shapes --case "$(nml "$c")" --out "docs/figures/${c}_shapes.png"
     elif [ "$c" = densify_weld ]; then
-      $py plots/plot_shapes.py --case "$(nml "$c")" --out "docs/figures/${c}_shapes.png"
+      $py -m plots.plot_shapes --case "$(nml "$c")" --out "docs/figures/${c}_shapes.png"
     elif [ -f "namelists/$c.nml" ] || [ -f "namelists/sections/$c.nml" ]; then
-      $py plots/plot_case.py --case "$(nml "$c")" --out "docs/figures/$c.png"
-      $py plots/plot_shapes.py --case "$(nml "$c")" --out "docs/figures/${c}_shapes.png"
+      $py -m plots.plot_case --case "$(nml "$c")" --out "docs/figures/$c.png"
+      $py -m plots.plot_shapes --case "$(nml "$c")" --out "docs/figures/${c}_shapes.png"
     else
       ref=(); [ "$c" = row3 ] && ref=(--reference out/row3_single --scale 3)
-      $py plots/plot_bodies.py --case "$(nml "$c")" "${ref[@]}" --out "docs/figures/${c}_bodies.png"
-      $py plots/plot_shapes.py --case "$(nml "$c")" --colour body --out "docs/figures/${c}_shapes.png"
-      $py plots/plot_shapes.py --case "$(nml "$c")" --out "docs/figures/${c}_eqps.png"
+      $py -m plots.plot_bodies --case "$(nml "$c")" "${ref[@]}" --out "docs/figures/${c}_bodies.png"
+      $py -m plots.plot_shapes --case "$(nml "$c")" --colour body --out "docs/figures/${c}_shapes.png"
+      $py -m plots.plot_shapes --case "$(nml "$c")" --out "docs/figures/${c}_eqps.png"
     fi
   } >> "$numbers" 2>&1
 done

@@ -24,11 +24,11 @@ the figures are drawn from them by plots/plot_stability.py (``make stability`` r
 Run folders: build/stability/<case>/ (reused when the input is unchanged, so an interrupted
 study continues where it stopped).
 
-    python3 tools/stability.py                # quick level (< 10 min on one core)
-    python3 tools/stability.py --level full   # full level, into docs/stability/
-    python3 tools/stability.py --backend slurm --partition short   # each batch a Slurm job
+    python3 -m tools.stability                # quick level (< 10 min on one core)
+    python3 -m tools.stability --level full   # full level, into docs/stability/
+    python3 -m tools.stability --backend slurm --partition short   # each batch a Slurm job
                                               # array, waited for (docs/batch.md)
-    python3 plots/plot_stability.py --level full   # the figures again from the tables
+    python3 -m plots.plot_stability --level full   # the figures again from the tables
 """
 from __future__ import annotations
 
@@ -43,13 +43,12 @@ from typing import Any
 
 import numpy as np
 
+from tools import batch
+from tools.batch import Case, run_batch, read_summary
+from plots.mpmplot import analysis, namelist, readers, scene, theory
+
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
-sys.path.insert(0, str(HERE))
-sys.path.insert(0, str(ROOT / "plots"))
-import batch  # noqa: E402
-from batch import Case, run_batch, read_summary  # noqa: E402
-from mpmplot import analysis, namelist, readers, scene, theory  # noqa: E402
 
 RUNS = ROOT / "build" / "stability"
 DOCS = ROOT / "docs" / "stability"       #: tables of the full level (the committed study)
@@ -583,7 +582,6 @@ def corner_mismatch(frame: dict[str, Any], pairs: np.ndarray) -> float:
     xc = frame["corners"]
     return float(np.max(np.linalg.norm(xc[pairs[:, 0]] - xc[pairs[:, 1]], axis=1)))
 
-
 FAST = 50.0                #: platen speed of the fast deep crush [m/s]
 
 
@@ -706,7 +704,6 @@ def part_flip(lv: dict[str, Any]) -> None:
         rows.append(row)
     write_csv("flip_runs.csv", rows)
 
-
 PARTS = {"cfl": part_cfl, "crush": part_crush, "nthick": part_nthick, "stick": part_stick,
          "distort": part_distort, "flip": part_flip}
 
@@ -746,7 +743,7 @@ def main(argv: list[str] | None = None) -> int:
         say(f"== part {name} ({level})")
         PARTS[name](lv)
     say(f"study ({level}) took {time.monotonic() - t0:.0f} s; tables in {OUT}; figures: "
-        f"python3 plots/plot_stability.py --dir {OUT}")
+        f"python3 -m plots.plot_stability --dir {OUT}")
     return 0
 
 

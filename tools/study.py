@@ -2,7 +2,7 @@
 """The refinement study (`make study`): accuracy against cost for the crush, impact and wave
 scenes of Sinaie et al. (2018).
 
-    python3 tools/study.py [--level quick|full|all] [--jobs N] [--tables-only] [--list]
+    python3 -m tools.study [--level quick|full|all] [--jobs N] [--tables-only] [--list]
                            [--backend slurm [--partition P] [--time T] [--account A] ...]
 
 Each scene is swept one factor at a time around a centre point (CPDI2, MUSL, cfl 0.2 (the
@@ -51,11 +51,10 @@ from typing import Any
 
 import numpy as np
 
+from tools import batch
+from plots.mpmplot import analysis, namelist, readers, scene, theory
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tools"))
-sys.path.insert(0, str(ROOT / "plots"))
-import batch  # noqa: E402
-from mpmplot import analysis, namelist, readers, scene, theory  # noqa: E402
 
 RUNS = ROOT / "out" / "study"    # not under build/: `make clean` must not delete a study
 OUT = ROOT / "docs" / "study"
@@ -501,7 +500,7 @@ def impact_metrics(folder: Path, inputs: dict) -> dict[str, Any]:
 
 
 def wave_metrics(folder: Path, inputs: dict) -> dict[str, Any]:
-    from plot_case import probe_angles  # noqa: E402  (plots/ on sys.path)
+    from plots.plot_case import probe_angles
     h = readers.read_history(folder / "history.csv")
     arrival = np.atleast_1d(analysis.arrival_times(h["time"], analysis.probe_disturbance(h),
                                                   ARRIVAL_THRESHOLD))
@@ -515,7 +514,6 @@ def wave_metrics(folder: Path, inputs: dict) -> dict[str, Any]:
     return {"curve_x": angles, "curve_y": arrival, "arrivals": arrival, "wave_speed": speed,
             "speed_bar": theory.bar_speed(r["E"], r["rho"]),
             "speed_plate": theory.plate_speed(r["E"], r["nu"], r["rho"])}
-
 
 METRICS = {"crush": crush_metrics, "impact": impact_metrics, "wave": wave_metrics,
            "crush_fixed": lambda folder, inputs: crush_metrics(folder, inputs, "fixed")}

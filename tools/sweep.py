@@ -3,7 +3,7 @@
 """A parameter sweep of tubempm: a base namelist, a table of overrides, one run per row, and
 one table of results (``sweep.csv``) for plots/plot_sweep.py.
 
-    python3 tools/sweep.py BASE.nml --out DIR [--set KEY=VALUE ...] [--vary KEY=V1,V2,...]
+    python3 -m tools.sweep BASE.nml --out DIR [--set KEY=VALUE ...] [--vary KEY=V1,V2,...]
                            [--table ROWS.csv] [--jobs N] [--threads N] [--list] [--collect]
                            [--backend slurm [--partition P] [--time T] [--account A] ...]
 
@@ -31,9 +31,9 @@ the run's ``&results`` (``sea``, ``cfe``, ``mean_force``, ``absorbed_energy``, .
 
 A design chart, absorbed energy against D/t and impact speed:
 
-    python3 tools/sweep.py namelists/impact.nml --out out/chart \\
+    python3 -m tools.sweep namelists/impact.nml --out out/chart \\
         --vary ring.D_over_t=10,15,20,25 --vary ring.speed=10,20,30 --set run.t_end=1.0e-3
-    python3 plots/plot_sweep.py --dir out/chart --x ring.D_over_t --y plastic_end \\
+    python3 -m plots.plot_sweep --dir out/chart --x ring.D_over_t --y plastic_end \\
         --by ring.speed
 """
 from __future__ import annotations
@@ -48,12 +48,11 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from tools import batch
+from plots.mpmplot import namelist
+
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
-sys.path.insert(0, str(HERE))
-sys.path.insert(0, str(ROOT / "plots"))
-import batch  # noqa: E402
-from mpmplot import namelist  # noqa: E402
 
 #: the design variables of the first ring body (see the module's help)
 RING_KEYS = ("ring.d_over_t", "ring.t", "ring.speed")
@@ -69,31 +68,26 @@ class SweepError(ValueError):
 
 
 def parse_value(text: str) -> Any:
-    """A value as written on the command line or in a table cell: int, float, bool, text, or
-    a list of those when it has several words."""
-    words = text.split()
-    if len(words) > 1:
-        return [parse_value(w) for w in words]
-    t = text.strip()
-    low = t.lower()
-    if low in (".true.", "true"):
-        return True
-    if low in (".false.", "false"):
-        return False
-    if re.fullmatch(r"[+-]?\d+", t):
-        return int(t)
+    """A value as written on the command line or in a table cell, read as the value of a
+    namelist assignment (``mpmplot.namelist.parse_values``): int, float, logical (``.true.``,
+    ``false``, ``T``), text (quoted or not), or a list of those when it has several words;
+    a cell that is no namelist value (``h/t``) stays text."""
+    if not text.strip():
+        return ""
     try:
-        return namelist.fortran_float(t)
-    except ValueError:
-        return t.strip("'\"")
+        return namelist.parse_values(text)
+    except namelist.NamelistError:
+        return text.strip()
 
 
 def _check_key(key: str, where: str) -> str:
     if key.lower() in RING_KEYS:
         return key
-    if not batch._KEY.match(key):
+    try:
+        namelist.split_key(key)
+    except ValueError:
         raise SweepError(f"{where}: key {key!r}: expected group.var, group[k].var or one of "
-                         f"ring.D_over_t, ring.t, ring.speed")
+                         f"ring.D_over_t, ring.t, ring.speed") from None
     return key
 
 
@@ -244,13 +238,13 @@ def expand(base_path: Path, sets: list[str] | None = None, varies: list[str] | N
         raise SweepError(f"two runs have the same name {dup[0]!r}: the table repeats a row, "
                          "or name the runs with a 'name' column")
     for c in cases:                                # a bad key fails here, before any run
-        batch.render(c.base.read_text(), c.overrides)
+        namelist.set_values(c.base.read_text(), c.overrides, str(c.base))
     return cases
 
 
 def collect(cases: list[batch.Case], root: Path) -> Path:
     """sweep.csv from the run folders: one row per run (runs not finished have no numbers)."""
-    from mpmplot import readers  # noqa: PLC0415 (numpy only here)
+    from plots.mpmplot import readers  # noqa: PLC0415 (numpy only here)
     rows: list[dict[str, Any]] = []
     columns: list[str] = ["name"]
     for c in cases:
@@ -335,7 +329,7 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     if args.list:
         for c in cases:
-            print(f"{c.name:40s} " + ", ".join(f"{k} = {batch.fortran_value(v)}"
+            print(f"{c.name:40s} " + ", ".join(f"{k} = {namelist.format_value(v)}"
                                                for k, v in c.overrides.items()))
         print(f"{len(cases)} runs")
         return 0

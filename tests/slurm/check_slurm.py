@@ -28,11 +28,10 @@ import sys
 import time
 from pathlib import Path
 
+from tests.pycheck import Checks, close
+from plots.mpmplot import readers
+
 ROOT = Path(__file__).resolve().parent.parent.parent
-sys.path.insert(0, str(ROOT / "tests"))
-sys.path.insert(0, str(ROOT / "plots"))
-from pycheck import Checks, close  # noqa: E402
-from mpmplot import readers  # noqa: E402
 
 T = Checks("check_slurm")
 check = T.check
@@ -46,10 +45,10 @@ RTOL = 1.0e-12
 
 
 def sweep(args: list[str], out: Path, binary: Path) -> subprocess.CompletedProcess:
-    cmd = [sys.executable, str(ROOT / "tools" / "sweep.py"), str(BASE), "--out", str(out),
+    cmd = [sys.executable, "-m", "tools.sweep", str(BASE), "--out", str(out),
            "--binary", str(binary)] + args
     t0 = time.monotonic()
-    p = subprocess.run(cmd, capture_output=True, text=True)
+    p = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT)
     print(f"$ tools/sweep.py ... {' '.join(args[-6:])}   ({time.monotonic() - t0:.1f} s)")
     print("  " + (p.stdout + p.stderr).strip().replace("\n", "\n  "))
     return p

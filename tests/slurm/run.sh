@@ -7,7 +7,7 @@
 # slurm-wlm and munge (tools/install-deps.sh --slurm, which make test-slurm calls).
 #   usage: tests/slurm/run.sh [BINARY] [-- COMMAND ...]   (default bin/tubempm)
 #   With a COMMAND, runs it (SLURM_CONF set) instead of the checks, then stops the cluster:
-#     tests/slurm/run.sh -- python3 tools/stability.py --parts flip --backend slurm --poll 1
+#     tests/slurm/run.sh -- python3 -m tools.stability --parts flip --backend slurm --poll 1
 #   KEEP=1 keeps the temporary folder (logs, run folders) for a look afterwards.
 set -u
 here=$(cd "$(dirname "$0")/../.." && pwd)
@@ -129,5 +129,6 @@ say "munged, slurmctld and slurmd up in $tmp (node $host, 2 CPUs, partition test
 if [ ${#command[@]} -gt 0 ]; then
   "${command[@]}"
 else
-  python3 "$here/tests/slurm/check_slurm.py" --binary "$binary" --scratch "$tmp/runs"
+  binary=$(cd "$(dirname "$binary")" && pwd)/$(basename "$binary")
+  (cd "$here" && python3 -m tests.slurm.check_slurm --binary "$binary" --scratch "$tmp/runs")
 fi

@@ -23,7 +23,7 @@ is checked against closed forms only (tests/test_fe_dynamic.py).
 
 Runs go to out/fe_dynamic/ccx/, the numbers to docs/fe_reference/ccx_dynamic.json.
 
-    python3 tools/fe_reference/ccx_dynamic.py [--cases block crush] [--crush-nt 2 4 8]
+    python3 -m tools.fe_reference.ccx_dynamic [--cases block crush] [--crush-nt 2 4 8]
 """
 from __future__ import annotations
 
@@ -38,13 +38,11 @@ from pathlib import Path
 
 import numpy as np
 
+from plots.mpmplot import analysis, namelist, readers, scene
+from tools.fe_reference import fe_dynamic
+from tools import study
+
 ROOT = Path(__file__).resolve().parent.parent.parent
-sys.path.insert(0, str(ROOT / "plots"))
-sys.path.insert(0, str(ROOT / "tools"))
-sys.path.insert(0, str(ROOT / "tools" / "fe_reference"))
-from mpmplot import analysis, namelist, readers, scene  # noqa: E402
-import fe_dynamic  # noqa: E402
-import study  # noqa: E402
 
 WORK = ROOT / "out" / "fe_dynamic" / "ccx"
 DOCS = ROOT / "docs" / "fe_reference"
@@ -226,7 +224,7 @@ def crush_xfe(binary: Path, n_t: int, delta_end: float = 0.52) -> dict:
     """xfe on the crush's bottom quarter (mirrors x = 0 and y = y_c), the bottom platen moving
     up at half the study's approach speed after its ramp (the top one is its mirror image),
     against the static CalculiX curve docs/fe_reference/crush_fe.csv over delta/D 0.05-0.5."""
-    import fe_reference as fr
+    from tools.fe_reference import fe_reference as fr
     c = fr.read_crush(fr.CASE)
     r_in, r_out = c.r_inner * 1e-3, c.r_outer * 1e-3
     D = c.D * 1e-3

@@ -19,7 +19,7 @@ impact and wave run of the committed refinement study (docs/study/study_full.csv
 arrival curves docs/study/curves/wave_*.csv) against the FE reference:
 docs/fe_reference/dynamic_errors_study.csv.
 
-    python3 tools/fe_reference/compare_dynamic.py [--study] [--only default wave]
+    python3 -m tools.fe_reference.compare_dynamic [--study] [--only default wave]
 """
 from __future__ import annotations
 
@@ -32,12 +32,11 @@ from pathlib import Path
 
 import numpy as np
 
+from plots.mpmplot import namelist, readers
+from tools import batch
+from tools import study
+
 ROOT = Path(__file__).resolve().parent.parent.parent
-sys.path.insert(0, str(ROOT / "plots"))
-sys.path.insert(0, str(ROOT / "tools"))
-from mpmplot import namelist, readers  # noqa: E402
-import batch  # noqa: E402
-import study  # noqa: E402
 
 DOCS = ROOT / "docs" / "fe_reference"
 WORK = ROOT / "out" / "fe_dynamic" / "mpm"

@@ -15,9 +15,9 @@ columns) and writes into docs/fe_reference/:
   finest mesh (Richardson from the three finest when they converge monotonically, else the
   difference finest - next).
 
-    python3 tools/fe_reference/fe_dynamic.py                  # impact 2-16, wave 2-32
-    python3 tools/fe_reference/fe_dynamic.py --meshes 2 4     # a quick look
-    python3 tools/fe_reference/fe_dynamic.py --scenes wave    # one scene
+    python3 -m tools.fe_reference.fe_dynamic                  # impact 2-16, wave 2-32
+    python3 -m tools.fe_reference.fe_dynamic --meshes 2 4     # a quick look
+    python3 -m tools.fe_reference.fe_dynamic --scenes wave    # one scene
 
 Runs go to out/fe_dynamic/<scene>_nt<n>/ and are reused while the input and the binary are
 unchanged.
@@ -36,11 +36,10 @@ from pathlib import Path
 
 import numpy as np
 
+from plots.mpmplot import namelist, readers, scene
+from tools import study
+
 ROOT = Path(__file__).resolve().parent.parent.parent
-sys.path.insert(0, str(ROOT / "plots"))
-sys.path.insert(0, str(ROOT / "tools"))
-from mpmplot import namelist, readers, scene  # noqa: E402
-import study  # noqa: E402
 
 SOURCE = ROOT / "tools" / "fe_reference" / "xfe.f90"
 BINARY = ROOT / "build" / "xfe" / "xfe"

@@ -22,10 +22,10 @@ The model (docs/fe_reference/README.md):
   N per mm of depth. The CSV is SI: delta [m], force [N] per &run depth, the full platen force
   (twice the quarter's reaction: the mirror x = 0 is perpendicular to the platen).
 
-    python3 tools/fe_reference/fe_reference.py                 # the study's crush, 4 meshes
-    python3 tools/fe_reference/fe_reference.py --deck-only     # write the decks, no ccx
-    python3 tools/fe_reference/fe_reference.py --meshes 2x26   # one mesh (n_t x n_c)
-    python3 tools/fe_reference/fe_reference.py --meshes 4x52 --increments 550 \
+    python3 -m tools.fe_reference.fe_reference                 # the study's crush, 4 meshes
+    python3 -m tools.fe_reference.fe_reference --deck-only     # write the decks, no ccx
+    python3 -m tools.fe_reference.fe_reference --meshes 2x26   # one mesh (n_t x n_c)
+    python3 -m tools.fe_reference.fe_reference --meshes 4x52 --increments 550 \
         --docs out/fe_sens/docs --work out/fe_sens/work          # a sensitivity check
 """
 from __future__ import annotations
@@ -44,9 +44,9 @@ from pathlib import Path
 
 import numpy as np
 
+from plots.mpmplot import namelist, scene
+
 ROOT = Path(__file__).resolve().parent.parent.parent
-sys.path.insert(0, str(ROOT / "plots"))
-from mpmplot import namelist, scene  # noqa: E402
 
 #: default case, committed outputs, run folders
 CASE = ROOT / "namelists" / "crush.nml"

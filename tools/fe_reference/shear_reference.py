@@ -21,10 +21,10 @@ docs/output.md): the approach delta, the normal force and the sideways force the
 the top platen (wall1_force, wall1_fx) and on the bottom one, and the sideways motion of the
 ring's centroid (com_x).
 
-    python3 tools/fe_reference/shear_reference.py               # both laws, all meshes, tubempm
-    python3 tools/fe_reference/shear_reference.py --deck-only   # decks only
-    python3 tools/fe_reference/shear_reference.py --laws bonded --meshes 2x48
-    python3 tools/fe_reference/shear_reference.py --no-mpm      # FE only
+    python3 -m tools.fe_reference.shear_reference               # both laws, all meshes, tubempm
+    python3 -m tools.fe_reference.shear_reference --deck-only   # decks only
+    python3 -m tools.fe_reference.shear_reference --laws bonded --meshes 2x48
+    python3 -m tools.fe_reference.shear_reference --no-mpm      # FE only
 """
 from __future__ import annotations
 
@@ -39,9 +39,9 @@ from pathlib import Path
 
 import numpy as np
 
+from tools.fe_reference.fe_reference import _lines, _num, rel_l2, run_cached
+
 HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE))
-from fe_reference import _lines, _num, rel_l2, run_cached  # noqa: E402
 
 ROOT = HERE.parent.parent
 DOCS = ROOT / "docs" / "fe_reference"
@@ -269,7 +269,6 @@ def ring_centroid(nodes: dict, inner: list[int], outer: list[int], u: dict) -> n
     ai, ci = polygon_centroid(pi)
     return (ao * co - ai * ci) / (ao - ai)
 
-
 COLUMNS = ["delta_m", "delta_over_D", "side_m", "normal_N", "shear_N", "bottom_normal_N",
            "bottom_shear_N", "center_dx_m"]
 
@@ -306,7 +305,6 @@ def on_window(a: np.ndarray, col: str) -> np.ndarray:
     """Column col at the 61 points delta/D = 0.02 ... 0.2 (linear interpolation)."""
     x = np.linspace(*WINDOW, 61)
     return np.interp(x, a[:, 1], a[:, COLUMNS.index(col)])
-
 
 QUANTITIES = ("normal_N", "shear_N", "center_dx_m")
 
@@ -366,8 +364,7 @@ def namelist_text(law: str, out_dir: str) -> str:
 
 
 def mpm_curve(history: Path) -> np.ndarray:
-    sys.path.insert(0, str(ROOT / "plots"))
-    from mpmplot import readers
+    from plots.mpmplot import readers
     h = readers.read_history(history)
     d = -np.asarray(h["wall1_disp"])
     rows = np.column_stack([d, d / D_MEAN, RATIO * d, h["wall1_force"], h["wall1_fx"],
