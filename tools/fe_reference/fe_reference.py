@@ -192,13 +192,11 @@ def ring_mesh(c: Crush, n_t: int, n_c: int) -> tuple[dict[int, tuple[float, floa
     return nodes, elems, sets
 
 
-def platen_mesh(c: Crush, first_node: int, first_elem: int, n: int = 12
-                ) -> tuple[dict[int, tuple[float, float]], list[tuple[int, ...]], list]:
-    """The top platen: one row of n CPE8R elements from x = -0.05 R to 1.3 R, y = r_outer to
-    r_outer + t (all its nodes are prescribed: a rigid surface). Returns nodes, elements and the
-    contact faces (face 1 = edge 1-2, the bottom)."""
-    x0, x1 = -0.05 * c.R, 1.3 * c.R
-    y0, y1 = c.r_outer, c.r_outer + c.t
+def platen_strip(x0: float, x1: float, y0: float, y1: float, first_node: int, first_elem: int,
+                 n: int = 12) -> tuple[dict[int, tuple[float, float]], list[tuple[int, ...]], list]:
+    """A top platen: one row of n CPE8R elements over x0 <= x <= x1, y0 <= y <= y1 (all its nodes
+    are prescribed: a rigid surface). Returns nodes, elements and the contact faces (face 1 =
+    edge 1-2, the bottom)."""
     nx = 2 * n + 1
 
     def nid(i: int, j: int) -> int:
@@ -237,23 +235,22 @@ def platen_travel(c: Crush) -> float:
     return 0.5 * DELTA_END * c.D
 
 
-def write_deck(c: Crush, n_t: int, n_c: int, increments: int = INCREMENTS,
-               penalty: float = PENALTY_OVER_E) -> str:
-    """The ccx input for one mesh (deterministic text: the test regenerates and compares it);
-    increments: equal load increments; penalty: contact penalty over E per mm."""
-    nodes, elems, sets = ring_mesh(c, n_t, n_c)
+def deck_text(header: list[str], nodes: dict[int, tuple[float, float]],
+              elems: list[tuple[int, ...]], sets: dict[str, list], c, u: float,
+              platen: tuple[float, float, float, float], increments: int = INCREMENTS,
+              penalty: float = PENALTY_OVER_E, n_platen: int = 12,
+              output: tuple[str, ...] = ()) -> str:
+    """The ccx input of a crush between rigid frictionless platens (deterministic text):
+    the body's CPE8R mesh (nodes, elements; sets 'outer' contact faces (element, face),
+    'ymirror' and 'xmirror' node ids) in the quarter x >= 0, y >= y_centre = 0, the top
+    platen a strip of n_platen CPE8R elements (platen_strip over platen = (x0, x1, y0, y1), its
+    bottom y0 touching the body) moving down by u [mm] in `increments` equal increments; c gives
+    the material (E, nu, sigma_y, hardening [MPa]); penalty: the contact's penalty over E per
+    mm. header: the comment lines that open it; output: more output requests of the step."""
     first_node = max(nodes) + 1
-    pnodes, pelems, pfaces = platen_mesh(c, first_node, len(elems) + 1)
-    u = platen_travel(c)
+    pnodes, pelems, pfaces = platen_strip(*platen, first_node, len(elems) + 1, n_platen)
     dt = 1.0 / increments
-    out = [
-        "** tubempm FE reference (tools/fe_reference/fe_reference.py): quasi-static crush",
-        f"** case {c.source}: quarter ring, plane strain CPE8R, n_t = {n_t} x n_c = {n_c}",
-        f"** r_inner {_num(c.r_inner)} mm, r_outer {_num(c.r_outer)} mm; E {_num(c.E)} MPa, "
-        f"nu {_num(c.nu)}, sigma_y {_num(c.sigma_y)} MPa, H {_num(c.hardening)} MPa",
-        f"** top platen moves down {_num(u)} mm (approach delta/D = {DELTA_END}); units mm N MPa",
-        "*NODE, NSET=NALL",
-    ]
+    out = list(header) + ["*NODE, NSET=NALL"]
     out += [f"{k}, {_num(x)}, {_num(y)}" for k, (x, y) in sorted({**nodes, **pnodes}.items())]
     out.append("*ELEMENT, TYPE=CPE8R, ELSET=ERING")
     out += [f"{e + 1}, " + ", ".join(str(n) for n in conn) for e, conn in enumerate(elems)]
@@ -292,9 +289,26 @@ def write_deck(c: Crush, n_t: int, n_c: int, increments: int = INCREMENTS,
             "*NODE PRINT, NSET=NPLATEN, TOTALS=ONLY",
             "RF",
             "*NODE PRINT, NSET=NREF",
-            "U",
+            "U", *output,
             "*END STEP", ""]
     return "\n".join(out)
+
+
+def write_deck(c: Crush, n_t: int, n_c: int, increments: int = INCREMENTS,
+               penalty: float = PENALTY_OVER_E) -> str:
+    """The ccx input for one mesh (deterministic text: the test regenerates and compares it);
+    increments: equal load increments; penalty: contact penalty over E per mm."""
+    nodes, elems, sets = ring_mesh(c, n_t, n_c)
+    u = platen_travel(c)
+    header = [
+        "** tubempm FE reference (tools/fe_reference/fe_reference.py): quasi-static crush",
+        f"** case {c.source}: quarter ring, plane strain CPE8R, n_t = {n_t} x n_c = {n_c}",
+        f"** r_inner {_num(c.r_inner)} mm, r_outer {_num(c.r_outer)} mm; E {_num(c.E)} MPa, "
+        f"nu {_num(c.nu)}, sigma_y {_num(c.sigma_y)} MPa, H {_num(c.hardening)} MPa",
+        f"** top platen moves down {_num(u)} mm (approach delta/D = {DELTA_END}); units mm N MPa",
+    ]
+    return deck_text(header, nodes, elems, sets, c, u,
+                     (-0.05 * c.R, 1.3 * c.R, c.r_outer, c.r_outer + c.t), increments, penalty)
 
 
 def deck_name(n_t: int, n_c: int) -> str:
@@ -391,6 +405,24 @@ def run_cached(text: str, run: Path, name: str, force: bool, label: str, what: s
     return json.loads(done.read_text())
 
 
+class StoppedShort(Exception):
+    """ccx ended its step before the step time 1 (it could not converge)."""
+
+
+def run_mesh(text: str, run: Path, name: str, force: bool, label: str, what: str
+             ) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict]:
+    """run_cached on the deck text in the folder run (made if missing), then parse_dat: step
+    times, platen reaction, reference node's u_y and the run's {"cpu_s", "wall_s"}.
+    StoppedShort if the step did not reach its end."""
+    run.mkdir(parents=True, exist_ok=True)
+    info = run_cached(text, run, name, force, label, what)
+    tm, rf, uy = parse_dat(run / f"{name}.dat")
+    if tm.size == 0 or tm[-1] < 1.0 - 1e-9:
+        raise StoppedShort(f"{name}: ccx stopped at step time {tm[-1] if tm.size else 0:g} of 1 "
+                           f"(see {run / 'ccx.log'})")
+    return tm, rf, uy, info
+
+
 def window(delta: np.ndarray, force: np.ndarray, D: float) -> np.ndarray:
     """The force at the study's 91 points delta/D = 0.05 ... 0.5 (linear interpolation)."""
     x = np.linspace(*WINDOW, 91) * D
@@ -402,12 +434,18 @@ def rel_l2(f: np.ndarray, ref: np.ndarray) -> float:
     return float(np.sqrt(np.mean((f - ref) ** 2) / np.mean(ref ** 2)))
 
 
-def write_csv(path: Path, c: Crush, delta: np.ndarray, force: np.ndarray) -> None:
+def write_curve(path: Path, length: float, delta: np.ndarray, force: np.ndarray,
+                column: str = "delta_over_D") -> None:
+    """The curve's CSV: delta_m, delta over the length [mm] (column), force_N."""
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["delta_m", "delta_over_D", "force_N"])
+        w.writerow(["delta_m", column, "force_N"])
         for d, F in zip(delta, force):
-            w.writerow([f"{d:.9e}", f"{d / (c.D * MM):.9e}", f"{F:.9e}"])
+            w.writerow([f"{d:.9e}", f"{d / (length * MM):.9e}", f"{F:.9e}"])
+
+
+def write_csv(path: Path, c: Crush, delta: np.ndarray, force: np.ndarray) -> None:
+    write_curve(path, c.D, delta, force)
 
 
 def read_csv(path: Path) -> tuple[np.ndarray, np.ndarray]:
@@ -444,19 +482,14 @@ def main(argv: list[str] | None = None) -> int:
         (a.docs / f"{name}.inp").write_text(text)
         if a.deck_only:
             continue
-        run = a.work / name
-        run.mkdir(parents=True, exist_ok=True)
-        dat = run / f"{name}.dat"
         try:
-            info = run_cached(text, run, name, a.force, "fe_reference",
-                              f"{name} ({n_t * n_c} elements)")
+            tm, rf, uy, info = run_mesh(text, a.work / name, name, a.force, "fe_reference",
+                                        f"{name} ({n_t * n_c} elements)")
         except (FileNotFoundError, RuntimeError) as e:
             print(f"fe_reference: {e}", file=sys.stderr)
             return 3
-        tm, rf, uy = parse_dat(dat)
-        if tm.size == 0 or tm[-1] < 1.0 - 1e-9:
-            print(f"fe_reference: {name}: ccx stopped at step time "
-                  f"{tm[-1] if tm.size else 0:g} of 1 (see {run / 'ccx.log'})", file=sys.stderr)
+        except StoppedShort as e:
+            print(f"fe_reference: {e}", file=sys.stderr)
             return 4
         delta, force = curve_si(c, rf, uy)
         write_csv(a.docs / f"{name}.csv", c, delta, force)
