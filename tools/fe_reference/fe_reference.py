@@ -239,14 +239,18 @@ def deck_text(header: list[str], nodes: dict[int, tuple[float, float]],
               elems: list[tuple[int, ...]], sets: dict[str, list], c, u: float,
               platen: tuple[float, float, float, float], increments: int = INCREMENTS,
               penalty: float = PENALTY_OVER_E, n_platen: int = 12,
-              output: tuple[str, ...] = ()) -> str:
+              output: tuple[str, ...] = (),
+              amplitude: tuple[tuple[float, float], ...] = ()) -> str:
     """The ccx input of a crush between rigid frictionless platens (deterministic text):
     the body's CPE8R mesh (nodes, elements; sets 'outer' contact faces (element, face),
     'ymirror' and 'xmirror' node ids) in the quarter x >= 0, y >= y_centre = 0, the top
     platen a strip of n_platen CPE8R elements (platen_strip over platen = (x0, x1, y0, y1), its
     bottom y0 touching the body) moving down by u [mm] in `increments` equal increments; c gives
     the material (E, nu, sigma_y, hardening [MPa]); penalty: the contact's penalty over E per
-    mm. header: the comment lines that open it; output: more output requests of the step."""
+    mm. header: the comment lines that open it; output: more output requests of the step;
+    amplitude: (step time, fraction of u) pairs of a piecewise linear travel (none: in
+    proportion to the step time), to spend more of the equal increments where the force
+    changes fast."""
     first_node = max(nodes) + 1
     pnodes, pelems, pfaces = platen_strip(*platen, first_node, len(elems) + 1, n_platen)
     dt = 1.0 / increments
@@ -280,11 +284,14 @@ def deck_text(header: list[str], nodes: dict[int, tuple[float, float]],
             "*BOUNDARY",
             "NYMIRROR, 2, 2",
             "NXMIRROR, 1, 1",
-            "NPLATEN, 1, 2",
-            f"*STEP, NLGEOM, INC={10 * increments}",
+            "NPLATEN, 1, 2"]
+    if amplitude:
+        out += ["*AMPLITUDE, NAME=TRAVEL",
+                ", ".join(f"{_num(t)}, {_num(v)}" for t, v in amplitude)]
+    out += [f"*STEP, NLGEOM, INC={10 * increments}",
             "*STATIC",
             f"{_num(dt)}, 1.0, {_num(dt * 1e-4)}, {_num(dt)}",
-            "*BOUNDARY",
+            "*BOUNDARY, AMPLITUDE=TRAVEL" if amplitude else "*BOUNDARY",
             f"NPLATEN, 2, 2, {_num(-u)}",
             "*NODE PRINT, NSET=NPLATEN, TOTALS=ONLY",
             "RF",
