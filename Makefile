@@ -170,6 +170,8 @@ cfl-accuracy: all
 ##               missing; about 20 CPU min, one thread): decks, curves and convergence in
 ##               docs/fe_reference/, runs in out/fe_reference/ (reused when the deck is unchanged),
 ##               then the comparison with the study's crush curves (docs/fe_reference/crush_fe.png);
+##               then the square tube crushed laterally (about SQMIN CPU min more: decks, curves,
+##               convergence, docs/fe_reference/square_*; runs in out/fe_reference/square/);
 ##               then the sheared ring, bonded and loose (about 6 CPU min more: decks, curves and
 ##               tubempm's runs against them, docs/fe_reference/shear_*; runs in out/fe_reference/shear/);
 ##               then fe-dynamic
@@ -177,6 +179,8 @@ fe-reference: deps
 	@bash tools/install-deps.sh --ccx
 	$(PYTHON) -m tools.fe_reference.fe_reference
 	$(PYTHON) -m plots.plot_fe_reference
+	$(PYTHON) -m tools.fe_reference.square_reference
+	$(PYTHON) -m plots.plot_fe_square
 	$(MAKE) --no-print-directory all BUILD=release
 	$(PYTHON) -m tools.fe_reference.shear_reference
 	$(PYTHON) -m plots.plot_fe_shear

@@ -306,32 +306,38 @@ def smooth_on_window(delta: np.ndarray, force: np.ndarray, H: float) -> np.ndarr
 # tubempm against the reference
 # ----------------------------------------------------------------------------------------------
 
-def compare(history_csv: Path, case: Path | None = None, reference: Path | None = None
-            ) -> dict[str, float]:
-    """tubempm's square tube crush (its history.csv; the namelist `case`, by default the one
-    beside it or namelists/sections/square_tube.nml) against the FE reference: relative L2
-    errors of the platen force over delta/H = 0-0.5 (H the outer height), raw (err_L2) and
-    both curves smoothed over delta/H = 0.02 as the ring's (err_smooth, the headline), the mean
-    force over FE's (force_over_fe), the peak force of each (peak_fe_N, peak_mpm_N) and how far
-    the run got (delta_end_over_H). A run short of delta/H = 0.5 is measured over what it has."""
+def mpm_curve(history_csv: Path, case: Path | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """tubempm's crush curve: the platens' relative approach [m] and the full tube's platen
+    force [N per &run depth] of a run's history.csv (scene.crush_displacement: mirror images
+    of a quarter model counted); the namelist `case`, by default the one beside history.csv
+    or namelists/sections/square_tube.nml."""
     history_csv = Path(history_csv)
     if case is None:
         beside = sorted(history_csv.parent.glob("*.nml"))
         case = beside[0] if beside else SCENE
-    inputs = namelist.read_namelist(case)
-    h = readers.read_history(history_csv)
-    delta, force, _ = scene.crush_displacement(h, inputs)
-    c = read_square()
-    H = c.H * MM
+    delta, force, _ = scene.crush_displacement(readers.read_history(history_csv),
+                                               namelist.read_namelist(case))
+    return delta, force
+
+
+def compare(history_csv: Path, case: Path | None = None, reference: Path | None = None
+            ) -> dict[str, float]:
+    """tubempm's square tube crush (mpm_curve of its history.csv) against the FE reference
+    (square_fe.csv): relative L2 errors of the platen force over delta/H = 0-0.5 (H the outer
+    height), raw (err_L2) and both curves smoothed over delta/H = 0.02 as the ring's
+    (err_smooth, the headline), the mean force over FE's (force_over_fe), the peak force of
+    each (peak_fe_N, peak_mpm_N) and how far the run got (delta_end_over_H). A run short of
+    delta/H = 0.5 is measured over what it has."""
+    delta, force = mpm_curve(history_csv, case)
+    H = read_square().H * MM
     d_fe, f_fe = fe.read_csv(reference or DOCS / "square_fe.csv")
     end = min(float(np.max(delta)) / H, WINDOW[1])
     keep = np.linspace(*WINDOW, N_WINDOW) <= end + 1e-12
     w, ws = on_window(delta, force, H)[keep], smooth_on_window(delta, force, H)[keep]
     r, rs = on_window(d_fe, f_fe, H)[keep], smooth_on_window(d_fe, f_fe, H)[keep]
-    upto = d_fe <= end * H
     return {"err_L2": fe.rel_l2(w, r), "err_smooth": fe.rel_l2(ws, rs),
             "force_over_fe": float(np.mean(w) / np.mean(r)),
-            "peak_fe_N": float(np.max(f_fe[upto])),
+            "peak_fe_N": float(np.max(f_fe[d_fe <= end * H])),
             "peak_mpm_N": float(np.max(force[delta <= end * H])),
             "delta_end_over_H": end}
 
@@ -352,10 +358,18 @@ def main(argv: list[str] | None = None) -> int:
                     help="contact penalty over E per mm (a sensitivity check)")
     ap.add_argument("--compare", type=Path, metavar="HISTORY_CSV",
                     help="only compare a tubempm run's history.csv with the committed reference")
+    ap.add_argument("--write", action="store_true",
+                    help="with --compare: write its curve (square_mpm.csv) and errors "
+                         "(square_comparison.json) to --docs")
     a = ap.parse_args(argv)
     if a.compare:
-        e = compare(a.compare)
-        print(json.dumps({k: round(v, 6) for k, v in e.items()}, indent=1))
+        e = {k: round(v, 6) for k, v in compare(a.compare).items()}
+        print(json.dumps(e, indent=1))
+        if a.write:
+            delta, force = mpm_curve(a.compare)
+            fe.write_curve(a.docs / "square_mpm.csv", read_square().H, delta, force,
+                           "delta_over_H")
+            (a.docs / "square_comparison.json").write_text(json.dumps(e, indent=1) + "\n")
         return 0
     try:
         c = read_square()
