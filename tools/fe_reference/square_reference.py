@@ -78,8 +78,10 @@ INCREMENTS = 300
 TRAVEL = ((0.0, 0.0), (0.2, 0.04), (1.0, 1.0))
 #: the deformed shapes kept in square_shapes.csv (delta / H, the nearest increments)
 SHAPES_AT = (0.0, 0.1, 0.2, 0.3, 0.4, 0.5)
-#: self-contact: surface points closer along the boundary than this [mm] are neighbours
-NEIGHBOUR_ARC = 3.0 * THICKNESS
+#: self-contact: surface points closer along the boundary than this [mm] are neighbours (a
+#: quarter of the side: points of different walls, or of the two arms of a folded side wall
+#: 6 mm or more from its hinge)
+NEIGHBOUR_ARC = 0.25 * SIDE
 
 
 @dataclass(frozen=True)
