@@ -170,8 +170,9 @@ cfl-accuracy: all
 ##               missing; about 20 CPU min, one thread): decks, curves and convergence in
 ##               docs/fe_reference/, runs in out/fe_reference/ (reused when the deck is unchanged),
 ##               then the comparison with the study's crush curves (docs/fe_reference/crush_fe.png);
-##               then the square tube crushed laterally (about SQMIN CPU min more: decks, curves,
-##               convergence, docs/fe_reference/square_*; runs in out/fe_reference/square/);
+##               then the square tube crushed laterally (about 15 CPU min more: decks, curves,
+##               convergence, tubempm's namelists/sections/square_tube.nml against them,
+##               docs/fe_reference/square_*; runs in out/fe_reference/square/);
 ##               then the sheared ring, bonded and loose (about 6 CPU min more: decks, curves and
 ##               tubempm's runs against them, docs/fe_reference/shear_*; runs in out/fe_reference/shear/);
 ##               then fe-dynamic
@@ -180,8 +181,10 @@ fe-reference: deps
 	$(PYTHON) -m tools.fe_reference.fe_reference
 	$(PYTHON) -m plots.plot_fe_reference
 	$(PYTHON) -m tools.fe_reference.square_reference
-	$(PYTHON) -m plots.plot_fe_square
 	$(MAKE) --no-print-directory all BUILD=release
+	OMP_NUM_THREADS=1 bin/tubempm --quiet namelists/sections/square_tube.nml
+	$(PYTHON) -m tools.fe_reference.square_reference --compare out/square_tube/history.csv --write
+	$(PYTHON) -m plots.plot_fe_square
 	$(PYTHON) -m tools.fe_reference.shear_reference
 	$(PYTHON) -m plots.plot_fe_shear
 	@$(MAKE) --no-print-directory fe-dynamic

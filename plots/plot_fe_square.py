@@ -6,8 +6,9 @@
 Reads docs/fe_reference/square_nt*_ns*_na*.csv (the FE meshes; the finest is the reference),
 square_shapes.csv (the finest mesh's deformed section) and, where it exists, square_mpm.csv
 (tubempm's curve, the same columns), and draws docs/fe_reference/square_fe.png: left, the
-platen force per unit depth against the approach over the outer height, delta/H; middle, each
-curve's smoothed difference from the finest FE mesh (as the comparison measures it); right,
+platen force per unit depth against the approach over the outer height, delta/H (tubempm's raw
+and smoothed); middle, each coarser FE mesh's smoothed difference from the finest (as the
+comparison measures it); right,
 the deformed section at delta/H = 0, 0.1, ..., 0.5 (the quarter and its mirror images, the
 platens as lines).
 
@@ -72,7 +73,7 @@ def main(argv: list[str] | None = None) -> int:
         d, f = sq.fe.read_csv(p)
         fin = p == meshes[-1][3]
         e = sq.fe.rel_l2(sq.smooth_on_window(d, f, H), ref_s)
-        lab = f"FE CPE8R n_t {n_t}, {n_t * (2 * n_s + n_a)} el." + ("" if fin else
+        lab = f"FE n_t {n_t}, {n_t * (2 * n_s + n_a)} el." + ("" if fin else
                                                                    f" ({100 * e:.2f} %)")
         ax.plot(d / H, f / 1e3, color=col, lw=2.0 if fin else 1.0, label=lab)
         if not fin:
@@ -81,19 +82,19 @@ def main(argv: list[str] | None = None) -> int:
     mpm = a.docs / "square_mpm.csv"
     if mpm.is_file():
         d, f = sq.fe.read_csv(mpm)
-        e = sq.fe.rel_l2(sq.smooth_on_window(d, f, H), ref_s)
-        ax.plot(d / H, f / 1e3, color="C1", lw=0.8, alpha=0.85,
-                label=f"tubempm (smoothed L2 {100 * e:.1f} %)")
-        bx.plot(xw, 100 * (sq.smooth_on_window(d, f, H) - ref_s) / ref_s, color="C1", lw=1.0,
-                label="tubempm")
+        ms = sq.smooth_on_window(d, f, H)
+        e = sq.fe.rel_l2(ms, ref_s)
+        ax.plot(d / H, f / 1e3, color="C1", lw=0.5, alpha=0.5, label="tubempm")
+        ax.plot(xw, ms / 1e3, color="C1", lw=1.5,
+                label=f"tubempm smoothed ({100 * e:.1f} %)")
     ax.set_xlim(0, 0.5)
     ax.set_xlabel("platen approach δ / H (H outer height, 49.5 mm)")
     ax.set_ylabel("platen force per unit depth [kN/m]")
-    ax.set_title("square tube 48 × 1.5 mm, r_c 3 mm: CalculiX meshes\n"
-                 "(in brackets: smoothed L2 difference from the finest)")
-    ax.set_ylim(0, 1.05 * float(np.max(f_ref)) / 1e3)
-    ax.legend(loc="lower right", bbox_to_anchor=(1.0, 0.27))
-    inset = ax.inset_axes([0.42, 0.53, 0.55, 0.4])
+    ax.set_title("square tube 48 × 1.5 mm, r_c 3 mm: CalculiX CPE8R meshes, tubempm\n"
+                 "(in brackets: smoothed L2 difference from the finest FE mesh)")
+    ax.set_ylim(0, 1.3 * float(np.max(f_ref)) / 1e3)
+    ax.legend(loc="upper right", fontsize=7)
+    inset = ax.inset_axes([0.2, 0.5, 0.36, 0.42])
     for (n_t, n_s, n_a, p), col in zip(meshes, greys):
         d, f = sq.fe.read_csv(p)
         inset.plot(d / H, f / 1e3, color=col, lw=1.5 if p == meshes[-1][3] else 0.8)
@@ -108,7 +109,7 @@ def main(argv: list[str] | None = None) -> int:
     bx.set_xlim(0, 0.5)
     bx.set_xlabel("δ / H")
     bx.set_ylabel("(F − F_FE) / F_FE, smoothed over δ/H 0.02 [%]")
-    bx.set_title(f"difference from the finest FE mesh (n_t {meshes[-1][0]})")
+    bx.set_title(f"FE convergence: difference from the finest mesh (n_t {meshes[-1][0]})")
     if bx.get_legend_handles_labels()[0]:
         bx.legend(loc="best")
     shapes_csv = a.docs / "square_shapes.csv"
