@@ -12,7 +12,7 @@ comparison measures it); right,
 the deformed section at delta/H = 0, 0.1, ..., 0.5 (the quarter and its mirror images, the
 platens as lines).
 
-    python3 plots/plot_fe_square.py [--docs docs/fe_reference]
+    python3 -m plots.plot_fe_square [--docs docs/fe_reference]
 """
 from __future__ import annotations
 
@@ -24,12 +24,10 @@ from pathlib import Path
 
 import numpy as np
 
-import style  # noqa: F401  (Agg backend, shared rcParams; before pyplot)
-import matplotlib.pyplot as plt  # noqa: E402
+from plots import style  # noqa: F401  (Agg backend, shared rcParams; before pyplot)
+import matplotlib.pyplot as plt
 
-ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tools" / "fe_reference"))
-import square_reference as sq  # noqa: E402
+from tools.fe_reference import square_reference as sq
 
 
 def fe_meshes(docs: Path) -> list[tuple[int, int, int, Path]]:

@@ -15,9 +15,10 @@ docs/fe_reference/README.md "The square tube"). No ccx, no tubempm run; about a 
   2 L (1 - cos theta) = delta, M0 = sigma_y t^2 / (2 sqrt 3) in plane strain), over
   delta/H = 0.2-0.5; the inner surface never comes nearer to touching itself than 1 mm;
 - compare() on the reference's own curve written as a history gives zero error, and a force
-  1 % higher gives 1 %.
+  1 % higher gives 1 %; the committed square_comparison.json is computed from the committed
+  curves (square_mpm.csv, square_fe.csv).
 
-    python3 tests/test_fe_square.py [SCRATCH]
+    python3 -m tests.test_fe_square [SCRATCH]
 """
 from __future__ import annotations
 
@@ -30,11 +31,8 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tools" / "fe_reference"))
-sys.path.insert(0, str(ROOT / "tests"))
-from pycheck import Checks  # noqa: E402
-import square_reference as sq  # noqa: E402
+from tests.pycheck import Checks
+from tools.fe_reference import square_reference as sq
 
 T = Checks("test_fe_square")
 check = T.check
@@ -123,6 +121,22 @@ def test_mechanism() -> None:
           f"{ratio.max():.3f} (band 0.9-1.3)")
 
 
+def test_committed_comparison() -> None:
+    """square_comparison.json is what compare() gives for the committed tubempm curve."""
+    js, mpm = DOCS / "square_comparison.json", DOCS / "square_mpm.csv"
+    if not (js.is_file() and mpm.is_file()):
+        print("test_fe_square: no committed tubempm comparison")
+        return
+    c = sq.read_square()
+    H = c.H * sq.MM
+    e = json.loads(js.read_text())
+    d, f = sq.fe.read_csv(mpm)
+    d0, f0 = sq.fe.read_csv(DOCS / "square_fe.csv")
+    err = sq.fe.rel_l2(sq.smooth_on_window(d, f, H), sq.smooth_on_window(d0, f0, H))
+    check(abs(err - e["err_smooth"]) < 1e-5,
+          f"square_comparison.json's err_smooth {e['err_smooth']} from square_mpm.csv ({err:.6f})")
+
+
 def test_compare(scratch: Path) -> None:
     """compare() reads a history.csv through scene.crush_displacement: the FE curve written as a
     quarter model's history (a top platen moving down, the mirror doubling the approach)."""
@@ -145,7 +159,8 @@ def test_compare(scratch: Path) -> None:
 def main() -> int:
     scratch = Path(sys.argv[1]) if len(sys.argv) > 1 else Path(tempfile.mkdtemp())
     scratch.mkdir(parents=True, exist_ok=True)
-    for test in (test_decks_and_mesh, test_curves, test_convergence, test_mechanism):
+    for test in (test_decks_and_mesh, test_curves, test_convergence, test_mechanism,
+                 test_committed_comparison):
         try:
             test()
         except Exception:
