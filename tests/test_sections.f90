@@ -12,20 +12,22 @@
 !!   of one particle is the reverse edge of another: the boundary is one closed chain per face
 !!   of the tube);
 !! - the wall colours: opposite walls of a square tube differ, and so do non-adjacent walls of
-!!   a cell.
+!!   a cell;
+!! - a disc (the filler's O-grid): the area of its chords' polygon, and its half and quarter
+!!   (sector) a half and a quarter of the whole, every particle on the kept side of the planes.
 ! SPDX-License-Identifier: MIT
 program test_sections
   use mpm_kinds, only: wp
   use mpm_constants, only: pi
   use mpm_sections, only: section_t, section_tube, section_honeycomb, section_walls, &
-                          section_mesh, section_area, section_length
+                          section_mesh, section_area, section_length, disc_mesh
   use mpm_section_colours, only: section_colours
   use testing, only: begin_test, check, check_close, finish_tests
   implicit none
   type(section_t) :: s
   real(wp), allocatable :: xc(:,:), seg(:,:)
   integer, allocatable :: quad(:,:), pw(:), col(:)
-  integer :: stat, ncol, k
+  integer :: stat, ncol, k, parts, np_whole
   character(len=:), allocatable :: msg
   real(wp) :: a, t, c(2)
 
@@ -113,6 +115,21 @@ program test_sections
   call check(closed_boundary(quad), 'boundary: closed chains')
   call section_colours(s, col, ncol)
   call check(cells_apart(s, col), 'non-adjacent walls of a cell in different colours')
+
+  call begin_test('disc: whole, half and quarter')
+  ! the boundary is 4 n chords of the circle (n = 10 for n_thick 9, rounded up to even)
+  do parts = 1, 4
+    if (parts == 3) cycle
+    call disc_mesh([1.0e-3_wp, 2.0e-3_wp], 0.01_wp, 9, xc, quad, parts)
+    if (parts == 1) np_whole = size(quad, 2)
+    call check(size(quad, 2)*parts == np_whole, 'particles: the whole disc''s / parts')
+    call check_close(section_area(xc, quad)*real(parts, wp), 0.5_wp*40.0_wp*0.01_wp**2* &
+                     sin(2.0_wp*pi/40.0_wp), 'area x parts = the 40-gon''s', rtol=1.0e-12_wp)
+    call check(all(quad_areas(xc, quad) > 0.0_wp), 'every particle counter-clockwise')
+    call check(closed_boundary(quad), 'boundary: one closed chain')
+    if (parts >= 2) call check(minval(xc(1, :)) > 1.0e-3_wp - 1.0e-12_wp, 'x >= centre')
+    if (parts == 4) call check(minval(xc(2, :)) > 2.0e-3_wp - 1.0e-12_wp, 'y >= centre')
+  end do
 
   call begin_test('bad sections')
   call section_walls(reshape([0.0_wp, 0.0_wp, 1.0e-3_wp, 0.0_wp, 2.0e-3_wp, &

@@ -91,10 +91,10 @@ contains
     end select
   end function body_wall_thickness
 
-  !> Whether the shape may be a half or quarter model (`sector`): rings and tubes.
+  !> Whether the shape may be a half or quarter model (`sector`): rings, tubes and discs.
   elemental logical function has_sector(shape_id)
     integer, intent(in) :: shape_id        !! SHAPE_* code
-    has_sector = shape_id == SHAPE_RING .or. shape_id == SHAPE_TUBE
+    has_sector = shape_id == SHAPE_RING .or. shape_id == SHAPE_TUBE .or. shape_id == SHAPE_DISC
   end function has_sector
 
   !> Whether the shape is a wall graph of mpm_sections (tube, honeycomb, walls).
@@ -177,7 +177,8 @@ contains
     character(len=:), allocatable, intent(out) :: msg  !! what is wrong
     type(section_t) :: s
     if (b%shape_id == SHAPE_DISC) then
-      call disc_mesh(b%center, b%r_outer, b%n_thick, xc, quad)
+      call disc_mesh(b%center, b%r_outer, b%n_thick, xc, quad, merge(4, merge(2, 1, &
+                     b%sector_id == SECTOR_HALF), b%sector_id == SECTOR_QUARTER))
       allocate(pwall(size(quad, 2)))
       pwall = 0
       stat = 0
@@ -437,9 +438,12 @@ contains
       nc = real(b%n_x + 1, wp)*real(b%n_y + 1, wp)
       ext = max(b%size(1)/real(max(b%n_x, 1), wp), b%size(2)/real(max(b%n_y, 1), wp))
     case (SHAPE_DISC)                      ! disc_mesh: (n/2 + m) n particles a quadrant
+      parts = 1.0_wp
+      if (b%sector_id == SECTOR_HALF) parts = 2.0_wp
+      if (b%sector_id == SECTOR_QUARTER) parts = 4.0_wp
       t = b%r_outer/real(b%n_thick, wp)
-      np = 4.0_wp*real(b%n_thick, wp)**2
-      nc = np + 8.0_wp*real(b%n_thick, wp) + 1.0_wp
+      np = 4.0_wp*real(b%n_thick, wp)**2/parts
+      nc = np + 8.0_wp*real(b%n_thick, wp)/parts + 1.0_wp
       ext = 2.0_wp*t
     case default                           ! walls: n_thick through, about square along,
       t = b%thickness                      ! plus the joints' cores

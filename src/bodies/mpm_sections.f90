@@ -593,16 +593,19 @@ contains
   !> A solid disc (a filler): an O-grid of a central square (corners at r/2) divided n x n
   !! and four blocks between its sides and the circle, n along and m = nint(0.9 n) out, the
   !! block's lines straight between the square and n points of the circle (its chords).
-  pure subroutine disc_mesh(center, r, n_radius, xc, quad)
+  !! The lines x = centre and y = centre are mesh lines (n is even), so `parts` = 2 keeps the
+  !! particles of x >= centre (a half disc) and 4 those of x, y >= centre (a quarter) exactly.
+  pure subroutine disc_mesh(center, r, n_radius, xc, quad, parts)
     real(wp), intent(in) :: center(2)      !! centre [m]
     real(wp), intent(in) :: r              !! radius [m]
     integer, intent(in) :: n_radius        !! particles along the radius (n = 2 ceiling(n/2))
     real(wp), allocatable, intent(out) :: xc(:,:)  !! corners (2, nc) [m]
     integer, allocatable, intent(out) :: quad(:,:) !! corners of each particle (4, np)
+    integer, intent(in) :: parts           !! 1 the whole disc, 2 the half, 4 the quarter
     real(wp), allocatable :: q(:,:,:), pts(:,:)
     integer, allocatable :: qw(:), ids(:)
-    integer :: nq, n, m, side, i, j
-    real(wp) :: sq(2, 4), a0, p(2, 4)
+    integer :: nq, n, m, side, i, j, k
+    real(wp) :: sq(2, 4), a0, p(2, 4), c(2)
     n = max(2, 2*((n_radius + 1)/2))
     m = max(1, nint(0.9_wp*real(n, wp)))
     allocate(q(2, 4, 64), qw(64))
@@ -623,6 +626,14 @@ contains
         end do
       end do
     end do
+    k = 0                                  ! the sector's particles (centroids off the lines)
+    do i = 1, nq
+      c = 0.25_wp*sum(q(:, :, i), dim=2) - center
+      if ((parts >= 2 .and. c(1) < 0.0_wp) .or. (parts >= 4 .and. c(2) < 0.0_wp)) cycle
+      k = k + 1
+      q(:, :, k) = q(:, :, i)
+    end do
+    nq = k
     pts = reshape(q(:, :, 1:nq), [2, 4*nq])
     call merge_points(pts, 1.0e-9_wp*r, xc, ids)
     quad = reshape(ids, [4, nq])
