@@ -13,12 +13,18 @@
 # The sections (namelists/sections/: square_tube, hex_tube, multicell_2x2, honeycomb,
 # auxetic) run when named (or all with `sections`); their figures are <scene>.png (force and
 # energies against the platens' approach, with the &results numbers) and <scene>_shapes.png.
+# The foam scenes (namelists/foam/: foam_block, filled_ring, empty_ring, empty_ring_equal_mass,
+# foam_disc, filled_drop) run when named (or the comparison's four and the drop with `foam`);
+# their figures are <scene>.png and <scene>_shapes.png (the two-body scenes also
+# <scene>_bodies.png and <scene>_bodies_shapes.png, coloured by body), and, once the four
+# crushes are there, filled_ring_compare.png (plots/plot_filled.py: the filled ring against
+# the empty rings and the foam alone, with the interaction effect).
 # Two runs at once with one thread each (the machine has two cores).
 # A subset of the scenes writes its figures but not scenes.txt (the numbers of all three scenes):
 # its numbers go to build/scenes.txt instead.
 #   usage: tools/run_scenes.sh [scene ...]      (default: crush impact wave)
 set -eu
-usage() { echo "usage: tools/run_scenes.sh [crush] [crush_fixed] [impact] [wave] [two_rings] [nested] [nested_eccentric] [stack] [row3] [plates] [densify] [square_tube] [hex_tube] [multicell_2x2] [honeycomb] [auxetic] [sections]"
+usage() { echo "usage: tools/run_scenes.sh [crush] [crush_fixed] [impact] [wave] [two_rings] [nested] [nested_eccentric] [stack] [row3] [plates] [densify] [square_tube] [hex_tube] [multicell_2x2] [honeycomb] [auxetic] [sections] [foam_block] [filled_ring] [empty_ring] [empty_ring_equal_mass] [foam_disc] [filled_drop] [foam]"
           echo "  (default: crush impact wave) runs namelists/<scene>.nml (namelists/contact/ for the"
           echo "  scenes of several bodies; release build bin/tubempm), writes docs/figures/<scene>.png"
           echo "  and <scene>_shapes.png (several bodies: <scene>_bodies.png, _shapes.png, _eqps.png),"
@@ -28,6 +34,7 @@ for a in "$@"; do
     -h|--help) usage; exit 0 ;;
     crush|crush_fixed|impact|wave|two_rings|nested|nested_eccentric|stack|row3|plates|densify) ;;
     square_tube|hex_tube|multicell_2x2|honeycomb|auxetic|sections) ;;
+    foam_block|filled_ring|empty_ring|empty_ring_equal_mass|foam_disc|filled_drop|foam) ;;
     *) echo "ERROR [run_scenes]: unknown scene '$a'" >&2; usage >&2; exit 2 ;;
   esac
 done
@@ -35,12 +42,17 @@ cd "$(dirname "$0")/.."
 py=${PYTHON:-python3}
 scenes=${*:-crush impact wave}
 scenes=${scenes/sections/square_tube hex_tube multicell_2x2 honeycomb auxetic}
+words=; for c in $scenes; do   # the word foam (not foam_block, foam_disc): the five scenes
+  [ "$c" = foam ] && c="filled_ring empty_ring empty_ring_equal_mass foam_disc filled_drop"
+  words="$words $c"; done
+scenes=${words# }
 numbers=docs/figures/scenes.txt
 [ "$scenes" = "crush impact wave" ] || numbers=build/scenes.txt
 [ -x bin/tubempm ] || { echo "ERROR [run_scenes]: bin/tubempm not found: run make first" >&2; exit 2; }
 mkdir -p docs/figures
 nml() { if [ -f "namelists/$1.nml" ]; then echo "namelists/$1.nml"
          elif [ -f "namelists/sections/$1.nml" ]; then echo "namelists/sections/$1.nml"
+         elif [ -f "namelists/foam/$1.nml" ]; then echo "namelists/foam/$1.nml"
          elif [ "$1" = densify_weld ]; then echo build/densify_weld.nml
          else echo "namelists/contact/$1.nml"; fi; }
 run() {
@@ -74,6 +86,15 @@ for c in $scenes; do
       $py -m plots.plot_shapes --case "$(nml "$c")" --out "docs/figures/${c}_shapes.png"
     elif [ "$c" = densify_weld ]; then
       $py -m plots.plot_shapes --case "$(nml "$c")" --out "docs/figures/${c}_shapes.png"
+    elif [ -f "namelists/foam/$c.nml" ]; then
+      kind=(); case $c in foam_block|foam_disc) kind=(--kind crush) ;; esac
+      $py -m plots.plot_case --case "$(nml "$c")" "${kind[@]}" --out "docs/figures/$c.png"
+      $py -m plots.plot_shapes --case "$(nml "$c")" --out "docs/figures/${c}_shapes.png"
+      case $c in filled_ring|filled_drop)
+        $py -m plots.plot_bodies --case "$(nml "$c")" --out "docs/figures/${c}_bodies.png"
+        $py -m plots.plot_shapes --case "$(nml "$c")" --colour body \
+          --out "docs/figures/${c}_bodies_shapes.png" ;;
+      esac
     elif [ -f "namelists/$c.nml" ] || [ -f "namelists/sections/$c.nml" ]; then
       $py -m plots.plot_case --case "$(nml "$c")" --out "docs/figures/$c.png"
       $py -m plots.plot_shapes --case "$(nml "$c")" --out "docs/figures/${c}_shapes.png"
@@ -85,5 +106,12 @@ for c in $scenes; do
     fi
   } >> "$numbers" 2>&1
 done
+if [ -f out/filled_ring/summary.nml ] && [ -f out/empty_ring/summary.nml ] && \
+   [ -f out/empty_ring_equal_mass/summary.nml ] && [ -f out/foam_disc/summary.nml ]; then
+  case " $scenes " in *" filled_ring "*|*" empty_ring "*|*" empty_ring_equal_mass "*|*" foam_disc "*)
+    { echo "== filled ring against its parts"
+      $py -m plots.plot_filled --out docs/figures/filled_ring_compare.png; } >> "$numbers" 2>&1 ;;
+  esac
+fi
 cat "$numbers"
 exit $fail

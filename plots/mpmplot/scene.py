@@ -88,6 +88,10 @@ def _has_table(wall: dict[str, Any]) -> bool:
     return t is not None and (not isinstance(t, list) or len([v for v in t if v is not None]) > 0)
 
 
+#: the shapes that may be a half or quarter model (`has_sector` in src/bodies/mpm_bodies.f90)
+SECTOR_SHAPES = ("ring", "tube", "disc")
+
+
 def _is_mirror(wall: dict[str, Any]) -> bool:
     """A mirror plane given in the input ('slip' contact)."""
     return str(wall.get("contact", "frictionless")).strip().lower() == "slip"
@@ -97,7 +101,7 @@ def wall_table(inputs: dict[str, list[dict[str, Any]]], nwall: int | None = None
                ) -> list[dict[str, Any]]:
     """The walls as numbered in history.csv: the input's ``&wall`` groups, then the mirror
     planes a half/quarter ``sector`` adds (normal (1, 0), then (0, 1), through the centre of
-    the first sector ring or tube).
+    the first sector ring, tube or disc).
 
     Each entry: ``index`` (1-based), ``point``, ``normal`` (unit), ``velocity``, ``mirror``,
     ``moving`` (prescribed velocity nonzero), ``table`` (has a motion table), ``input``
@@ -112,7 +116,7 @@ def wall_table(inputs: dict[str, list[dict[str, Any]]], nwall: int | None = None
                     "velocity": _vec(w.get("velocity")), "mirror": _is_mirror(w),
                     "moving": _nonzero(w.get("velocity")), "table": _has_table(w), "input": w})
     sectors = [str(b.get("sector", "full")).lower() for b in inputs.get("body", [])
-               if str(b.get("shape", "ring")).lower() in ("ring", "tube")]
+               if str(b.get("shape", "ring")).lower() in SECTOR_SHAPES]
     anchor = np.zeros(2)
     for b in inputs.get("body", []):
         if str(b.get("sector", "full")).lower() != "full":
@@ -262,7 +266,7 @@ def sector_factor(inputs: dict[str, list[dict[str, Any]]]) -> float:
     """Factor from the modelled sector to the full ring: 1 (full), 2 (half) or 4 (quarter)."""
     f = 1.0
     for b in inputs.get("body", []):
-        if str(b.get("shape", "ring")).lower() != "ring":
+        if str(b.get("shape", "ring")).lower() not in SECTOR_SHAPES:
             continue
         sector = str(b.get("sector", "full")).lower()
         f = max(f, {"half": 2.0, "quarter": 4.0}.get(sector, 1.0))
