@@ -7,8 +7,9 @@ particles.h5, not the contact code.
 
 The scene is filled_ring.nml's steel ring (r 23.95-25.43 mm) around a touching disc of its
 Alporas-like foam, a quarter model, coarse and quick: h = t/2 = 0.74 mm, 4 particles through
-the wall (aspect 2 along it), the disc 12 O-grid divisions (particles about 1.5 h apart),
-mass_scale 4, the platens approaching at 10 m/s to delta = 27 mm (delta/D = 0.53). Checks:
+the wall (about square), the disc 24 O-grid divisions (its surface particles h deep and 2.1 h
+along, as filled_ring.nml's at its h), mass_scale 4, the platens approaching at 20 m/s to
+delta = 24 mm (delta/D = 0.47). Checks:
 
 * the run completes, and its energy balance is within 5 % (two velocity fields meet: their
   inelastic impulse is not booked, docs/output.md; tests/test_sections_crush.py's tolerance);
@@ -22,8 +23,11 @@ mass_scale 4, the platens approaching at 10 m/s to delta = 27 mm (delta/D = 0.53
   end the ring's side has moved out from the core by more than 2 h: a weld would carry the
   core's edge with the ring (with the foam's plastic Poisson's ratio of 0 the core does not
   widen as it is crushed);
-* the measures can fail: on the first snapshot, the crossing measure finds the core's
-  boundary corners moved 0.2 h out into the ring, and the gap measure the ring moved 3 h out.
+* the measures can fail: the same run with the ring's particles of aspect 2 along the wall
+  (n_circ = 212) crosses by 0.27 h (at the bend of the crown, each body's corners sink into
+  the other's particles; at aspect 1, 0.005 h); and on the first snapshot the crossing
+  measure finds the core's boundary corners moved 0.2 h out into the ring, and the gap
+  measure the ring moved 3 h out.
 
     TUBEMPM=build/debug/tubempm python3 -m tests.test_filled_ring SCRATCH
 """
@@ -46,7 +50,7 @@ H = 0.74e-3                     # t/2
 CY = 25.43e-3                   # the ring's centre (its outer radius above the bottom platen)
 R_IN, R_OUT = 23.95e-3, 25.43e-3
 
-SCENE = f"""&run title = 'filled', cfl = 0.875, history_every = 2.0e-5, snapshot_every = 5.0e-4,
+SCENE = f"""&run title = 'filled', cfl = 0.875, history_every = 1.0e-5, snapshot_every = 2.0e-4,
   output_dir = 'OUT' /
 &solver basis = 'cpdi2', scheme = 'musl', plane = 'strain', mass_scale = 4.0 /
 &grid h = {H} /
@@ -55,12 +59,12 @@ SCENE = f"""&run title = 'filled', cfl = 0.875, history_every = 2.0e-5, snapshot
 &material name = 'alporas', model = 'foam', E = 1.0e9, nu = 0.3, rho = 230.0, sigma_p = 1.6e6,
   nu_plastic = 0.0, foam_gamma = 2.0e6, foam_alpha2 = 4.0e6, foam_beta = 4.0, eps_d = 2.46 /
 &body shape = 'ring', material = 'steel', center = 0.0, {CY}, r_inner = {R_IN},
-  r_outer = {R_OUT}, n_thick = 4, n_circ = 212, sector = 'quarter' /
+  r_outer = {R_OUT}, n_thick = 4, sector = 'quarter' /
 &body shape = 'disc', material = 'alporas', center = 0.0, {CY}, r_outer = {R_IN},
-  n_thick = 12, sector = 'quarter' /
+  n_thick = 24, sector = 'quarter' /
 &contact bodies = 1, 2, law = 'frictionless' /
-&wall point = 0.0, {2.0 * CY}, normal = 0.0, -1.0, velocity = 0.0, -5.0, ramp = 2.0e-4,
-  stroke = 13.5e-3 /
+&wall point = 0.0, {2.0 * CY}, normal = 0.0, -1.0, velocity = 0.0, -10.0, ramp = 1.0e-4,
+  stroke = 12.0e-3 /
 """
 
 
@@ -99,7 +103,7 @@ def main() -> int:
     ring, core = float(r["body1_energy"]), float(r["body2_energy"])
     check(min(ring, core) > 0.1 * (ring + core), f"plastic work shared: ring {ring:.1f} J, "
                                                  f"core {core:.1f} J")
-    check(float(r["stroke"]) > 0.99 * 27.0e-3, f"approach {float(r['stroke']):.4g} m reached")
+    check(float(r["stroke"]) > 0.99 * 24.0e-3, f"approach {float(r['stroke']):.4g} m reached")
 
     with h5py.File(scratch / "filled" / "out" / "particles.h5", "r") as f:
         keys = sorted(k for k in f if k.startswith("snap_"))
@@ -122,7 +126,7 @@ def main() -> int:
     moved = c0.copy()
     moved[edge] += 0.2 * H * radial[edge] / radius[edge, None]
     found = between(moved, q0, b0)
-    check(0.1 * H < found <= 0.2 * H + 1e-12, f"the crossing measure finds the core pushed "
+    check(0.15 * H < found <= 0.25 * H, f"the crossing measure finds the core pushed "
                                               f"0.2 h into the ring ({found / H:.3f} h)")
     ring_ids = np.unique(q0[b0 == 1])
     moved = c0.copy()
