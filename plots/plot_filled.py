@@ -10,7 +10,7 @@ end and at a few approaches (the platens' work integrated along each curve).
 
     python3 -m plots.plot_filled --out docs/figures/filled_ring_compare.png
     python3 -m plots.plot_filled --filled out/filled_ring --empty out/empty_ring \\
-        --equal-mass out/empty_ring_equal_mass --foam out/foam_disc --at 10 20 30
+        --equal-mass out/empty_ring_equal_mass --foam out/foam_disc --at 5 10 20 30
 """
 from __future__ import annotations
 
@@ -62,8 +62,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--equal-mass", dest="equal_mass", default="out/empty_ring_equal_mass",
                    help="the empty ring of equal mass")
     p.add_argument("--foam", default="out/foam_disc", help="the foam core alone")
-    p.add_argument("--at", type=float, nargs="*", default=[10.0, 20.0, 30.0], metavar="MM",
-                   help="approaches [mm] at which to print the interaction (default 10 20 30)")
+    p.add_argument("--at", type=float, nargs="*", default=[5.0, 10.0, 20.0, 30.0], metavar="MM",
+                   help="approaches [mm] at which to print the interaction (default 5 10 20 30)")
     p.add_argument("--out", metavar="PNG", help="output image (default <filled>/compare.png)")
     a = p.parse_args(argv)
     runs = {key: load(getattr(a, key)) for key, _, _ in RUNS}

@@ -15,10 +15,11 @@
 # energies against the platens' approach, with the &results numbers) and <scene>_shapes.png.
 # The foam scenes (namelists/foam/: foam_block, filled_ring, empty_ring, empty_ring_equal_mass,
 # foam_disc, filled_drop) run when named (or the comparison's four and the drop with `foam`);
-# their figures are <scene>.png and <scene>_shapes.png (the two-body scenes also
-# <scene>_bodies.png and <scene>_bodies_shapes.png, coloured by body), and, once the four
-# crushes are there, filled_ring_compare.png (plots/plot_filled.py: the filled ring against
-# the empty rings and the foam alone, with the interaction effect).
+# their figures are those docs/scenes.md shows: <scene>.png (force and energies against the
+# approach; not for filled_ring), <scene>_shapes.png (filled_ring, foam_disc, filled_drop: the
+# start, the middle and the end), <scene>_bodies.png (filled_ring, filled_drop: per body), and,
+# once the four crushes are there, filled_ring_compare.png (plots/plot_filled.py: the filled
+# ring against the empty rings and the foam alone, with the interaction effect).
 # Two runs at once with one thread each (the machine has two cores).
 # A subset of the scenes writes its figures but not scenes.txt (the numbers of all three scenes):
 # its numbers go to build/scenes.txt instead.
@@ -86,14 +87,17 @@ for c in $scenes; do
       $py -m plots.plot_shapes --case "$(nml "$c")" --out "docs/figures/${c}_shapes.png"
     elif [ "$c" = densify_weld ]; then
       $py -m plots.plot_shapes --case "$(nml "$c")" --out "docs/figures/${c}_shapes.png"
-    elif [ -f "namelists/foam/$c.nml" ]; then
+    elif [ -f "namelists/foam/$c.nml" ]; then   # the figures docs/scenes.md shows
       kind=(); case $c in foam_block|foam_disc) kind=(--kind crush) ;; esac
-      $py -m plots.plot_case --case "$(nml "$c")" "${kind[@]}" --out "docs/figures/$c.png"
-      $py -m plots.plot_shapes --case "$(nml "$c")" --out "docs/figures/${c}_shapes.png"
+      case $c in filled_ring) ;; *)
+        $py -m plots.plot_case --case "$(nml "$c")" "${kind[@]}" --out "docs/figures/$c.png" ;;
+      esac
+      case $c in filled_ring|foam_disc|filled_drop)
+        $py -m plots.plot_shapes --case "$(nml "$c")" --frames 0 6 -1 \
+          --out "docs/figures/${c}_shapes.png" ;;
+      esac
       case $c in filled_ring|filled_drop)
-        $py -m plots.plot_bodies --case "$(nml "$c")" --out "docs/figures/${c}_bodies.png"
-        $py -m plots.plot_shapes --case "$(nml "$c")" --colour body \
-          --out "docs/figures/${c}_bodies_shapes.png" ;;
+        $py -m plots.plot_bodies --case "$(nml "$c")" --out "docs/figures/${c}_bodies.png" ;;
       esac
     elif [ -f "namelists/$c.nml" ] || [ -f "namelists/sections/$c.nml" ]; then
       $py -m plots.plot_case --case "$(nml "$c")" --out "docs/figures/$c.png"
