@@ -47,6 +47,11 @@ EXPECTED = {
     "namelists/contact/stack.nml": "crush",
     "namelists/contact/two_rings.nml": "impact",  # two rings flying at each other, no wall moves
     "namelists/foam/foam_block.nml": "generic",   # a foam block between platens: no ring
+    "namelists/foam/empty_ring.nml": "crush",     # the crush scene's tube, platen to 33 mm
+    "namelists/foam/empty_ring_equal_mass.nml": "crush",
+    "namelists/foam/filled_ring.nml": "crush",    # a ring and its foam core between platens
+    "namelists/foam/filled_drop.nml": "impact",   # a wall with mass: a drop test
+    "namelists/foam/foam_disc.nml": "generic",    # a foam disc between platens: no ring
     "tests/scenes/crush_quarter.nml": "crush",
     "tests/scenes/damped_quarter.nml": "wave",    # a platen pulse (triangle back to 0)
     "tests/scenes/elastic_quarter.nml": "wave",   # a platen pulse, as the wave scene's
