@@ -632,7 +632,7 @@ contains
           ' = '''//trim(law)//'''; set '//var//' = ''coulomb'' or ''bonded'', or friction = 0')
       else
         call err_var(rd, io, 'friction', fmt_real(friction), 'has no effect with '//var// &
-          ' = '''//trim(law)//'''; set '//var//' = ''coulomb'' or friction = 0')
+          ' = '''//trim(law)//'''; set '//var//' = ''coulomb'' or ''bonded'', or friction = 0')
       end if
       friction = 0.0_wp
     end if
@@ -718,6 +718,7 @@ contains
         c%bodies = nint(b)
       end if
     end if
+    if (c%law_id == 4) c%law_id = CONTACT_BONDED   ! the list's 4th name (enum_names)
     call check_friction(rd, io, 'law', c%law, c%law_id, c%friction)
   end subroutine check_contact
 

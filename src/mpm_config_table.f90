@@ -214,7 +214,7 @@ module mpm_config_table
       allowed='a real number > r_inner [m] (required for shape = ''ring'' and ''disc'')', &
       comment='outer radius [m]'), &
     var_spec_t('body', 'n_thick', 'i', i0=iunset, lo=1.0_wp, hi=256.0_wp, &
-      only='ring tube honeycomb walls disc', &
+      only='ring tube honeycomb walls disc filler', &
       allowed='an integer from 1 to 256, even where three walls meet at an angle (default 16)', &
       comment='particles through the wall (disc: radius)'), &
     var_spec_t('body', 'n_circ', 'i', i0=iunset, only='ring', own=.true., &
@@ -259,6 +259,12 @@ module mpm_config_table
       only='walls', allowed='a CSV file (relative to the input file''s folder), one wall '// &
       'per line: x1, y1, x2, y2, thickness [m] (required for shape = ''walls'')', &
       comment='CSV of walls: x1, y1, x2, y2, t'), &
+    var_spec_t('body', 'fills', 'i', i0=iunset, required=.true., lo=1.0_wp, only='filler', &
+      allowed='the number (1, 2, ...) of a &body of shape ''tube'' given before this one '// &
+      '(required for shape = ''filler'')', comment='the tube body it fills (its number)'), &
+    var_spec_t('body', 'fill_gap', lo=0.0_wp, only='filler', allowed='a real number >= 0 '// &
+      '[m], below the gap that closes an edge of the tube''s inner face (default 0)', &
+      comment='gap to the tube''s inner face [m]'), &
     var_spec_t('body', 'velocity', n=2, allowed=v0, comment='initial velocity [m/s]'), &
     ! ---------------------------------------------------------------------------- &wall
     var_spec_t('wall', 'point', n=2, r0=big, required=.true., unset='huge', &
@@ -296,7 +302,7 @@ module mpm_config_table
       comment='the two bodies (0, 0 = every other pair) [-]'), &
     var_spec_t('contact', 'law', 'e', c0='frictionless', comment='%'), &
     var_spec_t('contact', 'friction', lo=0.0_wp, allowed='a real number >= 0, and > 0 only '// &
-      'with law = ''coulomb'' (default 0)', comment='Coulomb coefficient [-]')]
+      'with law = ''coulomb'' or ''bonded'' (default 0)', comment='Coulomb coefficient [-]')]
   integer, parameter :: n_specs = size(specs)   !! rows (counted, not written)
 
 contains
@@ -356,7 +362,8 @@ contains
     case ('shape'); names = shape_names
     case ('sector'); names = sector_names
     case ('contact'); names = contact_names
-    case ('law'); names = contact_names(1:3)  ! between bodies: no mirror plane ('slip')
+    case ('law'); names = contact_names([1, 2, 3, 5])  ! between bodies: no mirror plane
+                                                       ! ('slip'; check_contact: code of 4th)
     case default; allocate(names(0))
     end select
   end function enum_names
@@ -486,6 +493,8 @@ contains
         call bind(f, 'body', 'cell_h', x=g%cell_h)
         call bind(f, 'body', 'cell_angle', x=g%cell_angle)
         call bind(f, 'body', 'walls_file', c=g%walls_file)
+        call bind(f, 'body', 'fills', i=g%fills)
+        call bind(f, 'body', 'fill_gap', x=g%fill_gap)
         call bind(f, 'body', 'velocity', v=g%velocity)
       end associate
     case (6)
