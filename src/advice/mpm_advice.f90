@@ -18,7 +18,7 @@ module mpm_advice
                            PLANE_STRESS, SCHEME_USL, SCHEME_MUSL, BASIS_LINEAR, BASIS_UGIMP, &
                            BASIS_CPDI1, BASIS_CPDI2, MODEL_NEOHOOKEAN, &
                            VOLUMETRIC_FBAR, VOLUMETRIC_STANDARD, VOLUMETRIC_FBARWALL, &
-                           volumetric_names, pi, CONTACT_STICK, CONTACT_BONDED
+                           volumetric_names, pi, CONTACT_STICK, CONTACT_BONDED, SHAPE_FILLER
   use mpm_particles, only: ring_counts
   use mpm_bodies, only: body_wall_thickness, is_section
   use mpm_config_types, only: config_t
@@ -252,7 +252,33 @@ contains
     call advice_stability(cfg, dt*(c_max + vmax)/h, warnings)
     call advice_full_crush(cfg, walls, warnings)
     call advice_seams(cfg, warnings)
+    call advice_filler(cfg, h, dt*(c_max + vmax)/h, warnings)
   end subroutine advice_check
+
+  !> A filler that touches its tube (fill_gap below h/2) with basis 'ugimp': the squares of
+  !! the tube's and the filler's particles overlap at t = 0, and their contact went unstable
+  !! at the automatic cfl (0.86 with 'musl'; a half square tube filled with foam,
+  !! tests/test_scene_matrix.py's filler rows): stable at cfl 0.4, with a gap of h/2, or with
+  !! the CPDI bases, whose domains are the particles' own.
+  subroutine advice_filler(cfg, h, cfl, warnings)
+    type(config_t), intent(in) :: cfg
+    real(wp), intent(in) :: h                !! cell size [m]
+    real(wp), intent(in) :: cfl              !! the cfl in use [-]
+    character(len=:), allocatable, intent(inout) :: warnings
+    integer :: ib
+    character(len=16) :: c_cfl
+    if (cfg%solver%basis_id /= BASIS_UGIMP .or. .not. cfl > 0.4_wp) return
+    do ib = 1, size(cfg%bodies)
+      if (cfg%bodies(ib)%shape_id /= SHAPE_FILLER) cycle
+      if (cfg%bodies(ib)%fill_gap >= 0.5_wp*h) cycle
+      write(c_cfl, '(f5.2)') cfl
+      call append_msg(warnings, 'body '//itoa(ib)//': a filler touching its tube with '// &
+        'basis ''ugimp'' (their squares overlap at t = 0) went unstable at cfl 0.6 and '// &
+        'above; cfl here '//trim(adjustl(c_cfl))//'. Set cfl = 0.4, fill_gap >= h/2, or '// &
+        'basis = ''cpdi2'' (docs/method.md#sections)')
+      exit
+    end do
+  end subroutine advice_filler
 
   !> The wall time of a run of `work` particle-steps on `threads` threads of the release build
   !! at the throughput `make bench` measured (src/advice/mpm_bench_table.inc, docs/performance.md)
