@@ -1077,8 +1077,8 @@ contains
     end do
     if (.not. gap < gmax - 1.0e-9_wp*size_) then
       stat = 1
-      msg = 'fill_gap = '//trim(rtoa_(gap))//' m closes an edge of the tube''s inner face '// &
-        '(the gap must be below '//trim(rtoa_(gmax))//' m)'
+      msg = 'the gap closes an edge of the tube''s inner face (fill_gap must be below '// &
+        trim(rtoa_(gmax))//' m)'
       return
     end if
     poly = out
