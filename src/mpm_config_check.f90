@@ -5,10 +5,10 @@ module mpm_config_check
   use mpm_kinds, only: wp
   use mpm_constants, only: SHAPE_DISC, BASIS_CPDI2, SCHEME_MUSL, PLANE_STRAIN, SHAPE_RING, SHAPE_RECT, &
                            SECTOR_HALF, SECTOR_QUARTER, VOLUMETRIC_FBAR, VOLUMETRIC_FBARWALL, &
-                           PLANE_STRESS, MODEL_NEOHOOKEAN, SHAPE_TUBE, SHAPE_FILLER, &
-                           CONTACT_BONDED, shape_names
+                           PLANE_STRESS, MODEL_NEOHOOKEAN
   use mpm_config_types, only: config_t
-  use mpm_bodies, only: body_box, body_mesh
+  use mpm_bodies, only: body_box
+  use mpm_fillers, only: filler_checks, bonded_checks
   use mpm_config_text, only: lower, itoa, quote, file_stem, fmt_short, fmt_vec, fmt_real
   use mpm_config_table, only: n_groups
   use mpm_config_lexer, only: reader_t, occurrence
@@ -137,64 +137,9 @@ contains
     end if
 
     call contact_checks(rd, cfg, occ_con)
+    call bonded_checks(rd, cfg, occ_con)
   end subroutine cross_checks
 
-  !> A filler fills a 'tube' given before it (`fills`): the tube's centreline, thickness,
-  !! corner radius, n_thick, centre and sector become the filler's (its own centre, if given,
-  !! must be the tube's), then its particles must be possible (mpm_sections, filler_mesh:
-  !! a convex inner face, a gap that closes none of its edges).
-  subroutine filler_checks(rd, cfg, occ_body)
-    type(reader_t), intent(inout) :: rd
-    type(config_t), intent(inout) :: cfg
-    integer, intent(in) :: occ_body(:)
-    integer :: k, j, io, stat
-    real(wp), allocatable :: xc(:,:)
-    integer, allocatable :: quad(:,:), pwall(:)
-    character(len=:), allocatable :: msg
-    do k = 1, size(cfg%bodies)
-      io = occ_body(k)
-      if (.not. rd%occ(io)%ok .or. cfg%bodies(k)%shape_id /= SHAPE_FILLER) cycle
-      associate (b => cfg%bodies(k))
-        j = b%fills
-        if (j < 1 .or. j >= k) then
-          call err_var(rd, io, 'fills', itoa(j), 'not a &body given before this one (this '// &
-            'is &body #'//itoa(k)//')', 'the number of a &body of shape ''tube'' given '// &
-            'before this one')
-          cycle
-        end if
-        if (.not. rd%occ(occ_body(j))%ok) cycle      ! (its own errors are reported)
-        if (cfg%bodies(j)%shape_id /= SHAPE_TUBE) then
-          call err_var(rd, io, 'fills', itoa(j), '&body #'//itoa(j)//' is a '''// &
-            trim(shape_names(cfg%bodies(j)%shape_id))//''', not a ''tube''', 'the number '// &
-            'of a &body of shape ''tube'' given before this one')
-          cycle
-        end if
-        if (any(b%center /= 0.0_wp) .and. any(b%center /= cfg%bodies(j)%center)) then
-          call err_var(rd, io, 'center', fmt_vec(b%center), 'not the centre of the tube it '// &
-            'fills, &body #'//itoa(j)//' ('//fmt_vec(cfg%bodies(j)%center)//')', &
-            'not given (a filler takes its tube''s), or the tube''s')
-          cycle
-        end if
-        b%center = cfg%bodies(j)%center
-        b%sector = cfg%bodies(j)%sector
-        b%sector_id = cfg%bodies(j)%sector_id
-        b%vertices = cfg%bodies(j)%vertices
-        b%n_vertices = cfg%bodies(j)%n_vertices
-        b%thickness = cfg%bodies(j)%thickness
-        b%corner_radius = cfg%bodies(j)%corner_radius
-        b%host_n_thick = cfg%bodies(j)%n_thick
-        call body_mesh(b, xc, quad, pwall, stat, msg)
-        if (stat == 0) cycle
-        if (index(msg, 'fill_gap') > 0) then
-          call err_var(rd, io, 'fill_gap', fmt_real(b%fill_gap), msg, 'a gap >= 0 that '// &
-            'closes no edge of the inner face')
-        else
-          call err_var(rd, io, 'fills', itoa(j), 'the tube cannot be filled: '//msg, &
-            'a &body of shape ''tube'' whose inner face is convex')
-        end if
-      end associate
-    end do
-  end subroutine filler_checks
 
   !> Every stroke is reached by its wall's motion law; without t_end, the run ends when every
   !! moving wall has reached its stroke (t_end is required when one has none, or with a wall of
@@ -307,8 +252,7 @@ contains
     end do
   end subroutine unit_checks
 
-  !> &contact: the bodies named exist, and no pair (nor 0, 0) is named twice; 'bonded' ties
-  !! the domain corners of basis 'cpdi2' (mpm_body_tie).
+  !> &contact: the bodies named exist, and no pair (nor 0, 0) is named twice.
   subroutine contact_checks(rd, cfg, occ_con)
     type(reader_t), intent(inout) :: rd
     type(config_t), intent(in) :: cfg
@@ -318,11 +262,6 @@ contains
     do k = 1, size(cfg%contacts)
       if (.not. rd%occ(occ_con(k))%ok) cycle
       b = cfg%contacts(k)%bodies
-      if (cfg%contacts(k)%law_id == CONTACT_BONDED .and. cfg%solver%basis_id /= BASIS_CPDI2 &
-          .and. cfg%solver%basis_id > 0) call err_var(rd, occ_con(k), 'law', '''bonded''', &
-        'ties the shared domain corners of the two surfaces, which only &solver basis = '// &
-        '''cpdi2'' has (basis = '''//trim(cfg%solver%basis)//''')', '''frictionless'', '// &
-        '''coulomb'' or ''stick'', or basis = ''cpdi2''')
       if (maxval(b) > nb) then
         call err_var(rd, occ_con(k), 'bodies', itoa(b(1))//', '//itoa(b(2)), 'there is no '// &
           '&body #'//itoa(maxval(b))//' (the file has '//itoa(nb)//')', 'two different '// &

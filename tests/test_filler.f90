@@ -17,7 +17,8 @@
 program test_filler
   use mpm_kinds, only: wp, i8
   use mpm_constants, only: pi
-  use mpm_sections, only: section_t, section_tube, section_mesh, section_area, filler_mesh
+  use mpm_sections, only: section_t, section_tube, section_mesh, section_area
+  use mpm_filler, only: filler_mesh
   use testing, only: begin_test, check, check_close, finish_tests
   implicit none
   real(wp), parameter :: a = 0.048_wp, t = 1.5e-3_wp, rc = 3.0e-3_wp

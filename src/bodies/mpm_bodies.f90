@@ -16,7 +16,8 @@ module mpm_bodies
                            SECTOR_QUARTER, sector_names, shape_names, max_vertices
   use mpm_particles, only: particles_t, ring_counts, ring_fill, rect_counts, rect_fill, quads_fill
   use mpm_sections, only: section_t, section_tube, section_honeycomb, section_walls, &
-                          section_mesh, disc_mesh, section_clip, filler_mesh
+                          section_mesh, disc_mesh, section_clip
+  use mpm_filler, only: filler_mesh
   use mpm_section_colours, only: section_colours
   use mpm_strings, only: sci
   implicit none
