@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
 """Honeycomb panels against Gibson & Ashby's closed forms (``make validate-honeycomb``;
-docs/validation.md#honeycomb-panels-against-gibson-and-ashby).
+docs/validation.md#honeycomb).
 
 The scene: one cell of a honeycomb panel (`&body shape = 'honeycomb'`, n_cells = 1, 1) between
 two 'slip' mirror planes through the centrelines of its vertical walls, compressed along x1 by
@@ -16,23 +16,27 @@ eps2 the change of the distance between the top and bottom vertices (probes) ove
 theta). The cell is sized so that the planes lie on grid lines (l cos(theta) a whole number of
 cells), so t/l is the nominal value to within h/l.
 
-The loading is quasi-static: the plane's travel, eps_end times the width, is reached by a
-smooth velocity ramp over RAMP_PERIODS estimated periods T0 of the cell (the inclined walls'
-bending, omega = 1.4 c t / l^2) and held for HOLD_PERIODS more, with mass-proportional damping
-2 ZETA omega; the force and the vertices are averaged over the last AVERAGE of the run.
-- elastic ('elastic'): eps_end = EPS_ELASTIC (small: the walls' rotation changes E1 by about
-  2 eps); E1 = sigma1 / eps1, nu12 = -eps2 / eps1.
+The loading is quasi-static (LOADING): the plane's travel is reached by a smooth velocity ramp
+and easing, each `ramp` estimated periods T0 of the cell (the inclined walls' bending, omega =
+1.4 c t / l^2), then held for `hold` periods, with mass-proportional damping 2 zeta omega.
+- elastic ('elastic'): a travel of EPS_ELASTIC of the width (small: the walls' rotation changes
+  E1 by about 2 eps); E1 = sigma1 / eps1 and nu12 = eps2 / eps1 over the last AVERAGE of the run.
 - plastic ('j2', hardening 0, sigma_y / E = 5e-5 so that the collapse comes at small strain):
-  eps_end = PLASTIC_MULTIPLE times the closed form's yield strain sigma_pl / E1; sigma_pl is
-  the held stress.
+  a travel of PLASTIC_MULTIPLE times the closed form's yield strain sigma_pl / E1; sigma_pl is
+  the fixed plane's mean force over the last PLATEAU of the travel, over 2 (h + l sin theta).
+With fe (CalculiX installed), the same cell by static finite elements on the run's own particle
+mesh (fe_reference/honeycomb_fe.py): the continuum's values, so that the MPM's error and the
+continuum's own departure from the beam formulas are told apart.
 
-Cases (kind, t/l, n_thick with h = t / n_thick): the regular panel (theta = +30, h = l) and a
-re-entrant one (theta = -30, h = 2 l). The table docs/honeycomb/gibson_ashby.csv has one row
-per run: the measured values, the closed forms (E1 and nu12 with Gibson & Ashby's corrections
-for axial and shear wall deformation, theory.honeycomb_*), their ratios and the CPU seconds.
-Runs go to build/honeycomb_validation/ (reused when the input is unchanged); one at a time.
+Cases (SWEEP: model, volumetric, t/l, n_thick with h = t / n_thick) for the regular panel
+(theta = +30, h = l) and a re-entrant one (theta = -30, h = 2 l). The table
+docs/honeycomb/gibson_ashby.csv has one row per run: the measured values, the closed forms (E1
+and nu12 with Gibson & Ashby's corrections for axial and shear wall deformation,
+theory.honeycomb_*), the FE values, the ratios and the CPU seconds. Runs go to
+build/honeycomb_validation/ (reused when the input is unchanged); one at a time, about 50 CPU
+minutes. tests/test_honeycomb.py runs the coarse cases (t/l = 0.1, n_thick = 4).
 
-    python3 tools/honeycomb_validation.py [--exe bin/tubempm] [--quick]
+    python3 tools/honeycomb_validation.py [--exe bin/tubempm] [--no-fe] [--out CSV]
 """
 from __future__ import annotations
 
@@ -64,20 +68,24 @@ LOADING = {"elastic": {"ramp": 0.75, "hold": 1.0, "zeta": 0.5, "volumetric": "st
            "j2": {"ramp": 3.0, "hold": 0.0, "zeta": 0.05, "volumetric": "standard"}}
 AVERAGE = 0.1       # the held values: the last tenth of the run
 PLATEAU = 0.4       # the plastic plateau: the last 40 % of the travel
-# the runs of make validate-honeycomb: (model, volumetric, t/l, n_thick), each for both kinds
-SWEEP = ([("elastic", "standard", tl, n) for tl, n in ((0.1, 2), (0.1, 4), (0.1, 8), (0.05, 4),
-                                                       (0.05, 8))]
-         + [("elastic", "fbar", 0.1, n) for n in (4, 8)]
-         + [("j2", "standard", tl, n) for tl, n in ((0.1, 4), (0.1, 8), (0.05, 4), (0.05, 8))]
-         + [("j2", "fbar", 0.1, n) for n in (4, 8)])
+# the runs of make validate-honeycomb: (model, volumetric, t/l, n_thick, particles per cell
+# through the wall), each for both kinds
+SWEEP = ([("elastic", "standard", tl, n, 1) for tl, n in ((0.1, 2), (0.1, 4), (0.1, 8),
+                                                          (0.1, 16), (0.05, 4), (0.05, 8))]
+         + [("elastic", "standard", tl, 8, 2) for tl in (0.1, 0.05)]
+         + [("elastic", "fbar", 0.1, n, 1) for n in (4, 8)]
+         + [("j2", "standard", tl, n, 1) for tl, n in ((0.1, 4), (0.1, 8), (0.05, 4), (0.05, 8))]
+         + [("j2", "standard", tl, 8, 2) for tl in (0.1, 0.05)]
+         + [("j2", "fbar", 0.1, n, 1) for n in (4, 8)])
 
 
-def geometry(kind: str, t_l: float, n_thick: int) -> dict[str, float]:
-    """The cell of a case: l with l cos(theta) a whole number of grid cells (h = t / n_thick),
-    and the quantities the scene and the measurement need [m, rad]."""
+def geometry(kind: str, t_l: float, n_thick: int, ppc: int = 1) -> dict[str, float]:
+    """The cell of a case: l with l cos(theta) a whole number of grid cells (h = ppc t /
+    n_thick: ppc particles per cell through the wall), and the quantities the scene and the
+    measurement need [m, rad]."""
     theta_deg, h_l = KINDS[kind]
     th = math.radians(theta_deg)
-    hg = T_WALL / n_thick
+    hg = T_WALL / n_thick * ppc
     l = round(T_WALL / t_l * math.cos(th) / hg) * hg / math.cos(th)
     es = E / (1.0 - NU * NU)
     omega = 1.4 * math.sqrt(es / RHO) * T_WALL / l ** 2
@@ -100,10 +108,11 @@ def closed_forms(g: dict[str, float]) -> dict[str, float]:
 
 
 def case_text(kind: str, t_l: float, n_thick: int, model: str, out: str,
-              volumetric: str | None = None, ramp: float | None = None) -> tuple[str, dict]:
+              volumetric: str | None = None, ramp: float | None = None,
+              ppc: int = 1) -> tuple[str, dict]:
     """The namelist of one case (`out` is its output folder; volumetric and the ramp in
     periods: LOADING's unless given) and its geometry."""
-    g = geometry(kind, t_l, n_thick)
+    g = geometry(kind, t_l, n_thick, ppc)
     load = dict(LOADING[model])
     if ramp is not None:
         load["ramp"] = ramp
@@ -161,12 +170,12 @@ def measure(hist: dict, g: dict) -> dict[str, float]:
 
 def run_case(exe: str, folder: Path, kind: str, t_l: float, n_thick: int, model: str,
              volumetric: str | None = None, reuse: bool = True, fe: bool = False,
-             ramp: float | None = None) -> dict:
+             ramp: float | None = None, ppc: int = 1) -> dict:
     """Run (or reuse) one case in folder; its geometry, closed forms, measurements, ratios and
     CPU seconds ({} when the run failed); with fe, also CalculiX's values on the run's own
     particle mesh (fe_reference/honeycomb_fe.py) and the ratios to them."""
     folder.mkdir(parents=True, exist_ok=True)
-    text, g = case_text(kind, t_l, n_thick, model, str(folder / "out"), volumetric, ramp)
+    text, g = case_text(kind, t_l, n_thick, model, str(folder / "out"), volumetric, ramp, ppc)
     nml = folder / "case.nml"
     summary = folder / "out" / "summary.nml"
     if not (reuse and nml.is_file() and nml.read_text() == text and summary.is_file()):
@@ -185,7 +194,7 @@ def run_case(exe: str, folder: Path, kind: str, t_l: float, n_thick: int, model:
     row = {"kind": kind, "model": model,
            "volumetric": volumetric or LOADING[model]["volumetric"], "t_l": g["t_l"],
            "n_thick": n_thick,
-           "h_over_t": 1.0 / n_thick, "particles": int(summ.get("particles", 0)),
+           "h_over_t": ppc / n_thick, "particles": int(summ.get("particles", 0)),
            "steps": int(summ.get("steps", 0)),
            "cpu_s": float((folder / "cpu_seconds").read_text()), **m}
     if model == "elastic":
@@ -220,10 +229,11 @@ def main() -> int:
     ap.add_argument("--out", default=str(DOCS / "gibson_ashby.csv"))
     args = ap.parse_args()
     rows = []
-    for model, vol, t_l, n in SWEEP:
+    for model, vol, t_l, n, ppc in SWEEP:
         for kind in KINDS:
-            name = f"{kind}_{model}_{vol}_tl{t_l:g}_n{n}"
-            row = run_case(args.exe, RUNS / name, kind, t_l, n, model, vol, fe=not args.no_fe)
+            name = f"{kind}_{model}_{vol}_tl{t_l:g}_n{n}" + (f"_ppc{ppc}" if ppc != 1 else "")
+            row = run_case(args.exe, RUNS / name, kind, t_l, n, model, vol, fe=not args.no_fe,
+                           ppc=ppc)
             if not row:
                 print(f"{name}: FAILED (see {RUNS / name}/stderr)", flush=True)
                 continue
