@@ -173,7 +173,7 @@ cfl-accuracy: all
 ##                     build/honeycomb_validation/ (reused when unchanged)
 validate-honeycomb: all
 	@bash tools/install-deps.sh --ccx
-	OMP_NUM_THREADS=1 $(PYTHON) tools/honeycomb_validation.py
+	OMP_NUM_THREADS=1 $(PYTHON) -m tools.honeycomb_validation
 
 ## fe-reference: the CalculiX reference of the study's crush (installs calculix-ccx where
 ##               missing; about 20 CPU min, one thread): decks, curves and convergence in

@@ -22,7 +22,7 @@ panel under sigma1. t/l = 0.099, n_thick = 4, h = t/4, plane strain, E 70 GPa, n
   and n_thick = 4 locks (+9 % against the FE; n_thick = 8 is within 0.3 %, docs): within
   15 % of the FE and 35 % of Gibson & Ashby (measured ...).
 
-    TUBEMPM=build/debug/tubempm python3 tests/test_honeycomb.py SCRATCH
+    TUBEMPM=build/debug/tubempm python3 -m tests.test_honeycomb SCRATCH
 """
 from __future__ import annotations
 
@@ -34,11 +34,10 @@ import tempfile
 import time
 from pathlib import Path
 
+from tests.pycheck import Checks
+from tools import honeycomb_validation as hv
+
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tests"))
-sys.path.insert(0, str(ROOT / "tools"))
-from pycheck import Checks  # noqa: E402
-import honeycomb_validation as hv  # noqa: E402
 
 T = Checks("test_honeycomb")
 check = T.check

@@ -36,7 +36,7 @@ theory.honeycomb_*), the FE values, the ratios and the CPU seconds. Runs go to
 build/honeycomb_validation/ (reused when the input is unchanged); one at a time, about 50 CPU
 minutes. tests/test_honeycomb.py runs the coarse cases (t/l = 0.1, n_thick = 4).
 
-    python3 tools/honeycomb_validation.py [--exe bin/tubempm] [--no-fe] [--out CSV]
+    python3 -m tools.honeycomb_validation [--exe bin/tubempm] [--no-fe] [--out CSV]
 """
 from __future__ import annotations
 
@@ -48,12 +48,11 @@ import subprocess
 import sys
 from pathlib import Path
 
+from plots.mpmplot import readers, theory
+from tools.fe_reference import honeycomb_fe
+
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
-sys.path.insert(0, str(ROOT / "plots"))
-sys.path.insert(0, str(HERE / "fe_reference"))
-from mpmplot import readers, theory  # noqa: E402
-import honeycomb_fe  # noqa: E402
 
 DOCS = ROOT / "docs" / "honeycomb"
 RUNS = ROOT / "build" / "honeycomb_validation"

@@ -15,20 +15,17 @@ right plane's nodes, eps2 from the nodes nearest the cell's top and bottom verti
 Plastic (ccx's J2, *PLASTIC at sigma_y, no hardening; small strain): INCREMENTS equal steps of
 the travel, the plateau the mean reaction over the last PLATEAU of the travel, as for the MPM.
 
-    from fe_reference import honeycomb_fe        # tools/ on sys.path
+    from tools.fe_reference import honeycomb_fe
     honeycomb_fe.run(particles_h5, geometry, model, folder)   # {"E1", "nu12"} or {"sigma_pl"}
 """
 from __future__ import annotations
 
 import math
-import sys
 from pathlib import Path
 
 import numpy as np
 
-HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE))
-import fe_reference as fr  # noqa: E402  (run_cached: ccx on one thread, reused when unchanged)
+from tools.fe_reference import fe_reference as fr   # run_cached: ccx on one thread, reused
 
 INCREMENTS = 40
 
