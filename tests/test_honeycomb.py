@@ -1,26 +1,26 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
 """Honeycomb panels against Gibson & Ashby's closed forms (Cellular Solids, 2nd ed., ch. 4):
-the coarse cases of tools/honeycomb_validation.py (docs/validation.md#honeycomb-panels-against-
-gibson-and-ashby), run with the binary under test.
+the coarse cases of tools/honeycomb_validation.py (docs/validation.md#honeycomb), run with the
+binary under test.
 
 One cell of a regular panel (theta = +30, h = l) and of a re-entrant one (theta = -30, h = 2l)
 between two 'slip' mirror planes through its vertical walls, compressed along x1: the infinite
-panel under sigma1. t/l = 0.099, n_thick = 4, h = t/4, plane strain, E 70 GPa, nu 0.3.
+panel under sigma1. t/l = 0.099, n_thick = 4, h = t/4, plane strain, E 70 GPa, nu 0.3. Each
+ratio is checked against Gibson & Ashby (E1 and nu12 with their corrections for axial and shear
+wall deformation) and against CalculiX on the same mesh (the committed values of
+docs/honeycomb/gibson_ashby.csv). At t/l = 0.1 the walls' joints stiffen and strengthen the
+continuum itself (the FE on these meshes: E1 +5.8 % regular, +19.6 % re-entrant; sigma_pl +15 %,
++28 %), so the tolerances against Gibson & Ashby are wider than those against the FE.
 
-* Elastic: E1 and nu12 against Gibson & Ashby with their axial and shear corrections, and
-  against CalculiX on the same mesh (the committed values of docs/honeycomb/gibson_ashby.csv).
-  At t/l = 0.1 the walls' joints stiffen the continuum itself, by 5.8 % (regular) and 19.6 %
-  (re-entrant, its acute joints) on this mesh by CalculiX, so the closed form's tolerance
-  is wider than the FE's: E1 within 8 % / 25 % of Gibson & Ashby, within 3 % of the FE
-  (measured +4.6 % / +19.7 %, -1.2 % / +0.1 %); nu12 within 2 % of Gibson & Ashby (measured
-  +0.5 %, +0.8 %) and of the sign of the cell (negative for the re-entrant one).
+* Elastic: E1 within 3 % of the FE and within 8 % (regular) / 25 % (re-entrant) of Gibson &
+  Ashby; nu12 within 2 % of Gibson & Ashby, positive for the regular cell and negative for
+  the re-entrant one; the held force settled (under 1 % change over the last tenth).
+  Measured: TE
 * Plastic ('j2', no hardening, sigma_y / E = 5e-5; sigma_ys = 2 sigma_y / sqrt 3 in plane
-  strain): the collapse stress, the fixed plane's force over the last 40 % of a travel of 5
-  yield strains, loaded over 1.5 periods (half the validation's time: 3 % lower). The joints
-  raise the continuum's collapse stress by 15 % (regular) and N % (re-entrant) at this t/l,
-  and n_thick = 4 locks (+9 % against the FE; n_thick = 8 is within 0.3 %, docs): within
-  15 % of the FE and 35 % of Gibson & Ashby (measured ...).
+  strain), loaded over 1.5 periods (half the table's time): sigma_pl within 20 % of the FE
+  (n_thick = 4 locks in the hinges: +9 % and +15 % in the table; n_thick = 8 is within 2.5 %)
+  and within 50 % of Gibson & Ashby. Measured: TP
 
     TUBEMPM=build/debug/tubempm python3 -m tests.test_honeycomb SCRATCH
 """
@@ -45,8 +45,8 @@ T_L, N_THICK, PLASTIC_RAMP = 0.1, 4, 1.5
 # (kind, model): the tolerances of the ratios to Gibson & Ashby and to the FE on the same mesh
 TOL = {("regular", "elastic"): {"E1_ga": 0.08, "E1_fe": 0.03, "nu12_ga": 0.02},
        ("reentrant", "elastic"): {"E1_ga": 0.25, "E1_fe": 0.03, "nu12_ga": 0.02},
-       ("regular", "j2"): {"sigma_pl_ga": 0.35, "sigma_pl_fe": 0.15},
-       ("reentrant", "j2"): {"sigma_pl_ga": 0.35, "sigma_pl_fe": 0.15}}
+       ("regular", "j2"): {"sigma_pl_ga": 0.50, "sigma_pl_fe": 0.20},
+       ("reentrant", "j2"): {"sigma_pl_ga": 0.50, "sigma_pl_fe": 0.20}}
 
 
 def fe_values() -> dict[tuple[str, str], dict[str, float]]:
