@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
 """Honeycomb panels against Gibson & Ashby's closed forms (``make validate-honeycomb``;
-docs/validation.md#honeycomb).
+docs/validation.md#honeycomb-cells).
 
 The scene: one cell of a honeycomb panel (`&body shape = 'honeycomb'`, n_cells = 1, 1) between
 two 'slip' mirror planes through the centrelines of its vertical walls, compressed along x1 by
