@@ -552,7 +552,10 @@ contains
     if (b%shape_id == SHAPE_WALLS .and. .not. allocated(b%seg)) return
     if (b%shape_id == SHAPE_DISC .and. b%r_outer <= 0.0_wp) return
     call body_mesh(b, xc, quad, pwall, stat, msg)
-    if (stat /= 0) call err_var(rd, io, 'n_thick', itoa(b%n_thick), 'the walls cannot be '// &
+    if (stat == 2) call err_var(rd, io, 'sector', ''''//trim(b%sector)//'''', msg// &
+      ' through center', '''full'', or a section symmetric about the planes through center')
+    if (stat /= 0 .and. stat /= 2) call err_var(rd, io, 'n_thick', itoa(b%n_thick), &
+      'the walls cannot be '// &
       'filled with particles: '//msg, 'walls longer than their joints need, meeting at '// &
       'angles they can (n_thick even where three or more walls meet)')
   end subroutine check_mesh

@@ -237,7 +237,7 @@ def case_text(c: dict, name: str) -> str:
 
 
 SECTION_FACTORS = {
-    "shape": ["tube", "honeycomb", "walls", "disc"],
+    "shape": ["tube", "honeycomb", "walls", "walls_half", "disc"],
     "basis": ["linear", "ugimp", "cpdi1", "cpdi2"],
     "scheme": ["usf", "musl"],
     "wall_law": ["frictionless", "coulomb", "stick", "bonded"],
@@ -297,6 +297,11 @@ SECTION_BODY = {
     # two square cells of 10 mm side from a walls file, t 2 mm, sharp corners
     "walls": ("&body shape = 'walls', material = 'al', walls_file = 'cells.csv', n_thick = 4, "
               "self_contact = .true. /\n", 12.0e-3),
+    # three square cells in a row from a walls file, its half x >= 0 (the plane cuts the middle
+    # cell's walls square)
+    "walls_half": ("&body shape = 'walls', material = 'al', walls_file = 'cells3.csv', "
+                   "n_thick = 4, sector = 'half', center = 0.0, 6.0e-3, self_contact = .true. /\n",
+                   12.0e-3),
     "disc": ("&body shape = 'disc', material = 'al', center = 0.0, 6.0e-3, r_outer = 6.0e-3, "
              "n_thick = 4 /\n", 12.0e-3),
 }
@@ -306,6 +311,10 @@ CELLS_CSV = ("x1,y1,x2,y2,thickness\n" + "".join(
         (-10e-3, 11e-3, 0.0, 11e-3), (0.0, 11e-3, 10e-3, 11e-3),
         (-10e-3, 1e-3, -10e-3, 11e-3), (0.0, 1e-3, 0.0, 11e-3),
         (10e-3, 1e-3, 10e-3, 11e-3)]))
+CELLS3_CSV = ("x1,y1,x2,y2,thickness\n" + "".join(
+    f"{a:.5e},{b:.5e},{a + 10e-3 if b == d else a:.5e},{d:.5e},2.0e-3\n" for a, b, d in
+    [(x, y, y) for x in (-15e-3, -5e-3, 5e-3) for y in (1e-3, 11e-3)]
+    + [(x, 1e-3, 11e-3) for x in (-15e-3, -5e-3, 5e-3, 15e-3)]))
 
 
 def section_text(c: dict, name: str) -> str:
@@ -363,6 +372,7 @@ def run_sections(scratch: Path) -> int:
         name = f"s{k:02d}_{c['shape']}"
         (scratch / name).mkdir(parents=True, exist_ok=True)
         (scratch / name / "cells.csv").write_text(CELLS_CSV)
+        (scratch / name / "cells3.csv").write_text(CELLS3_CSV)
         if (c["basis"] in ("linear", "ugimp") and c["wall_law"] in ("stick", "bonded")
                 and c["shape"] != "disc" and c["volumetric"] == "standard"):
             seams_on_stick(scratch, name, c)   # warned of; completes or stops cleanly

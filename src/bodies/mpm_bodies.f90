@@ -91,10 +91,11 @@ contains
     end select
   end function body_wall_thickness
 
-  !> Whether the shape may be a half or quarter model (`sector`): rings, tubes and discs.
+  !> Whether the shape may be a half or quarter model (`sector`): rings, tubes, walls and discs.
   elemental logical function has_sector(shape_id)
     integer, intent(in) :: shape_id        !! SHAPE_* code
-    has_sector = shape_id == SHAPE_RING .or. shape_id == SHAPE_TUBE .or. shape_id == SHAPE_DISC
+    has_sector = shape_id == SHAPE_RING .or. shape_id == SHAPE_TUBE .or. &
+                 shape_id == SHAPE_WALLS .or. shape_id == SHAPE_DISC
   end function has_sector
 
   !> Whether the shape is a wall graph of mpm_sections (tube, honeycomb, walls).
@@ -173,7 +174,7 @@ contains
     real(wp), allocatable, intent(out) :: xc(:,:)  !! corners (2, nc) [m]
     integer, allocatable, intent(out) :: quad(:,:) !! corners of each particle (4, np)
     integer, allocatable, intent(out) :: pwall(:)  !! logical wall of each particle (np)
-    integer, intent(out) :: stat           !! 0 when meshed
+    integer, intent(out) :: stat           !! 0 when meshed; 2: not cut by the sector's planes
     character(len=:), allocatable, intent(out) :: msg  !! what is wrong
     type(section_t) :: s
     if (b%shape_id == SHAPE_DISC) then
@@ -191,7 +192,8 @@ contains
       call section_clip(s, b%center, [1.0_wp, 0.0_wp], stat, msg)   ! half: x >= centre
     if (stat == 0 .and. b%sector_id == SECTOR_QUARTER) &
       call section_clip(s, b%center, [0.0_wp, 1.0_wp], stat, msg)   ! quarter: and y >= centre
-    if (stat /= 0) then
+    if (stat /= 0) then                    ! stat 2: the sector's planes
+      stat = 2
       allocate(xc(2, 0), quad(4, 0), pwall(0))
       return
     end if

@@ -199,9 +199,11 @@ contains
   end subroutine section_walls
 
   !> Keep the part of the walls on the side (x - c) . n >= 0 of a mirror plane: a wall that
-  !! crosses it is cut there (it must cross square to the plane: its cut end lies in the
-  !! plane), walls behind it are dropped. The logical walls keep their ids (the colours of
-  !! self-contact are those of the whole section).
+  !! crosses it is cut there, walls behind it are dropped. The section must be its own mirror
+  !! image (each wall's image a wall of the same thickness), and every wall that reaches the
+  !! plane must meet it square, so that the cut end lies in the plane; a wall along the plane
+  !! is refused (half its thickness lies behind it). The logical walls keep their ids (the
+  !! colours of self-contact are those of the whole section).
   pure subroutine section_clip(s, c, n, stat, msg)
     type(section_t), intent(inout) :: s    !! the walls
     real(wp), intent(in) :: c(2), n(2)     !! a point of the plane, its unit normal
@@ -214,6 +216,11 @@ contains
     stat = 0
     msg = ''
     tol = 1.0e-9_wp*maxval(abs(s%xn))
+    if (.not. mirror_symmetric(s, c, n, tol)) then
+      stat = 1
+      msg = 'the section is not symmetric about the mirror plane'
+      return
+    end if
     x = s%xn
     nn = s%nn
     allocate(en(2, 0), et(0), ew(0))
@@ -223,18 +230,22 @@ contains
       b = s%en(2, k)
       da = dot_product(s%xn(:, a) - c, n)
       db = dot_product(s%xn(:, b) - c, n)
+      u = (s%xn(:, b) - s%xn(:, a))/norm2(s%xn(:, b) - s%xn(:, a))
+      if ((abs(da) <= tol .or. abs(db) <= tol .or. da*db < 0.0_wp) .and. &
+          abs(abs(dot_product(u, n)) - 1.0_wp) > 1.0e-9_wp) then
+        stat = 1
+        msg = merge('a wall lies along the mirror plane            ', &
+                    'a wall meets the mirror plane at an angle     ', &
+                    abs(da) <= tol .and. abs(db) <= tol)
+        msg = trim(msg)//' (a half or quarter model needs the walls that reach its planes '// &
+          'square to them)'
+        return
+      end if
       if (da >= -tol .and. db >= -tol) then
-        if (abs(da) <= tol .and. abs(db) <= tol) cycle        ! in the plane: its image's
+        continue                                              ! on the kept side
       else if (da <= tol .and. db <= tol) then
         cycle                                                 ! behind the plane
       else
-        u = (s%xn(:, b) - s%xn(:, a))/norm2(s%xn(:, b) - s%xn(:, a))
-        if (abs(abs(dot_product(u, n)) - 1.0_wp) > 1.0e-9_wp) then
-          stat = 1
-          msg = 'a wall crosses the mirror plane at an angle (a sector needs the walls '// &
-            'it cuts square to its planes, and a section symmetric about them)'
-          return
-        end if
         xm = s%xn(:, a) + (s%xn(:, b) - s%xn(:, a))*(da/(da - db))
         xm = xm - dot_product(xm - c, n)*n                    ! exactly in the plane
         m = find_node(x, nn, xm, tol)
@@ -263,6 +274,31 @@ contains
     s%et = et
     s%ew = ew
   end subroutine section_clip
+
+  !> Whether each wall's mirror image about the plane through c of unit normal n is a wall
+  !! of the section with the same thickness (to tol in position).
+  pure logical function mirror_symmetric(s, c, n, tol) result(ok)
+    type(section_t), intent(in) :: s
+    real(wp), intent(in) :: c(2), n(2), tol
+    real(wp) :: pa(2), pb(2), qa(2), qb(2)
+    integer :: k, j
+    ok = .false.
+    do k = 1, s%ne
+      pa = s%xn(:, s%en(1, k))
+      pb = s%xn(:, s%en(2, k))
+      pa = pa - 2.0_wp*dot_product(pa - c, n)*n
+      pb = pb - 2.0_wp*dot_product(pb - c, n)*n
+      do j = 1, s%ne
+        qa = s%xn(:, s%en(1, j))
+        qb = s%xn(:, s%en(2, j))
+        if (abs(s%et(j) - s%et(k)) > 1.0e-9_wp*s%et(k)) cycle
+        if ((norm2(qa - pa) <= tol .and. norm2(qb - pb) <= tol) .or. &
+            (norm2(qa - pb) <= tol .and. norm2(qb - pa) <= tol)) exit
+      end do
+      if (j > s%ne) return
+    end do
+    ok = .true.
+  end function mirror_symmetric
 
   !> The node of x(:, 1:n) within tol of p, or 0.
   pure integer function find_node(x, n, p, tol) result(id)
