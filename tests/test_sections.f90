@@ -170,19 +170,34 @@ program test_sections
   call begin_test('sectors refused')
   call section_walls(seg, 1.0e-9_wp, s)                  ! 3 x 3 about a wall: not symmetric
   call section_clip(s, [a, 1.5_wp*a], [1.0_wp, 0.0_wp], stat, msg)
-  call check(stat /= 0 .and. index(msg, 'not symmetric') > 0, 'an asymmetric section: '//msg)
+  call check(stat /= 0 .and. index(msg, 'not its own mirror image') > 0, 'an asymmetric section: '//msg)
   call section_walls(reshape([0.0_wp, 0.0_wp, 2*a, 0.0_wp, 1.0e-3_wp, &
                               0.0_wp, 2*a, 2*a, 2*a, 1.0e-3_wp, &
                               0.0_wp, 0.0_wp, 0.0_wp, 2*a, 1.0e-3_wp, &
                               2*a, 0.0_wp, 2*a, 2*a, 1.0e-3_wp, &
                               a, 0.0_wp, a, 2*a, 1.0e-3_wp], [5, 5]), 1.0e-9_wp, s)  ! 2 x 1
   call section_clip(s, [a, a], [1.0_wp, 0.0_wp], stat, msg)
-  call check(stat /= 0 .and. index(msg, 'along the mirror plane') > 0, &
+  call check(stat /= 0 .and. index(msg, 'along a plane') > 0, &
              'a web along the plane: '//msg)
   call section_tube(reshape([0.0_wp, -a, a, 0.0_wp, 0.0_wp, a, -a, 0.0_wp], [2, 4]), &
                     1.0e-3_wp, 0.0_wp, 1.0e-3_wp, s)    ! a diamond: corners on the plane
   call section_clip(s, [0.0_wp, 0.0_wp], [1.0_wp, 0.0_wp], stat, msg)
   call check(stat /= 0 .and. index(msg, 'at an angle') > 0, 'a corner on the plane: '//msg)
+
+  call begin_test('walls that cross without a joint')
+  call section_walls(reshape([0.0_wp, 0.0_wp, 2*a, 0.0_wp, 1.0e-3_wp, &
+                              a, -a, a, a, 1.0e-3_wp], [5, 2]), 1.0e-9_wp, s)   ! a plus
+  call section_mesh(s, 4, xc, quad, pw, stat, msg)
+  call check(stat == 3 .and. index(msg, 'without a joint') > 0, 'crossing walls: '//msg)
+  call section_walls(reshape([0.0_wp, 0.0_wp, 2*a, 0.0_wp, 1.0e-3_wp, &
+                              a, 0.0_wp, a, a, 1.0e-3_wp], [5, 2]), 1.0e-9_wp, s)   ! a T
+  call section_mesh(s, 4, xc, quad, pw, stat, msg)
+  call check(stat == 3, 'a wall ending on another''s length: '//msg)
+  call section_walls(reshape([0.0_wp, 0.0_wp, a, 0.0_wp, 1.0e-3_wp, &
+                              a, 0.0_wp, 2*a, 0.0_wp, 1.0e-3_wp, &
+                              a, 0.0_wp, a, a, 1.0e-3_wp], [5, 3]), 1.0e-9_wp, s)   ! split T
+  call section_mesh(s, 4, xc, quad, pw, stat, msg)
+  call check(stat == 0, 'the same T split at the joint meshes: '//msg)
 
   call begin_test('bad sections')
   call section_walls(reshape([0.0_wp, 0.0_wp, 1.0e-3_wp, 0.0_wp, 2.0e-3_wp, &

@@ -174,7 +174,8 @@ contains
     real(wp), allocatable, intent(out) :: xc(:,:)  !! corners (2, nc) [m]
     integer, allocatable, intent(out) :: quad(:,:) !! corners of each particle (4, np)
     integer, allocatable, intent(out) :: pwall(:)  !! logical wall of each particle (np)
-    integer, intent(out) :: stat           !! 0 when meshed; 2: not cut by the sector's planes
+    integer, intent(out) :: stat           !! 0 when meshed; 2: not cut by the sector's planes;
+                                           !! 3: walls that meet without a joint
     character(len=:), allocatable, intent(out) :: msg  !! what is wrong
     type(section_t) :: s
     if (b%shape_id == SHAPE_DISC) then
