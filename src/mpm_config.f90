@@ -29,7 +29,7 @@ module mpm_config
                                chk_r, chk_v, table_count, err_var, warn_var, warn_group
   use mpm_config_check, only: cross_checks, advice_checks
   use mpm_config_echo, only: write_config, write_config_unit, config_values
-  use mpm_bodies, only: body_mesh, is_section
+  use mpm_bodies, only: body_mesh, is_section, body_estimate
   implicit none
   private
   public :: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, body_cfg_t, &
@@ -543,11 +543,15 @@ contains
     integer, allocatable :: quad(:,:), pwall(:)
     integer :: stat
     character(len=:), allocatable :: msg
+    real(wp) :: np, nc, ext
+    real(wp), parameter :: mesh_check_max = 2.0e7_wp  ! particles the check meshes at most
     if (b%shape_id == SHAPE_TUBE .and. (b%n_vertices < 3 .or. b%thickness <= 0.0_wp)) return
     if (b%shape_id == SHAPE_HONEYCOMB .and. (any(b%n_cells < 1) .or. b%thickness <= 0.0_wp &
         .or. b%cell_l <= 0.0_wp .or. b%cell_h <= 0.0_wp)) return
     if (b%shape_id == SHAPE_WALLS .and. .not. allocated(b%seg)) return
     if (b%shape_id == SHAPE_DISC .and. b%r_outer <= 0.0_wp) return
+    call body_estimate(b, np, nc, ext)     ! lengths in a wrong unit: refused later, unmeshed
+    if (np > mesh_check_max) return
     call body_mesh(b, xc, quad, pwall, stat, msg)
     if (stat == 2) call err_var(rd, io, 'sector', ''''//trim(b%sector)//'''', msg// &
       ' through center = '//fmt_vec(b%center), '''full'', or a section that is its own mirror'// &
