@@ -46,7 +46,7 @@ TESTS   := $(patsubst tests/%.f90,$(BLD)/%,$(TESTSRC))
 FC_ALL  := $(FC) $(FFLAGS_common) $(FFLAGS_$(BUILD))
 
 .PHONY: all deps test run clean help check-namelists check-paraview bench study stability figures \
-        cfl-accuracy \
+        cfl-accuracy validate-honeycomb \
         fuzz fuzz-scenes fe-reference test-slurm design-example
 
 # HDF5 flags come from pkg-config when make reads this file, so everything that compiles runs
@@ -165,6 +165,15 @@ figures: deps
 cfl-accuracy: all
 	$(PYTHON) -m tools.cfl_accuracy
 	$(PYTHON) -m tools.advice_tables --stability
+
+## validate-honeycomb: honeycomb cells (regular and re-entrant) against Gibson & Ashby's E1, nu12
+##                     and plastic collapse stress, and against CalculiX on the same mesh
+##                     (installs calculix-ccx where missing; tools/honeycomb_validation.py, about
+##                     50 CPU min, one run at a time): docs/honeycomb/gibson_ashby.csv; runs in
+##                     build/honeycomb_validation/ (reused when unchanged)
+validate-honeycomb: all
+	@bash tools/install-deps.sh --ccx
+	OMP_NUM_THREADS=1 $(PYTHON) -m tools.honeycomb_validation
 
 ## fe-reference: the CalculiX reference of the study's crush (installs calculix-ccx where
 ##               missing; about 20 CPU min, one thread): decks, curves and convergence in

@@ -29,7 +29,7 @@ module mpm_config
                                chk_r, chk_v, table_count, err_var, warn_var, warn_group
   use mpm_config_check, only: cross_checks, advice_checks
   use mpm_config_echo, only: write_config, write_config_unit, config_values
-  use mpm_bodies, only: body_mesh, is_section
+  use mpm_bodies, only: body_mesh, is_section, body_estimate
   implicit none
   private
   public :: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, body_cfg_t, &
@@ -247,6 +247,8 @@ contains
       call check_material(rd, io, v, cfg%materials(k))
     case (5)
       call check_body(rd, io, v, cfg%bodies(k))
+      if (rd%n_err == n0 .and. (is_section(cfg%bodies(k)%shape_id) .or. &
+          cfg%bodies(k)%shape_id == SHAPE_DISC)) call check_mesh(rd, io, cfg%bodies(k))
     case (6)
       call check_wall(rd, io, v, cfg%walls(k))
     case (8)
@@ -395,10 +397,10 @@ contains
       else
         b%n_circ = n_circ
       end if
-      if (b%self_contact .and. b%sector_id == SECTOR_QUARTER) call err_var(rd, io, &
-        'self_contact', '.true.', 'not with sector = ''quarter'' (it meets its mirror image on '// &
-        'the plane y = centre)')
     end if
+    if (b%self_contact .and. b%sector_id == SECTOR_QUARTER) call err_var(rd, io, &
+      'self_contact', '.true.', 'not with sector = ''quarter'' (it meets its mirror image on '// &
+      'the plane y = centre)')
     if (b%n_thick == iunset) b%n_thick = 16
     select case (b%shape_id)
     case (SHAPE_TUBE)
@@ -408,8 +410,6 @@ contains
     case (SHAPE_WALLS)
       if (len_trim(b%walls_file) > 0) call read_walls(rd, io, b)
     end select
-    if ((is_section(b%shape_id) .or. b%shape_id == SHAPE_DISC) .and. rd%occ(io)%ok) &
-      call check_mesh(rd, io, b)
   end subroutine check_body
 
   !> A tube: 3 to 64 vertices (pairs, no gaps), a corner radius of 0 or at least t/2.
@@ -443,9 +443,6 @@ contains
         end if
       end do
     end if
-    if (b%self_contact .and. b%sector_id == SECTOR_QUARTER) call err_var(rd, io, &
-      'self_contact', '.true.', 'not with sector = ''quarter'' (it meets its mirror image on '// &
-      'the plane y = centre)')
     if (b%corner_radius > 0.0_wp .and. b%thickness > 0.0_wp .and. &
         b%corner_radius < 0.5_wp*b%thickness) call err_var(rd, io, 'corner_radius', &
       fmt_real(b%corner_radius), 'below thickness/2 = '//fmt_real(0.5_wp*b%thickness)// &
@@ -546,13 +543,27 @@ contains
     integer, allocatable :: quad(:,:), pwall(:)
     integer :: stat
     character(len=:), allocatable :: msg
+    real(wp) :: np, nc, ext
+    real(wp), parameter :: mesh_check_max = 2.0e7_wp  ! particles the check meshes at most
     if (b%shape_id == SHAPE_TUBE .and. (b%n_vertices < 3 .or. b%thickness <= 0.0_wp)) return
     if (b%shape_id == SHAPE_HONEYCOMB .and. (any(b%n_cells < 1) .or. b%thickness <= 0.0_wp &
         .or. b%cell_l <= 0.0_wp .or. b%cell_h <= 0.0_wp)) return
     if (b%shape_id == SHAPE_WALLS .and. .not. allocated(b%seg)) return
     if (b%shape_id == SHAPE_DISC .and. b%r_outer <= 0.0_wp) return
+    call body_estimate(b, np, nc, ext)     ! lengths in a wrong unit: refused later, unmeshed
+    if (np > mesh_check_max) return
     call body_mesh(b, xc, quad, pwall, stat, msg)
-    if (stat /= 0) call err_var(rd, io, 'n_thick', itoa(b%n_thick), 'the walls cannot be '// &
+    if (stat == 2) call err_var(rd, io, 'sector', ''''//trim(b%sector)//'''', msg// &
+      ' through center = '//fmt_vec(b%center), '''full'', or a section that is its own mirror'// &
+      ' image about the planes x = center(1) (and y = center(2) for a quarter), every wall'// &
+      ' that reaches them square to them')
+    if (stat == 3 .and. b%shape_id == SHAPE_TUBE) call err_var(rd, io, 'vertices', &
+      fmt_list(b%vertices(1:2*b%n_vertices)), 'the polygon crosses itself: '//msg, &
+      'a simple polygon, counter-clockwise')
+    if (stat == 3 .and. b%shape_id /= SHAPE_TUBE) call err_var(rd, io, 'walls_file', &
+      ''''//trim(b%walls_file)//'''', msg, 'walls that meet only at their ends')
+    if (stat == 1) call err_var(rd, io, 'n_thick', itoa(b%n_thick), &
+      'the walls cannot be '// &
       'filled with particles: '//msg, 'walls longer than their joints need, meeting at '// &
       'angles they can (n_thick even where three or more walls meet)')
   end subroutine check_mesh

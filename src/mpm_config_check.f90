@@ -8,7 +8,7 @@ module mpm_config_check
                            PLANE_STRESS, MODEL_NEOHOOKEAN
   use mpm_config_types, only: config_t
   use mpm_bodies, only: body_box
-  use mpm_fillers, only: filler_checks, bonded_checks
+  use mpm_fillers, only: filler_checks
   use mpm_config_text, only: lower, itoa, quote, file_stem, fmt_short, fmt_vec, fmt_real
   use mpm_config_table, only: n_groups
   use mpm_config_lexer, only: reader_t, occurrence
@@ -106,9 +106,7 @@ contains
       end if
     end do
 
-    ! fillers: the tube they fill, its geometry copied; their particles
-    call filler_checks(rd, cfg, occ_body)
-
+    call filler_checks(rd, cfg, occ_body, occ_con)   ! fillers' tubes; 'bonded' bodies
     ! strokes reached, and t_end from them where it is not given
     if (io_run > 0) call stroke_checks(rd, cfg, io_run)
 
@@ -137,9 +135,7 @@ contains
     end if
 
     call contact_checks(rd, cfg, occ_con)
-    call bonded_checks(rd, cfg, occ_con)
   end subroutine cross_checks
-
 
   !> Every stroke is reached by its wall's motion law; without t_end, the run ends when every
   !! moving wall has reached its stroke (t_end is required when one has none, or with a wall of

@@ -221,7 +221,7 @@ module mpm_config_table
       allowed='0 (particles about square) or an integer >= 3, divisible by 2 for sector = '// &
       '''half'' and by 4 for ''quarter'' (default 0)', &
       comment='particles around the whole ring (0 = auto)'), &
-    var_spec_t('body', 'sector', 'e', c0='full', c_blank=.true., only='ring tube disc', &
+    var_spec_t('body', 'sector', 'e', c0='full', c_blank=.true., only='ring tube walls disc', &
       comment='%'), &
     var_spec_t('body', 'self_contact', 'l', only='ring tube honeycomb walls', &
       allowed='.true. or .false. (default '// &
@@ -260,11 +260,9 @@ module mpm_config_table
       'per line: x1, y1, x2, y2, thickness [m] (required for shape = ''walls'')', &
       comment='CSV of walls: x1, y1, x2, y2, t'), &
     var_spec_t('body', 'fills', 'i', i0=iunset, required=.true., lo=1.0_wp, only='filler', &
-      allowed='the number (1, 2, ...) of a &body of shape ''tube'' given before this one '// &
-      '(required for shape = ''filler'')', comment='the tube body it fills (its number)'), &
+      allowed='the number of a ''tube'' &body given before', comment='the tube it fills'), &
     var_spec_t('body', 'fill_gap', lo=0.0_wp, only='filler', allowed='a real number >= 0 '// &
-      '[m], below the gap that closes an edge of the tube''s inner face (default 0)', &
-      comment='gap to the tube''s inner face [m]'), &
+      '[m] (default 0)', comment='gap to the tube''s inner face [m]'), &
     var_spec_t('body', 'velocity', n=2, allowed=v0, comment='initial velocity [m/s]'), &
     ! ---------------------------------------------------------------------------- &wall
     var_spec_t('wall', 'point', n=2, r0=big, required=.true., unset='huge', &
@@ -362,8 +360,7 @@ contains
     case ('shape'); names = shape_names
     case ('sector'); names = sector_names
     case ('contact'); names = contact_names
-    case ('law'); names = contact_names([1, 2, 3, 5])  ! between bodies: no mirror plane
-                                                       ! ('slip'; check_contact: code of 4th)
+    case ('law'); names = contact_names([1, 2, 3, 5])  ! not 'slip' (check_contact: the 4th)
     case default; allocate(names(0))
     end select
   end function enum_names

@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: MIT
 """Closed forms of docs/method.md, per ``depth`` metres of tube, SI units: the DeRuntz-Hodge
 crushing load and energy, the four-hinge collapse load, the elastic diametral stiffness of a
-ring between two line loads, and the wave speeds.
+ring between two line loads, the wave speeds, and Gibson & Ashby's in-plane modulus, Poisson's
+ratio and plastic collapse stress of a honeycomb loaded along x1.
 """
 from __future__ import annotations
 
@@ -11,7 +12,8 @@ import numpy as np
 
 __all__ = ["plastic_collapse_load", "deruntz_hodge", "deruntz_hodge_energy",
            "ring_elastic_stiffness", "bar_speed", "plate_speed", "dilatational_speed",
-           "shear_speed", "wave_speeds"]
+           "shear_speed", "wave_speeds", "honeycomb_e1", "honeycomb_nu12",
+           "honeycomb_sigma_pl1"]
 
 
 def _plastic_moment(t: float, sigma0: float, plane: str) -> float:
@@ -92,3 +94,55 @@ def wave_speeds(E: float, nu: float, rho: float) -> dict[str, float]:
     """All four wave speeds [m/s]: keys 'bar', 'plate', 'dilatational', 'shear'."""
     return {"bar": bar_speed(E, rho), "plate": plate_speed(E, nu, rho),
             "dilatational": dilatational_speed(E, nu, rho), "shear": shear_speed(E, nu, rho)}
+
+
+def _honeycomb_wall_terms(t_l: float, theta: float, nu: float, plane: str) -> tuple[float, float]:
+    """Gibson & Ashby's corrections of the inclined wall's bending deflection for its axial and
+    shear deformation (Cellular Solids, 2nd ed., ch. 4): the factor on
+    the compliance along x1, 1 + (2.4 + 1.5 nu_s + cot^2 theta)(t/l)^2, and the one on the
+    lateral displacement, 1 + (1.4 + 1.5 nu_s)(t/l)^2. In plane strain nu_s is the plane-strain
+    Poisson's ratio nu / (1 - nu)."""
+    nus = nu / (1.0 - nu) if plane.lower() == "strain" else nu
+    tl2 = t_l * t_l
+    along = 1.0 + (2.4 + 1.5 * nus + 1.0 / math.tan(theta) ** 2) * tl2
+    across = 1.0 + (1.4 + 1.5 * nus) * tl2
+    return along, across
+
+
+def honeycomb_e1(t_l: float, h_l: float, theta_deg: float, E: float, nu: float = 0.0,
+                 plane: str = "strain", corrected: bool = True) -> float:
+    """In-plane Young's modulus E1* of a honeycomb along x1, perpendicular to the walls of
+    length h [Pa]: E1*/E_s = (t/l)^3 cos(theta) / ((h/l + sin(theta)) sin^2(theta)) (Gibson &
+    Ashby, Cellular Solids, 2nd ed., ch. 4), divided by the axial and shear correction when
+    `corrected`. E_s = E / (1 - nu^2) in plane strain. theta < 0: re-entrant cells.
+    """
+    th = math.radians(theta_deg)
+    es = E / (1.0 - nu * nu) if plane.lower() == "strain" else E
+    e1 = es * t_l ** 3 * math.cos(th) / ((h_l + math.sin(th)) * math.sin(th) ** 2)
+    if corrected:
+        e1 /= _honeycomb_wall_terms(t_l, th, nu, plane)[0]
+    return e1
+
+
+def honeycomb_nu12(t_l: float, h_l: float, theta_deg: float, nu: float = 0.0,
+                   plane: str = "strain", corrected: bool = True) -> float:
+    """Poisson's ratio nu12* = -eps2/eps1 for loading along x1 [-]: cos^2(theta) /
+    ((h/l + sin(theta)) sin(theta)) (Gibson & Ashby), negative for re-entrant cells,
+    times the ratio of the corrections when `corrected`."""
+    th = math.radians(theta_deg)
+    nu12 = math.cos(th) ** 2 / ((h_l + math.sin(th)) * math.sin(th))
+    if corrected:
+        along, across = _honeycomb_wall_terms(t_l, th, nu, plane)
+        nu12 *= across / along
+    return nu12
+
+
+def honeycomb_sigma_pl1(t_l: float, h_l: float, theta_deg: float, sigma_y: float,
+                        plane: str = "strain") -> float:
+    """Plastic collapse stress along x1 [Pa], its magnitude: sigma_ys (t/l)^2 /
+    (2 (h/l + sin(theta)) |sin(theta)|) (Gibson & Ashby), the inclined walls hinged at
+    both ends at M_p = sigma_ys t^2/4; in plane strain (von Mises) sigma_ys = 2 sigma_y/sqrt 3,
+    the M_p of _plastic_moment."""
+    th = math.radians(theta_deg)
+    sys_ = 4.0 * _plastic_moment(1.0, sigma_y, plane)
+    return sys_ * t_l ** 2 / (2.0 * (h_l + math.sin(th)) * abs(math.sin(th)))

@@ -99,12 +99,13 @@ contains
     end select
   end function body_wall_thickness
 
-  !> Whether the shape may be a half or quarter model (`sector`): rings, tubes, discs and
-  !! fillers (a filler's is its tube's).
+  !> Whether the shape may be a half or quarter model (`sector`): rings, tubes, walls, discs
+  !! and fillers (a filler's is its tube's).
   elemental logical function has_sector(shape_id)
     integer, intent(in) :: shape_id        !! SHAPE_* code
     has_sector = shape_id == SHAPE_RING .or. shape_id == SHAPE_TUBE .or. &
-                 shape_id == SHAPE_DISC .or. shape_id == SHAPE_FILLER
+                 shape_id == SHAPE_WALLS .or. shape_id == SHAPE_DISC .or. &
+                 shape_id == SHAPE_FILLER
   end function has_sector
 
   !> Whether the shape is a wall graph of mpm_sections (tube, honeycomb, walls).
@@ -184,7 +185,8 @@ contains
     real(wp), allocatable, intent(out) :: xc(:,:)  !! corners (2, nc) [m]
     integer, allocatable, intent(out) :: quad(:,:) !! corners of each particle (4, np)
     integer, allocatable, intent(out) :: pwall(:)  !! logical wall of each particle (np)
-    integer, intent(out) :: stat           !! 0 when meshed
+    integer, intent(out) :: stat           !! 0 when meshed; 2: not cut by the sector's planes;
+                                           !! 3: walls that meet without a joint
     character(len=:), allocatable, intent(out) :: msg  !! what is wrong
     type(section_t) :: s
     integer :: parts
@@ -217,7 +219,8 @@ contains
       call section_clip(s, b%center, [1.0_wp, 0.0_wp], stat, msg)   ! half: x >= centre
     if (stat == 0 .and. b%sector_id == SECTOR_QUARTER) &
       call section_clip(s, b%center, [0.0_wp, 1.0_wp], stat, msg)   ! quarter: and y >= centre
-    if (stat /= 0) then
+    if (stat /= 0) then                    ! stat 2: the sector's planes
+      stat = 2
       allocate(xc(2, 0), quad(4, 0), pwall(0))
       return
     end if

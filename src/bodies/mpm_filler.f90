@@ -3,8 +3,7 @@
 ! SPDX-License-Identifier: MIT
 module mpm_filler
   use mpm_kinds, only: wp
-  use mpm_sections, only: section_t, section_tube, tube_inner_face, push_quad, quad_area, &
-                          merge_points
+  use mpm_sections, only: section_t, section_tube, push_quad, merge_points
   implicit none
   private
   public :: filler_mesh
@@ -73,7 +72,7 @@ contains
     end do
     nq = keep
     do i = 1, nq
-      if (.not. quad_area(q(:, :, i)) > 0.0_wp) then
+      if (.not. area4(q(:, :, i)) > 0.0_wp) then
         stat = 1
         msg = 'a particle of the filler turns inside out (internal: report it)'
         return
@@ -84,9 +83,10 @@ contains
     quad = reshape(ids, [4, nq])
   end subroutine filler_mesh
 
-  !> The filler's polygon: the tube's inner face moved in by gap (convex_offset), and the
-  !! centre o of its mesh (the centroid; on the mirror planes of a half or quarter), strictly
-  !! inside it; size_, its largest extent [m].
+  !> The filler's polygon: the tube's centreline moved in by t/2 + gap (convex_offset), the
+  !! inner face of its particles (where the faces of its walls' strips meet, mitred:
+  !! mpm_sections) less the gap, and the centre o of its mesh (the centroid; on the mirror
+  !! planes of a half or quarter), strictly inside it; size_, the centreline's extent [m].
   pure subroutine filler_polygon(vert, t, rc, dl, gap, center, parts, poly, o, size_, stat, msg)
     real(wp), intent(in) :: vert(:,:)      !! the tube's centreline vertices (2, nv) [m]
     real(wp), intent(in) :: t, rc, dl      !! its thickness, corner radius, chord length [m]
@@ -103,11 +103,10 @@ contains
     real(wp) :: a
     o = 0.0_wp
     size_ = 0.0_wp
-    call section_tube(vert, t, rc, dl, s)
-    call tube_inner_face(s, poly, stat, msg)
-    if (stat /= 0) return
+    call section_tube(vert, t, rc, dl, s)  ! its centreline (the chords' nodes, in order)
+    poly = s%xn
     size_ = maxval(maxval(poly, dim=2) - minval(poly, dim=2))
-    call convex_offset(poly, gap, size_, stat, msg)
+    call convex_offset(poly, 0.5_wp*t + gap, 0.5_wp*t, size_, stat, msg)
     if (stat /= 0) return
     nv = size(poly, 2)
     o = polygon_centroid(poly)
@@ -193,7 +192,7 @@ contains
           p(:, 2) = out_point(i + 1, j)
           p(:, 3) = out_point(i + 1, j + 1)
           p(:, 4) = out_point(i, j + 1)
-          if (quad_area(p) < 0.0_wp) p = p(:, [4, 3, 2, 1])
+          if (area4(p) < 0.0_wp) p = p(:, [4, 3, 2, 1])
           call push_quad(q, qw, nq, p, 0)
         end do
       end do
@@ -423,9 +422,10 @@ contains
   !! normal; a vertex where the moved edges meet); stat /= 0 when the polygon is not convex
   !! or the gap closes an edge (msg gives the largest gap: an edge of length L between turns
   !! phi_a, phi_b shortens by gap (tan(phi_a/2) + tan(phi_b/2))).
-  pure subroutine convex_offset(poly, gap, size_, stat, msg)
+  pure subroutine convex_offset(poly, gap, half_t, size_, stat, msg)
     real(wp), allocatable, intent(inout) :: poly(:,:)  !! vertices (2, nv) [m]
     real(wp), intent(in) :: gap            !! inward distance [m]
+    real(wp), intent(in) :: half_t         !! the part of it that is not fill_gap [m]
     real(wp), intent(in) :: size_          !! the polygon's size (tolerances) [m]
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: msg
@@ -444,8 +444,8 @@ contains
       turn(k) = atan2(cross2(u1, u2), dot_product(u1, u2))
       if (cross2(u1, u2) < -1.0e-12_wp) then
         stat = 1
-        msg = 'the tube''s inner face turns inwards at ('//trim(rtoa(poly(1, k)))//', '// &
-          trim(rtoa(poly(2, k)))//') m: a filler needs a convex inner face'
+        msg = 'the tube turns inwards at ('//trim(rtoa(poly(1, k)))//', '// &
+          trim(rtoa(poly(2, k)))//') m (its centreline): a filler needs a convex inner face'
         return
       end if
       n1 = [-u1(2), u1(1)]
@@ -463,7 +463,7 @@ contains
     if (.not. gap < gmax - 1.0e-9_wp*size_) then
       stat = 1
       msg = 'the gap closes an edge of the tube''s inner face (fill_gap must be below '// &
-        trim(rtoa(gmax))//' m)'
+        trim(rtoa(gmax - half_t))//' m)'
       return
     end if
     poly = out
@@ -485,6 +485,12 @@ contains
     end do
     c = c/(3.0_wp*a)
   end function polygon_centroid
+
+  !> The signed area of a quadrilateral, (p3 - p1) x (p4 - p2) / 2 [m^2].
+  pure real(wp) function area4(p)
+    real(wp), intent(in) :: p(2, 4)
+    area4 = 0.5_wp*cross2(p(:, 3) - p(:, 1), p(:, 4) - p(:, 2))
+  end function area4
 
   !> The z component of a x b.
   pure real(wp) function cross2(a, b)

@@ -94,6 +94,11 @@ contains
           end if
         end if
         call body_counts(b, npb, ncb, nk)
+        if (npb == 0) then                 ! a mesh the reader's check left to here
+          call append_msg(errmsg, trim(cfg%file)//': &body #'//itoa(ib)//': its shape makes '// &
+            'no particles (a section that cannot be meshed: run tubempm --check)')
+          stat = EXIT_INPUT
+        end if
         np = np + npb
         nc = nc + ncb
       end associate

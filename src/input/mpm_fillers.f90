@@ -19,18 +19,18 @@ module mpm_fillers
   use mpm_bodies, only: body_mesh
   implicit none
   private
-  public :: filler_checks, bonded_checks
+  public :: filler_checks
 
 contains
 
   !> A filler fills a 'tube' given before it (`fills`): the tube's centreline, thickness,
   !! corner radius, n_thick, centre and sector become the filler's (its own centre, if given,
-  !! must be the tube's), then its particles must be possible (mpm_sections, filler_mesh:
-  !! a convex inner face, a gap that closes none of its edges).
-  subroutine filler_checks(rd, cfg, occ_body)
+  !! must be the tube's), then its particles must be possible (mpm_filler, filler_mesh:
+  !! a convex inner face, a gap that closes none of its edges); and the 'bonded' bodies.
+  subroutine filler_checks(rd, cfg, occ_body, occ_con)
     type(reader_t), intent(inout) :: rd
     type(config_t), intent(inout) :: cfg
-    integer, intent(in) :: occ_body(:)
+    integer, intent(in) :: occ_body(:), occ_con(:)
     integer :: k, j, io, stat
     real(wp), allocatable :: xc(:,:)
     integer, allocatable :: quad(:,:), pwall(:)
@@ -78,6 +78,7 @@ contains
         end if
       end associate
     end do
+    call bonded_checks(rd, cfg, occ_con)
   end subroutine filler_checks
 
   !> 'bonded' bodies need basis 'cpdi2': the ties join the shared domain corners of the two
