@@ -751,13 +751,45 @@ def write_table(level: str, rows: list[dict[str, Any]], extra: dict[str, Any]) -
     return path
 
 
-def rejudge(level: str) -> Path:
+def remeasure(level: str, rows: list[dict[str, str]], scenes: list[str]) -> int:
+    """The rows of `scenes` whose run folders hold a finished run of the design's input:
+    their metrics and energy error measured again (METRICS, e.g. the wave's arrivals at the FE
+    reference's levels), their curves rewritten. The cost columns keep the table's (the same
+    steps; timings on a busy machine would not compare with the other rows'). Returns how
+    many."""
+    points = {p.name: p for pts in design(level).values() for p in pts}
+    curves = out_dir(level) / "curves"
+    n = 0
+    for r in rows:
+        p = points.get(r["name"])
+        if r["scene"] not in scenes or p is None or r.get("status") != "completed":
+            continue
+        folder = RUNS / p.name
+        res = batch.result_of(folder)
+        if res is None or res.get("exit_code") != 0 or \
+                res.get("input_hash") != batch.input_hash(p.case()):
+            continue
+        m = METRICS[r["scene"]](folder, namelist.read_namelist(folder / "case.nml"))
+        m["energy_error"] = float(batch.read_summary(folder).get("energy_error", math.nan))
+        r.update({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in m.items()
+                  if np.isscalar(v) and k in COLUMNS})
+        np.savetxt(curves / f"{p.name}.csv", np.column_stack([m["curve_x"], m["curve_y"]]),
+                   delimiter=",", header="x,y", comments="", fmt="%.7g")
+        n += 1
+    return n
+
+
+def rejudge(level: str, scenes: list[str] | None = None) -> Path:
     """Score the impact and wave rows of the committed table again against the dynamic FE
     reference (fe_dynamic), from the table's metrics and the wave's arrival curves alone: no
-    run folder is needed. The crush rows and every other column are kept as written."""
+    run folder is needed. The crush rows and every other column are kept as written. With
+    `scenes`, the rows of those scenes whose runs are in out/study are measured again first
+    (remeasure)."""
     path = out_dir(level) / f"study_{level}.csv"
     with open(path, newline="") as fh:
         rows = list(csv.DictReader(fh))
+    if scenes:
+        print(f"measured again from their runs: {remeasure(level, rows, scenes)} rows")
     curves = out_dir(level) / "curves"
     byname = {r["name"]: r for r in rows}
 
@@ -817,7 +849,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--rejudge", action="store_true",
                     help="score the committed table's impact and wave rows again against the "
                          "dynamic FE reference (docs/fe_reference/dynamic_convergence.json), "
-                         "from the table and its curves alone; run nothing")
+                         "from the table and its curves alone; run nothing. With --scenes, "
+                         "run those scenes' runs first (not with --tables-only) and measure "
+                         "their rows again from the runs")
     ap.add_argument("--scenes", default="",
                     help="comma-separated scenes whose runs to run or list (default: all of the "
                          "level's: crush, impact, wave, and crush_fixed at full and all; the "
@@ -832,8 +866,12 @@ def main(argv: list[str] | None = None) -> int:
         ap.error(f"--scenes: unknown scene(s) {', '.join(unknown)}; allowed: "
                  f"{', '.join(points)}")
     allpts = [p for s, pts in points.items() if s in chosen for p in pts]
+    if args.rejudge and args.scenes and not args.tables_only:
+        binary = batch.private_binary(RUNS)
+        batch.run_batch([p.case() for p in sorted(allpts, key=Point.cost)], RUNS,
+                        jobs=args.jobs, threads=1, binary=binary)
     if args.rejudge:
-        path = rejudge(args.level)
+        path = rejudge(args.level, chosen if args.scenes else None)
         print(f"rescored the impact and wave rows of {path.relative_to(ROOT)} against "
               f"{FE_DYNAMIC.relative_to(ROOT)}")
         return 0
