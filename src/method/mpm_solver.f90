@@ -36,7 +36,8 @@ module mpm_solver
   use mpm_transfer, only: transfer_p2g, transfer_g2p, transfer_g2p_coloured
   use mpm_grid_update, only: grid_velocity_walls, grid_update_walls
   use mpm_contact, only: contact_begin_step, contact_reactions, contact_energy, contact_check
-  use mpm_body_contact, only: body_contact_detect, body_contact_apply, body_contact_reactions
+  use mpm_body_contact, only: body_contact_detect, body_contact_apply, body_contact_reactions, &
+                              body_contact_loss
   use mpm_self_contact, only: self_contact_mark, self_contact_weld
   use mpm_deformation, only: deformation_update, domains_update
   use mpm_walls, only: wall_kinetic
@@ -199,6 +200,7 @@ contains
     s%step = s%step + 1_i8
     call contact_reactions(s%state_t, dt, s%prm%gravity)
     call body_contact_reactions(s%prm, s%state_t, s%wk, dt)
+    call body_contact_loss(s%prm, s%state_t, s%g, s%wk, dt)
     call energy_balance(s%prm, s%state_t, s%g%h, dt, stat, errmsg)
     call tick(s%diag, PHASE_OTHER, clock)
   end subroutine solver_step
