@@ -123,7 +123,7 @@ FE_DYNAMIC_REFERENCE = "fe_reference/dynamic_convergence.json"
 #: which the stability study found the basis and scheme stable (docs/stability/
 #: cfl_limits_ppc*.csv: at 1 particle per cell through the wall below PPC_LOW, else at 2), or
 #: CFL_MARGIN times the smallest cfl it tried where it found none stable:
-#: src/advice/mpm_advice.f90's cfl_automatic, which tests/test_study.py holds this to.
+#: src/method/mpm_time_step.f90's cfl_auto, which tests/test_study.py holds this to.
 CFL_MARGIN = 0.5
 PPC_LOW = 1.5
 STABILITY = ROOT / "docs" / "stability"

@@ -44,6 +44,7 @@ module mpm_solver
   use mpm_timers, only: clock_seconds, PHASE_BASIS, PHASE_P2G, PHASE_GRID, PHASE_G2P, &
                         PHASE_REMAP, PHASE_STRESS, PHASE_CORNERS, PHASE_OTHER
   use mpm_strings, only: itoa, rtoa
+  use mpm_time_step, only: time_step_dt
   implicit none
   private
   public :: sim_t, solver_step, solver_stable_dt, solver_energies, solver_init_energy, &
@@ -51,11 +52,11 @@ module mpm_solver
 
 contains
 
-  !> Stable time step cfl * h / (c_d + max particle speed) [s] (docs/method.md, One explicit step).
+  !> The time step at the run's cfl, mpm_time_step's cfl h / (c_d + max particle speed) [s].
   pure function solver_stable_dt(s) result(dt)
     type(sim_t), intent(in) :: s           !! simulation
     real(wp) :: dt
-    dt = s%prm%cfl*s%g%h/(s%prm%c_max + s%vmax)
+    dt = time_step_dt(s%prm%cfl, s%g%h, s%prm%c_max, s%vmax)
   end function solver_stable_dt
 
   !> Kinetic and stored elastic energy of the particles now [J/m].
@@ -226,7 +227,7 @@ contains
     if (prm%dt_fixed > 0.0_wp) then
       dt = prm%dt_fixed
     else
-      dt = prm%cfl*h/(prm%c_max + st%vmax)
+      dt = time_step_dt(prm%cfl, h, prm%c_max, st%vmax)
     end if
     if (st%t + 1.0001_wp*dt >= prm%t_end) dt = prm%t_end - st%t
     if (.not. dt > 0.0_wp) then
