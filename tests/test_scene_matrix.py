@@ -45,9 +45,9 @@ runs at the cfl the warning gives, 0.4.
 
 Each run must complete (exit 0) with its energy balance (summary.nml `energy_error`: the largest
 imbalance of kinetic + strain + plastic + damped + contact_loss against the external work over
-the run) within the stated tolerance: ENERGY_TOL for a scene with walls only; ENERGY_TOL_BODIES
-where two bodies meet, whose inelastic normal impulse between the fields is a real loss that
-the balance does not book (docs/output.md, `contact_loss`). Scheme 'usl' loses energy at every
+the run) within the stated tolerance: ENERGY_TOL for a scene with walls only and for two bodies
+meeting, whose inelastic impulse between the fields is booked in `contact_loss` (docs/output.md);
+ENERGY_TOL_BODIES for self-contact, whose welded halves are not. Scheme 'usl' loses energy at every
 cfl where material meets a wall or another body (docs/stability.md#schemes): its rows are held
 to ENERGY_TOL_USL, and `--check` must warn of it. Basis 'linear' with 'usl' failed at every cfl
 the stability study tried: it is not in the array; one run of it must stop cleanly instead
@@ -74,7 +74,7 @@ T = Checks("test_scene_matrix")
 check = T.check
 
 ENERGY_TOL = 0.02          # walls only: 2 % of max(E0, external work)
-ENERGY_TOL_BODIES = 0.05   # two bodies meeting: their inelastic impulse is not booked
+ENERGY_TOL_BODIES = 0.05   # self-contact: the weld's loss is not booked
 ENERGY_TOL_USL = 0.20      # 'usl': 4-17 % lost in the matrix's contacts, warned of by --check
 
 FACTORS = {
@@ -391,7 +391,8 @@ def filler_text(c: dict, name: str) -> str:
 
 
 def run_fillers(scratch: Path) -> int:
-    """The filler rows: each completes within ENERGY_TOL_BODIES."""
+    """The filler rows: each completes within ENERGY_TOL (two bodies without self-contact: the
+    contact's loss is booked; the ties of 'bonded' are springs)."""
     for law in ("frictionless", "coulomb", "stick", "bonded"):
         check(any(r["law"] == law for r in FILLER_ROWS), f"the filler rows run law = {law!r}")
     for k, c in enumerate(FILLER_ROWS):
@@ -410,8 +411,7 @@ def run_fillers(scratch: Path) -> int:
             print(f"   (filler row {k}: {c})")
             continue
         err = float(s["energy_error"])
-        check(err <= ENERGY_TOL_BODIES, f"{name}: energy error {err:.4f} <= "
-                                        f"{ENERGY_TOL_BODIES} ({c})")
+        check(err <= ENERGY_TOL, f"{name}: energy error {err:.4f} <= {ENERGY_TOL} ({c})")
     return len(FILLER_ROWS)
 
 
@@ -523,7 +523,7 @@ def main() -> int:
             print(f"   (row {k}: {c})")
             continue
         err = float(s["energy_error"])
-        tol = ENERGY_TOL_BODIES if c["scene"] == "two_rings" else ENERGY_TOL
+        tol = ENERGY_TOL_BODIES if c["scene"] == "two_rings" and c["self_contact"] else ENERGY_TOL
         if c["scheme"] == "usl":
             tol = ENERGY_TOL_USL
             warn = check_warnings(scratch / name / f"{name}.nml")

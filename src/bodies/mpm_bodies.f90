@@ -24,7 +24,7 @@ module mpm_bodies
   private
   public :: body_cfg_t, body_counts, body_fill, body_box, body_low, body_overlap, body_estimate, &
             body_report, body_section, body_mesh, is_section, body_fields, body_field_split, &
-            has_sector, body_wall_thickness
+            has_sector, body_wall_thickness, bodies_wall_ppc
 
   !> &body (repeatable): one component per row of the input table (mpm_config_table), with its
   !! default; the rows of one shape only carry `only = '<shape>'`.
@@ -98,6 +98,19 @@ contains
       if (allocated(b%seg)) t = minval(b%seg(5, :))
     end select
   end function body_wall_thickness
+
+  !> Particles per cell through the walls, n_thick h / t, the fewest over the bodies with a
+  !! wall (rings and sections; huge without one) [-].
+  pure real(wp) function bodies_wall_ppc(bodies, h) result(ppc)
+    type(body_cfg_t), intent(in) :: bodies(:)  !! the bodies
+    real(wp), intent(in) :: h              !! cell size [m]
+    integer :: ib
+    ppc = huge(1.0_wp)
+    do ib = 1, size(bodies)
+      if (body_wall_thickness(bodies(ib)) <= 0.0_wp) cycle
+      ppc = min(ppc, real(bodies(ib)%n_thick, wp)*h/body_wall_thickness(bodies(ib)))
+    end do
+  end function bodies_wall_ppc
 
   !> Whether the shape may be a half or quarter model (`sector`): rings, tubes, walls, discs
   !! and fillers (a filler's is its tube's).

@@ -25,12 +25,16 @@
 !
 !     f_c = k_c (-g_c) n,        k_c = alpha m_c c^2 / h^2,
 !
-! spread to the active nodes as above, in the same grid update as the internal forces. k_c is the stiffness of the material a cell deep behind the point (for a
-! point of mass m_c the penalty frequency is sqrt(alpha) c / h, the grid's own highest), so the
-! stable time step is not lowered, the penetration under a pressure p is about p h / (alpha
-! rho c^2) (a strain of the wall pressure over the modulus, times a cell), and the force is
-! the gradient of the energy 1/2 k_c g_c^2: what the material puts into the contact it gets
-! back at separation. A kinematic constraint (the velocity of the point cut to what closes its
+! spread to the active nodes as above, in the same grid update as the internal forces. For a
+! point of mass m_c the penalty frequency is sqrt(alpha) c / h, the grid's own highest, so the
+! stable time step is not lowered. On a face of particles of size l (m_c = rho l^2 / 2 per
+! length l) the penalty is as stiff as a layer 2 h^2 / (alpha l) of the material, 2 h at one
+! particle per cell and 4 h at two: the penetration under a pressure p is p 2 h^2 / (alpha l
+! rho c^2), and a wall that speeds up loads the material about 2 h^2 / (alpha l c) late (a
+! wave struck into a ring's wall at h = t/4, n_t = 8: 0.3 us; docs/fe_reference/README.md). A
+! stiffer penalty rings on a flat face (docs/fe_reference/README.md). The force is the gradient
+! of the energy 1/2 k_c g_c^2: what the material puts into the contact it gets back at
+! separation. A kinematic constraint (the velocity of the point cut to what closes its
 ! gap) loses the kinetic energy of the nodes it stops at every impact, which costs an elastic
 ! bar a per cent of its rebound; that is why this code uses a penalty (docs/method.md).
 !
