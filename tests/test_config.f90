@@ -34,7 +34,7 @@ program test_config
     '28_too_many_values', '29_unclosed_group', '30_text_outside_group', &
     '31_probe_point_missing', '32_several_errors', '33_missing_equals', '34_motion_too_long', &
     '35_comment_after_comma', '36_logical_expected', '37_inf_value', '38_number_too_large', &
-    '39_johnson_cook', '40_contact', '41_volumetric', '42_fbar_bodies', '53_filler']
+    '39_johnson_cook', '40_contact', '41_volumetric', '42_fbar_bodies', '55_filler']
   ! a valid scene to which the inline bad cases add one mistake
   character(len=*), parameter :: run_ok = '&run t_end = 1.0e-3 /'
   character(len=*), parameter :: grid_ok = '&grid h = 1.0e-3 /'
