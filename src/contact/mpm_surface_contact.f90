@@ -67,7 +67,7 @@ module mpm_surface_contact
   implicit none
   private
   public :: surface_work_t, surface_points, surface_energy, surface_push, surface_friction, &
-            surface_slip_loss, &
+            surface_slip_loss, surface_step_energy, &
             contact_alpha, surface_reserve, corner_masses, surface_tie, surface_tied, &
             tie_force
 
@@ -225,6 +225,41 @@ contains
     real(wp) :: e
     e = sum(wk%en(1:wk%npt))
   end function surface_energy
+
+  !> The energy stored in the contact of the points gathered, as the step's explicit update
+  !! conserves it [J/m]: per point 1/2 k_c g_c g_c', the gap at the start of the step (that of
+  !! its force) times the gap at its end, g_c' = g_c + dt gdot_c (gdot_c = (v_c - v_w) . n, v_c
+  !! = sum_i N_i v_i the velocity the point moves with); in general e_c - dt/2 f_c . (v_c -
+  !! v_w), which is 1/2 k_c d_c . d_c' for a tied point; never below zero (a point that leaves
+  !! the wall within the step). The energy at the start of the step alone, e_c, is off by dt/2
+  !! f_c gdot_c, the lag between the force and the velocity it makes: a thin wall thrown off a
+  !! platen within a few steps showed 5 % growth from it (docs/method.md, "Energies"). A point
+  !! without active nodes (no force) keeps e_c. Call after the step (surface_push set the
+  !! weights; vel is the node velocity the points moved with).
+  pure function surface_step_energy(wk, normal, vwall, vel, dt) result(e)
+    type(surface_work_t), intent(in) :: wk !! points, weights (surface_push)
+    real(wp), intent(in) :: normal(2)      !! unit normal into the material [-]
+    real(wp), intent(in) :: vwall(2)       !! wall velocity over the step [m/s]
+    real(wp), intent(in) :: vel(:,:)       !! node velocity (2, nn) [m/s]
+    real(wp), intent(in) :: dt             !! time step [s]
+    real(wp) :: e
+    integer :: k, a
+    real(wp) :: vr(2), f(2)
+    e = 0.0_wp
+    do k = 1, wk%npt
+      if (.not. wk%s(k) > 0.0_wp) then
+        e = e + wk%en(k)
+        cycle
+      end if
+      vr = -vwall
+      do a = 1, wk%nnode
+        if (wk%nw(a, k) /= 0.0_wp) vr = vr + wk%nw(a, k)*vel(:, wk%node(a, k))
+      end do
+      f = wk%fn(k)*normal
+      if (wk%tied(k)) f = f + wk%ft(k)*[-normal(2), normal(1)]
+      e = e + max(0.0_wp, wk%en(k) - 0.5_wp*dt*(f(1)*vr(1) + f(2)*vr(2)))
+    end do
+  end function surface_step_energy
 
   !> The penalty forces of the points gathered, added to the node forces of the active nodes
   !! (CPDI2 corners: the bilinear weights at the corner; the corners of the other bases:
