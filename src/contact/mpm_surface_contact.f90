@@ -25,14 +25,21 @@
 !
 !     f_c = k_c (-g_c) n,        k_c = alpha m_c c^2 / h^2,
 !
-! spread to the active nodes as above, in the same grid update as the internal forces. k_c is the stiffness of the material a cell deep behind the point (for a
-! point of mass m_c the penalty frequency is sqrt(alpha) c / h, the grid's own highest), so the
-! stable time step is not lowered, the penetration under a pressure p is about p h / (alpha
+! spread to the active nodes as above, in the same grid update as the internal forces. k_c is
+! the stiffness of the material a cell deep behind the point: on a face whose corners lie on a
+! row of nodes, sum_c k_c N_i is 0.5 to 0.56 alpha c^2/h^2 times the node's mass (the node also
+! carries the next row of corners), a frequency of about 0.7 sqrt(alpha) c / h against the
+! 2 c / h of a row of cells, so at the automatic cfl the stable time step is not lowered (at
+! the stability study's limit, 1.75, a platen striking a flat face on grid lines stops the
+! run, for a solid block whatever alpha: docs/method.md); the penetration under a pressure p is about p h / (alpha
 ! rho c^2) (a strain of the wall pressure over the modulus, times a cell), and the force is
 ! the gradient of the energy 1/2 k_c g_c^2: what the material puts into the contact it gets
-! back at separation. A kinematic constraint (the velocity of the point cut to what closes its
-! gap) loses the kinetic energy of the nodes it stops at every impact, which costs an elastic
-! bar a per cent of its rebound; that is why this code uses a penalty (docs/method.md).
+! back at separation. The energy the balance counts after a step is 1/2 k_c g_c g_c', the gap
+! at the start of the step times that at its end (surface_step_energy), the explicit update's
+! own invariant: 1/2 k_c g_c^2 alone lags it by dt/2 f_c gdot_c. A kinematic constraint (the
+! velocity of the point cut to what closes its gap) loses the kinetic energy of the nodes it
+! stops at every impact, which costs an elastic bar a per cent of its rebound; that is why this
+! code uses a penalty (docs/method.md).
 !
 ! Friction acts on the points that carry a normal force, after the velocity update: the
 ! tangential impulse that stops the point's slip relative to the wall ('stick'), bounded by mu
