@@ -420,11 +420,13 @@ contains
   !! integrated as the solver does at omega dt = 0.5 (force at the start of the step, velocity,
   !! then position; the wall's work impulse times u). With E = 1/2 m v^2 + e - W:
   !! - e = surface_step_energy (1/2 k g g', the gaps at the start and end of the step): E is
-  !!   the update's invariant, constant to round-off over every step the point stays behind the
-  !!   wall, and after the bounce within (omega dt)^2 / 8 of W (the steps of touch-down and
-  !!   lift-off, 1/2 k |g g'| <= k (dt gdot)^2 / 8 each);
+  !!   the update's invariant, constant to round-off (1e-10 of 1/2 m u^2: the gaps, 1e-4, are
+  !!   differences of positions near 1; 7e-13 measured) over every step the point stays behind
+  !!   the wall, and after the bounce within (omega dt)^2 / 8 of W (an error of second order,
+  !!   from the steps of touch-down and lift-off, where the force law changes within the step;
+  !!   0.8 % measured);
   !! - e = surface_energy (1/2 k g^2 at the start of the step) is off by dt/2 f gdot, which
-  !!   changes from step to step during the contact (the failing case: above 1 % of W).
+  !!   changes from step to step during the contact (the failing case: 0.24 of 1/2 m u^2).
   subroutine test_step_energy()
     real(wp), parameter :: u = 1.0_wp, mn = 2.0_wp, wdt = 0.5_wp
     real(wp), parameter :: phases(4) = [0.1_wp, 0.25_wp, 0.5_wp, 0.9_wp]
@@ -486,8 +488,8 @@ contains
       call check(lost <= wdt**2/8.0_wp, 'phase '//itoa(nint(100*phases(ip)))// &
                  ' %: after the bounce E within (omega dt)^2 / 8 of the work')
     end do
-    call check(big <= 1.0e-12_wp*0.5_wp*mn*u*u, 'E constant to round-off while the point '// &
-               'stays behind the wall')
+    call check(big <= 1.0e-10_wp*0.5_wp*mn*u*u, 'E constant to round-off (the gaps, 1e-4, '// &
+               'are differences of positions near 1) while the point stays behind the wall')
     call check(old_change > 1.0e-2_wp*0.5_wp*mn*u*u, 'with the start-of-step energy it is not '// &
                '(the lag dt/2 f gdot)')
     print '(a, es9.2, a, es9.2, a, f7.4)', '  step energy: largest change in contact ', big, &
