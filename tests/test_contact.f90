@@ -413,66 +413,61 @@ contains
     call check(e_max < 0.05_wp, 'energy within 5 % through the contact (order omega dt)')
   end subroutine test_bounce
 
-  !> The contact energy of a step against the explicit update's invariant: a node of mass 2
-  !! carries a particle (linear basis, mass 4, weight 1 on the node, its two bottom corners
-  !! kf m / 4 each: omega = sqrt(kf)) at rest; a wall moving at u = 1 strikes it (the start of
-  !! the step a fraction phi of a step's travel below the bottom) and throws it off at about 2 u,
-  !! integrated as the solver does at omega dt = 0.5 (force at the start of the step, velocity,
-  !! then position; the wall's work impulse times u). With E = 1/2 m v^2 + e - W:
+  !> The contact energy of a step against the explicit update's invariant: a rigid body of
+  !! mass 1 (every node at its velocity) whose one CPDI2 corner of mass share 1 touches the
+  !! wall (stiffness kf: omega = sqrt(kf)), at rest, struck by a wall moving at u = 1 (the start
+  !! of the step a fraction phi of a step's travel below the corner) and thrown off at about
+  !! 2 u, integrated as the solver does at omega dt = 0.5 (force at the start of the step,
+  !! velocity, then position; the wall's work impulse times u). With E = 1/2 m v^2 + e - W:
   !! - e = surface_step_energy (1/2 k g g', the gaps at the start and end of the step): E is
   !!   the update's invariant, constant to round-off (1e-10 of 1/2 m u^2: the gaps, 1e-4, are
-  !!   differences of positions near 1; 7e-13 measured) over every step the point stays behind
-  !!   the wall, and after the bounce within (omega dt)^2 / 8 of W (an error of second order,
-  !!   from the steps of touch-down and lift-off, where the force law changes within the step;
-  !!   0.8 % measured);
+  !!   differences of positions near 1) over every step the point stays behind the wall, and
+  !!   after the bounce within (omega dt)^2 / 8 of W (an error of second order, from the steps
+  !!   of touch-down and lift-off, where the force law changes within the step);
   !! - e = surface_energy (1/2 k g^2 at the start of the step) is off by dt/2 f gdot, which
   !!   changes from step to step during the contact (the failing case: 0.24 of 1/2 m u^2).
+  !! A particle's corner (linear basis) keeps the start-of-step energy.
   subroutine test_step_energy()
-    real(wp), parameter :: u = 1.0_wp, mn = 2.0_wp, wdt = 0.5_wp
+    real(wp), parameter :: u = 1.0_wp, mb = 1.0_wp, wdt = 0.5_wp
     real(wp), parameter :: phases(4) = [0.1_wp, 0.25_wp, 0.5_wp, 0.9_wp]
     type(particles_t) :: q
     type(surface_work_t) :: ws
     real(wp) :: hs, yw, v, w, e, eold, g0, g1, big, old_change, worst, lost, m1(nn), f1(2, nn), &
-                imp1(2), v1(2, nn), wb(4, 1), gwb(2, 4, 1), es(2), prev(2)
-    integer :: it, ip, node, blk1(2, 1)
+                imp1(2), v1(2, nn), es(2), prev(2)
+    integer :: it, ip
     logical :: was_on
     call begin_test('the energy of a step: the invariant of the update through a bounce')
     hs = wdt/sqrt(kf)
     call particles_allocate(q, 1, 4)
-    q%mass = 4.0_wp
-    q%half(:, 1) = 0.5_wp
-    blk1(:, 1) = [1, 1]
-    wb = 0.0_wp
-    wb(1, 1) = 1.0_wp                         ! all of the particle's weight on node (1, 1)
-    gwb = 0.0_wp
-    node = 1 + 1 + nx*1
-    m1 = mn
+    q%corner(:, 1) = [1, 2, 3, 4]
+    q%mass = 4.0_wp                            ! corner 1's share is 1
+    m1 = 1.0_wp
     big = 0.0_wp
     old_change = 0.0_wp
     worst = 0.0_wp
     do ip = 1, size(phases)
-      q%x(:, 1) = [1.5_wp, 1.5_wp]             ! bottom corners at y = 1
+      q%xc = reshape([1.3_wp, 1.0_wp, 1.5_wp, 2.7_wp, 1.5_wp, 2.8_wp, 1.3_wp, 2.8_wp], [2, 4])
       yw = 1.0_wp - phases(ip)*u*hs
       v = 0.0_wp
       w = 0.0_wp
       prev = 0.0_wp
       was_on = .false.
       do it = 1, 1000
-        g0 = q%x(2, 1) - 0.5_wp - yw
-        call surface_points(q, BASIS_LINEAR, [0.0_wp, yw], nrm, kf, .false., ws)
+        g0 = q%xc(2, 1) - yw
+        call surface_points(q, BASIS_CPDI2, [0.0_wp, yw], nrm, kf, .false., ws)
         f1 = 0.0_wp
-        call surface_push(ws, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, m1, 0.0_wp, 2, blk1, wb, gwb, &
-                          nrm, hs, f1, imp1)
-        v = v + hs*f1(2, node)/mn
+        call surface_push(ws, [0.0_wp, 0.0_wp], 1.0_wp, nx, ny, m1, 0.0_wp, 2, blk, wdummy, &
+                          gwdummy, nrm, hs, f1, imp1)
+        v = v + hs*sum(f1(2, :))/mb            ! the rigid body: every node at v
         v1 = 0.0_wp
-        v1(2, node) = v
+        v1(2, :) = v
         e = surface_step_energy(ws, nrm, [0.0_wp, u], v1, hs)
         eold = surface_energy(ws)
         w = w + imp1(2)*u
-        q%x(2, 1) = q%x(2, 1) + hs*v
+        q%xc(2, :) = q%xc(2, :) + hs*v
         yw = yw + hs*u
-        g1 = q%x(2, 1) - 0.5_wp - yw
-        es = [0.5_wp*mn*v*v + e - w, 0.5_wp*mn*v*v + eold - w]
+        g1 = q%xc(2, 1) - yw
+        es = [0.5_wp*mb*v*v + e - w, 0.5_wp*mb*v*v + eold - w]
         if (was_on .and. g0 < 0.0_wp .and. g1 < 0.0_wp) then   ! behind over both steps
           big = max(big, abs(es(1) - prev(1)))
           old_change = max(old_change, abs(es(2) - prev(2)))
@@ -488,12 +483,23 @@ contains
       call check(lost <= wdt**2/8.0_wp, 'phase '//itoa(nint(100*phases(ip)))// &
                  ' %: after the bounce E within (omega dt)^2 / 8 of the work')
     end do
-    call check(big <= 1.0e-10_wp*0.5_wp*mn*u*u, 'E constant to round-off (the gaps, 1e-4, '// &
-               'are differences of positions near 1) while the point stays behind the wall')
-    call check(old_change > 1.0e-2_wp*0.5_wp*mn*u*u, 'with the start-of-step energy it is not '// &
+    call check(big <= 1.0e-10_wp*0.5_wp*mb*u*u, 'E constant to round-off while the point '// &
+               'stays behind the wall')
+    call check(old_change > 1.0e-2_wp*0.5_wp*mb*u*u, 'with the start-of-step energy it is not '// &
                '(the lag dt/2 f gdot)')
     print '(a, es9.2, a, es9.2, a, f7.4)', '  step energy: largest change in contact ', big, &
       '; start-of-step energy ', old_change, '; after the bounce |E| / W <= ', worst
+    ! a particle's corner (linear basis) keeps 1/2 k g^2
+    call two_squares(q)
+    call surface_points(q, BASIS_LINEAR, [0.0_wp, 0.0_wp], nrm, kf, .false., ws)
+    call grid_setup()
+    call surface_push(ws, [-1.0_wp, -1.0_wp], 1.0_wp, nx, ny, mass, 0.0_wp, 2, &
+                      reshape([0, 0, 1, 0], [2, 2]), reshape([(0.25_wp, it = 1, 8)], [4, 2]), &
+                      reshape([(0.0_wp, it = 1, 16)], [2, 4, 2]), nrm, dt, force, imp)
+    call check(ws%npt == 4 .and. all(ws%s(1:4) > 0.0_wp), 'linear: four corners pushed')
+    call check_close(surface_step_energy(ws, nrm, [0.3_wp, -0.2_wp], vel, dt), &
+                     surface_energy(ws), 'linear: the start-of-step energy', rtol=0.0_wp, &
+                     atol=0.0_wp)
   end subroutine test_step_energy
 
   !> Friction on one point: stick stops the slip; Coulomb is bounded by mu lambda_n;
