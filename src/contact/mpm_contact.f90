@@ -139,8 +139,9 @@ contains
   end subroutine surface_friction_walls
 
   !> End of a step: the energy stored in the walls' contact as the step conserves it, into
-  !! st%e_contact [J/m]: per point of the step's forces, 1/2 k_c times its gap at the start
-  !! (that of its force) times its gap at the end (mpm_surface_contact, surface_step_energy).
+  !! st%e_contact [J/m]: per CPDI2 point of the step's forces, 1/2 k_c times its gap at the
+  !! start (that of its force) times its gap at the end; the corners of the other bases,
+  !! 1/2 k_c g_c^2 at the start (mpm_surface_contact, surface_step_energy).
   !! A point behind a wall only at the end has no energy yet: its force, and the wall's work
   !! through it, come in the next step (counted with the end's gap alone, a wall meeting a
   !! body at rest would show energy before any work, which the growth check of a body with E0

@@ -34,9 +34,10 @@
 ! run, for a solid block whatever alpha: docs/method.md); the penetration under a pressure p is about p h / (alpha
 ! rho c^2) (a strain of the wall pressure over the modulus, times a cell), and the force is
 ! the gradient of the energy 1/2 k_c g_c^2: what the material puts into the contact it gets
-! back at separation. The energy the balance counts after a step is 1/2 k_c g_c g_c', the gap
-! at the start of the step times that at its end (surface_step_energy), the explicit update's
-! own invariant: 1/2 k_c g_c^2 alone lags it by dt/2 f_c gdot_c. A kinematic constraint (the
+! back at separation. The energy the balance counts after a step is, for a CPDI2 point,
+! 1/2 k_c g_c g_c', the gap at the start of the step times that at its end
+! (surface_step_energy), the explicit update's own invariant: 1/2 k_c g_c^2 alone lags it by
+! dt/2 f_c gdot_c (the corners of the other bases keep it). A kinematic constraint (the
 ! velocity of the point cut to what closes its gap) loses the kinetic energy of the nodes it
 ! stops at every impact, which costs an elastic bar a per cent of its rebound; that is why this
 ! code uses a penalty (docs/method.md).
