@@ -219,13 +219,14 @@ design-example: all
 ## stability: the stability study of docs/stability.md (release build, one run at a time, one
 ##            thread): LEVEL=quick (default, < 10 min; tables and figures in out/stability-quick/)
 ##            or LEVEL=full (docs/stability/); runs in build/stability/ (reused when unchanged);
-##            then --check's cfl limits from docs/stability/ (tools/advice_tables.py writes
+##            then the automatic cfl's and --check's cfl limits from docs/stability/
+##            (tools/advice_tables.py writes src/method/mpm_time_step_table.inc and
 ##            src/advice/mpm_stability_table.inc); BACKEND=slurm and BATCH_FLAGS as for study
 stability: all
 	$(PYTHON) -m tools.stability --level $(LEVEL) --backend $(BACKEND) $(BATCH_FLAGS)
 	$(PYTHON) -m plots.plot_stability --level $(LEVEL)
 	$(PYTHON) -m tools.advice_tables --stability
-	@$(MAKE) --no-print-directory all    # --check's cfl limits may have changed
+	@$(MAKE) --no-print-directory all    # the cfl limits may have changed
 
 ## check-paraview: install Debian's ParaView (pvbatch, xvfb) if missing, then open a run's
 ##                 particles.xdmf with ParaView's default reader and check every array

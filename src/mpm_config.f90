@@ -19,7 +19,7 @@ module mpm_config
                            SHAPE_DISC, max_vertices, max_cells, pi, FLOW_JOHNSON_COOK
   use mpm_config_types, only: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, &
                               body_cfg_t, wall_cfg_t, probe_cfg_t, contact_cfg_t, unset_real, &
-                              iunset
+                              iunset, scene_of
   use mpm_config_text, only: itoa, fmt_real, fmt_short, fmt_vec, fmt_list
   use mpm_config_table, only: n_groups, n_specs, group_names, group_id, field_t, bind_fields, &
                               spec_index
@@ -27,15 +27,15 @@ module mpm_config
                               join_msgs, open_occ
   use mpm_config_values, only: values_t, read_group, store_rows, vreal, vvec, vtab, vint, &
                                chk_r, chk_v, table_count, err_var, warn_var, warn_group
-  use mpm_config_check, only: cross_checks, advice_checks
+  use mpm_config_check, only: cross_checks
   use mpm_config_echo, only: write_config, write_config_unit, config_values
-  use mpm_bodies, only: body_mesh, is_section
+  use mpm_bodies, only: body_mesh, is_section, body_estimate
   implicit none
   private
   public :: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, body_cfg_t, &
             wall_cfg_t, probe_cfg_t, contact_cfg_t
   public :: read_config, config_resolve, write_config, write_config_unit, default_config
-  public :: unset_real
+  public :: unset_real, scene_of
 
 contains
 
@@ -43,38 +43,32 @@ contains
   !! file, the line (where there is one), the group, the variable, the value and what is allowed.
   !! Numbers too large for a double (1e400) are read as Infinity and reported, also when
   !! floating-point overflow traps are on (they are held off while the file is read).
-  !! The optional advice receives the warnings that mpm_advice's advice_check repeats in full
-  !! once the set-up is built (thin walls; `tubempm` prints those once); without it they are
-  !! part of warnings.
-  subroutine read_config(path, cfg, stat, errmsg, warnings, advice)
+  subroutine read_config(path, cfg, stat, errmsg, warnings)
     character(len=*), intent(in) :: path                   !! namelist file
     type(config_t), intent(out) :: cfg                     !! the case (undefined when stat /= 0)
     integer, intent(out) :: stat                           !! 0 ok, else EXIT_INPUT or EXIT_IO
     character(len=:), allocatable, intent(out) :: errmsg   !! all problems, one per line
     character(len=:), allocatable, intent(out), optional :: warnings !! advice, one per line
-    character(len=:), allocatable, intent(out), optional :: advice   !! see above
     logical :: halting, flag
-    character(len=:), allocatable :: warn, adv
+    character(len=:), allocatable :: warn
     call ieee_get_halting_mode(ieee_overflow, halting)
     call ieee_get_flag(ieee_overflow, flag)
     call ieee_set_halting_mode(ieee_overflow, .false.)
-    call read_config_all(path, cfg, stat, errmsg, warn, adv, present(advice))
+    call read_config_all(path, cfg, stat, errmsg, warn)
     call ieee_set_flag(ieee_overflow, flag)
     call ieee_set_halting_mode(ieee_overflow, halting)
     if (present(warnings)) call move_alloc(warn, warnings)
-    if (present(advice)) call move_alloc(adv, advice)
   end subroutine read_config
 
   !> read_config without the floating-point mode handling.
-  subroutine read_config_all(path, cfg, stat, errmsg, warnings, advice, split)
+  subroutine read_config_all(path, cfg, stat, errmsg, warnings)
     character(len=*), intent(in) :: path
     type(config_t), intent(out) :: cfg
     integer, intent(out) :: stat
     character(len=:), allocatable, intent(out) :: errmsg
-    character(len=:), allocatable, intent(out) :: warnings, advice
-    logical, intent(in) :: split            !! advice apart from warnings
+    character(len=:), allocatable, intent(out) :: warnings
     type(reader_t) :: rd
-    integer :: u, ios, ios2, io, k, ig, n_warn
+    integer :: u, ios, ios2, io, k, ig
     type(values_t), allocatable :: v
     logical :: ok
     integer :: n_of(n_groups), first_of(n_groups)
@@ -84,7 +78,6 @@ contains
     stat = 0
     errmsg = ''
     warnings = ''
-    advice = ''
     cfg%file = path
     rd%file = trim(path)
     allocate(rd%err(8), rd%warn(8), rd%occ(8), rd%lines(64))
@@ -122,19 +115,11 @@ contains
     end do
 
     call cross_checks(rd, cfg, first_of, occ_mat, occ_body, occ_con)
-    n_warn = rd%n_warn
-    call advice_checks(rd, cfg, first_of, occ_body)
-
     if (rd%n_err > 0) then
       stat = EXIT_INPUT
       errmsg = join_msgs(rd%err, rd%n_err)
     end if
-    if (split) then
-      warnings = join_msgs(rd%warn(1:n_warn), n_warn)
-      advice = join_msgs(rd%warn(n_warn+1:rd%n_warn), rd%n_warn - n_warn)
-    else
-      warnings = join_msgs(rd%warn, rd%n_warn)
-    end if
+    warnings = join_msgs(rd%warn, rd%n_warn)
   end subroutine read_config_all
 
   !> Open the input file for reading, with a message that says what to do when it cannot be.
@@ -208,7 +193,6 @@ contains
       end do
     end do
     call cross_checks(rd, out, first_of, occ_mat, occ_body, occ_con)
-    call advice_checks(rd, out, first_of, occ_body)
     if (rd%n_err > 0) then
       stat = EXIT_INPUT
       errmsg = join_msgs(rd%err, rd%n_err)
@@ -239,14 +223,16 @@ contains
     call store_rows(rd, io, v, f)
     select case (ig)
     case (1)
-      ! a cfl above the stability study's limit is warned of in advice_checks (it depends
-      ! on the basis, the scheme and the particles per cell)
+      ! a cfl above the stability study's limit is advice (mpm_advice, --check): it depends
+      ! on the basis, the scheme and the particles per cell
     case (3)
       call check_grid(rd, io, v, cfg%grid)
     case (4)
       call check_material(rd, io, v, cfg%materials(k))
     case (5)
       call check_body(rd, io, v, cfg%bodies(k))
+      if (rd%n_err == n0 .and. (is_section(cfg%bodies(k)%shape_id) .or. &
+          cfg%bodies(k)%shape_id == SHAPE_DISC)) call check_mesh(rd, io, cfg%bodies(k))
     case (6)
       call check_wall(rd, io, v, cfg%walls(k))
     case (8)
@@ -395,10 +381,10 @@ contains
       else
         b%n_circ = n_circ
       end if
-      if (b%self_contact .and. b%sector_id == SECTOR_QUARTER) call err_var(rd, io, &
-        'self_contact', '.true.', 'not with sector = ''quarter'' (it meets its mirror image on '// &
-        'the plane y = centre)')
     end if
+    if (b%self_contact .and. b%sector_id == SECTOR_QUARTER) call err_var(rd, io, &
+      'self_contact', '.true.', 'not with sector = ''quarter'' (it meets its mirror image on '// &
+      'the plane y = centre)')
     if (b%n_thick == iunset) b%n_thick = 16
     select case (b%shape_id)
     case (SHAPE_TUBE)
@@ -408,8 +394,6 @@ contains
     case (SHAPE_WALLS)
       if (len_trim(b%walls_file) > 0) call read_walls(rd, io, b)
     end select
-    if ((is_section(b%shape_id) .or. b%shape_id == SHAPE_DISC) .and. rd%occ(io)%ok) &
-      call check_mesh(rd, io, b)
   end subroutine check_body
 
   !> A tube: 3 to 64 vertices (pairs, no gaps), a corner radius of 0 or at least t/2.
@@ -443,9 +427,6 @@ contains
         end if
       end do
     end if
-    if (b%self_contact .and. b%sector_id == SECTOR_QUARTER) call err_var(rd, io, &
-      'self_contact', '.true.', 'not with sector = ''quarter'' (it meets its mirror image on '// &
-      'the plane y = centre)')
     if (b%corner_radius > 0.0_wp .and. b%thickness > 0.0_wp .and. &
         b%corner_radius < 0.5_wp*b%thickness) call err_var(rd, io, 'corner_radius', &
       fmt_real(b%corner_radius), 'below thickness/2 = '//fmt_real(0.5_wp*b%thickness)// &
@@ -546,13 +527,27 @@ contains
     integer, allocatable :: quad(:,:), pwall(:)
     integer :: stat
     character(len=:), allocatable :: msg
+    real(wp) :: np, nc, ext
+    real(wp), parameter :: mesh_check_max = 2.0e7_wp  ! particles the check meshes at most
     if (b%shape_id == SHAPE_TUBE .and. (b%n_vertices < 3 .or. b%thickness <= 0.0_wp)) return
     if (b%shape_id == SHAPE_HONEYCOMB .and. (any(b%n_cells < 1) .or. b%thickness <= 0.0_wp &
         .or. b%cell_l <= 0.0_wp .or. b%cell_h <= 0.0_wp)) return
     if (b%shape_id == SHAPE_WALLS .and. .not. allocated(b%seg)) return
     if (b%shape_id == SHAPE_DISC .and. b%r_outer <= 0.0_wp) return
+    call body_estimate(b, np, nc, ext)     ! lengths in a wrong unit: refused later, unmeshed
+    if (np > mesh_check_max) return
     call body_mesh(b, xc, quad, pwall, stat, msg)
-    if (stat /= 0) call err_var(rd, io, 'n_thick', itoa(b%n_thick), 'the walls cannot be '// &
+    if (stat == 2) call err_var(rd, io, 'sector', ''''//trim(b%sector)//'''', msg// &
+      ' through center = '//fmt_vec(b%center), '''full'', or a section that is its own mirror'// &
+      ' image about the planes x = center(1) (and y = center(2) for a quarter), every wall'// &
+      ' that reaches them square to them')
+    if (stat == 3 .and. b%shape_id == SHAPE_TUBE) call err_var(rd, io, 'vertices', &
+      fmt_list(b%vertices(1:2*b%n_vertices)), 'the polygon crosses itself: '//msg, &
+      'a simple polygon, counter-clockwise')
+    if (stat == 3 .and. b%shape_id /= SHAPE_TUBE) call err_var(rd, io, 'walls_file', &
+      ''''//trim(b%walls_file)//'''', msg, 'walls that meet only at their ends')
+    if (stat == 1) call err_var(rd, io, 'n_thick', itoa(b%n_thick), &
+      'the walls cannot be '// &
       'filled with particles: '//msg, 'walls longer than their joints need, meeting at '// &
       'angles they can (n_thick even where three or more walls meet)')
   end subroutine check_mesh

@@ -1,5 +1,5 @@
 !> The checks of the input that span groups: defaults that depend on other groups, material
-!! references, the given grid bounds, the fixed time step; and the reader's thin-wall advice.
+!! references, the given grid bounds, the fixed time step.
 ! SPDX-License-Identifier: MIT
 module mpm_config_check
   use mpm_kinds, only: wp
@@ -13,13 +13,14 @@ module mpm_config_check
   use mpm_config_lexer, only: reader_t, occurrence
   use mpm_config_values, only: err_var, warn_var, err_missing
   use mpm_walls, only: wall_t, wall_stroke_setup, wall_end_time, wall_stroke_travel
-  use mpm_advice, only: wall_too_thin
   use mpm_units, only: advice_unit_issues, unit_issue_t
   use mpm_symmetry, only: symmetry_checks
   use mpm_placement, only: placement_checks
+  use mpm_material, only: material_from, material_wave_speed
+  use mpm_time_step, only: time_step_dt
   implicit none
   private
-  public :: cross_checks, advice_checks
+  public :: cross_checks
 
 contains
 
@@ -290,15 +291,12 @@ contains
     real(wp) :: cds(size(cfg%materials)), cd, vmax, dt_lim
     if (.not. cfg%run%dt > 0.0_wp .or. size(cfg%materials) == 0) return
     do k = 1, size(cfg%materials)          ! dilatational wave speeds
-      associate (m => cfg%materials(k))
-        cds(k) = sqrt(m%E*(1.0_wp - m%nu)/((1.0_wp + m%nu)*(1.0_wp - 2.0_wp*m%nu)) / &
-                      (m%rho*cfg%solver%mass_scale))
-      end associate
+      cds(k) = material_wave_speed(material_from(cfg%materials(k), cfg%solver%mass_scale))
     end do
     kc = maxloc(cds, dim=1)
     cd = cds(kc)
     vmax = max(0.0_wp, maxval([(norm2(cfg%bodies(k)%velocity), k = 1, size(cfg%bodies))]))
-    dt_lim = cfg%grid%h/(cd + vmax)
+    dt_lim = time_step_dt(1.0_wp, cfg%grid%h, cd, vmax)
     if (cfg%run%dt > dt_lim) call err_var(rd, io_run, 'dt', fmt_real(cfg%run%dt), &
       'above the stable limit h / (c_d + v_max) = '//fmt_short(dt_lim)//' s at cfl = 1 '// &
       '(h = '//fmt_short(cfg%grid%h)//' m; c_d = sqrt((lambda + 2 mu)/rho) = '// &
@@ -312,25 +310,5 @@ contains
       fmt_short(epsilon(1.0_wp))//' = '//fmt_short(cfg%run%t_end*epsilon(1.0_wp))// &
       ' <= dt <= '//fmt_short(dt_lim)//' [s], or dt = 0 (time step from cfl)')
   end subroutine check_fixed_dt
-
-  !> Advice that the set-up's advice (mpm_advice, advice_check) gives again in full: thin walls
-  !! need cells smaller than the wall thickness.
-  subroutine advice_checks(rd, cfg, first_of, occ_body)
-    type(reader_t), intent(inout) :: rd
-    type(config_t), intent(in) :: cfg
-    integer, intent(in) :: first_of(n_groups), occ_body(:)
-    integer :: k, io_grid
-    real(wp) :: thick
-    io_grid = first_of(3)
-    if (io_grid == 0) return
-    if (.not. rd%occ(io_grid)%ok) return
-    do k = 1, size(cfg%bodies)
-      if (.not. rd%occ(occ_body(k))%ok .or. cfg%bodies(k)%shape_id /= SHAPE_RING) cycle
-      thick = cfg%bodies(k)%r_outer - cfg%bodies(k)%r_inner
-      if (wall_too_thin(cfg%grid%h, thick)) call warn_var(rd, io_grid, 'h', 'not smaller '// &
-        'than the wall thickness '//fmt_short(thick)//' m of &body #'//itoa(k)//': both '// &
-        'faces of the wall share grid nodes and the wall bends wrongly (use h < thickness)')
-    end do
-  end subroutine advice_checks
 
 end module mpm_config_check

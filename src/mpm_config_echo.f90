@@ -157,6 +157,7 @@ contains
     e%why = ''
     e%n_motion = 0
     e%n_vertices = 0
+    e%table = 'motion table'
     idx = group_specs(e%v%group)
     call bind_fields(cfg, ig, k, f)
     call fields_values(f, idx, e%v)
@@ -277,6 +278,7 @@ contains
       not_set = len_trim(v%c(r)) == 0
     case ('zero')
       not_set = v%i(r) == 0
+      if (specs(r)%kind == 'r') not_set = any(v%r(1:n, r) == 0.0_wp)
     case default
       not_set = .false.
     end select

@@ -221,7 +221,7 @@ module mpm_config_table
       allowed='0 (particles about square) or an integer >= 3, divisible by 2 for sector = '// &
       '''half'' and by 4 for ''quarter'' (default 0)', &
       comment='particles around the whole ring (0 = auto)'), &
-    var_spec_t('body', 'sector', 'e', c0='full', c_blank=.true., only='ring tube disc', &
+    var_spec_t('body', 'sector', 'e', c0='full', c_blank=.true., only='ring tube walls disc', &
       comment='%'), &
     var_spec_t('body', 'self_contact', 'l', only='ring tube honeycomb walls', &
       allowed='.true. or .false. (default '// &

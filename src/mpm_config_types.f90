@@ -5,14 +5,14 @@
 ! sets them; the table of input variables (mpm_config_table) says what each one accepts.
 module mpm_config_types
   use mpm_kinds, only: wp
-  use mpm_constants, only: name_len, path_len, max_table
+  use mpm_constants, only: name_len, path_len, max_table, SHAPE_RING
   use mpm_material, only: material_cfg_t   ! &material: the model owns its parameters
   use mpm_bodies, only: body_cfg_t         ! &body: the shapes own theirs
   implicit none
   private
   public :: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, body_cfg_t, &
             wall_cfg_t, probe_cfg_t, contact_cfg_t
-  public :: unset_real, iunset
+  public :: unset_real, iunset, scene_of
 
   type :: run_cfg_t
     character(len=name_len) :: title = ''          !! label of the case
@@ -99,4 +99,43 @@ module mpm_config_types
   !! default_config); the other required numbers keep their type defaults (-1, 0).
   real(wp), parameter :: unset_real = huge(1.0_wp)
   integer, parameter :: iunset = -huge(1)       !! integer "not given" sentinel of the reader
+
+contains
+
+  !> Which study scene the case resembles: 'impact' (a wall with mass: a drop weight), 'wave'
+  !! (a wall gives a blow: a motion table that ends at rest), 'crush' (a platen keeps moving),
+  !! 'impact' (a ring body moves at t = 0), or
+  !! '' (generic). The only classifier: summary.nml's scene and `tubempm --scene` print it, and
+  !! the plots read those.
+  pure function scene_of(cfg) result(scene)
+    type(config_t), intent(in) :: cfg     !! the case
+    character(len=6) :: scene
+    integer :: k
+    scene = ''
+    if (.not. any(cfg%bodies%shape_id == SHAPE_RING)) return
+    if (any(cfg%walls%mass > 0.0_wp)) then  ! a drop weight
+      scene = 'impact'
+      return
+    end if
+    do k = 1, size(cfg%walls)
+      if (cfg%walls(k)%n_motion < 1) cycle
+      if (any(cfg%walls(k)%velocity /= 0.0_wp) .and. &
+          cfg%walls(k)%motion_f(cfg%walls(k)%n_motion) == 0.0_wp) then
+        scene = 'wave'
+        return
+      end if
+    end do
+    do k = 1, size(cfg%walls)
+      if (any(cfg%walls(k)%velocity /= 0.0_wp)) then
+        scene = 'crush'
+        return
+      end if
+    end do
+    do k = 1, size(cfg%bodies)
+      if (cfg%bodies(k)%shape_id == SHAPE_RING .and. any(cfg%bodies(k)%velocity /= 0.0_wp)) then
+        scene = 'impact'
+        return
+      end if
+    end do
+  end function scene_of
 end module mpm_config_types

@@ -23,17 +23,21 @@ check = T.check
 
 # (layer, its folders under src/), lowest first; "" is the top of src/. A layer may use itself
 # and the layers before it. method and contact are one layer in two folders: the state holds
-# the contact's work arrays, and the contact's phases take the state. input and advice are one
-# too: the advice reads the case (config_t), and the reader's checks call the advice's unit
-# rule and wall-thickness warning.
+# the contact's work arrays, and the contact's phases take the state. The advice reads the case
+# and sits above the input, which uses none of it.
 LAYERS = [
     ("base", ["base"]),
     ("method", ["method", "contact"]),
     ("bodies", ["bodies"]),
-    ("input", ["", "input", "advice"]),
+    ("input", ["", "input"]),
+    ("advice", ["advice"]),
     ("io", ["io"]),
     ("driver", ["driver"]),
 ]
+#: The only units that use mpm_advice: the report of the set-up (--check, a run's banner) and
+#: the driver (the end-of-run warning, --check's study advice). Nothing on the way from the
+#: input to the results does (issue 32: a basis that no study has run compiles and runs).
+ADVICE_USERS = {"mpm_report", "tubempm"}
 
 UNIT = re.compile(r"^\s*(module|program)\s+(\w+)\s*(!.*)?$", re.IGNORECASE)
 USE = re.compile(r"^\s*use\s*(?:,\s*\w+\s*::)?\s*(\w+)", re.IGNORECASE)
@@ -110,6 +114,9 @@ def main() -> int:
         check(False, f"src/{r} is in no layer's folder (tests/test_layers.py, LAYERS)")
     check(not up and not stray, f"{len(used)} units in {len(LAYERS)} layers, every use of "
           "its own layer or a lower one")
+    advised = {name for name, (_, uses) in used.items() if "mpm_advice" in uses} - {"mpm_advice"}
+    check(advised == ADVICE_USERS, f"mpm_advice is used only by {sorted(ADVICE_USERS)}: "
+          f"{sorted(advised)}")
 
     names: dict[str, list[str]] = {}
     for r, p in rel.items():

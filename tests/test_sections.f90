@@ -20,16 +20,16 @@ program test_sections
   use mpm_kinds, only: wp
   use mpm_constants, only: pi
   use mpm_sections, only: section_t, section_tube, section_honeycomb, section_walls, &
-                          section_mesh, section_area, section_length, disc_mesh
+                          section_clip, section_mesh, section_area, section_length, disc_mesh
   use mpm_section_colours, only: section_colours
   use testing, only: begin_test, check, check_close, finish_tests
   implicit none
   type(section_t) :: s
   real(wp), allocatable :: xc(:,:), seg(:,:)
   integer, allocatable :: quad(:,:), pw(:), col(:)
-  integer :: stat, ncol, k, parts, np_whole
+  integer :: stat, ncol, k, parts, np_whole, i, j
   character(len=:), allocatable :: msg
-  real(wp) :: a, t, c(2)
+  real(wp) :: a, t, c(2), area_whole
 
   call begin_test('square tube, sharp corners')
   a = 0.048_wp
@@ -130,6 +130,74 @@ program test_sections
     if (parts >= 2) call check(minval(xc(1, :)) > 1.0e-3_wp - 1.0e-12_wp, 'x >= centre')
     if (parts == 4) call check(minval(xc(2, :)) > 2.0e-3_wp - 1.0e-12_wp, 'y >= centre')
   end do
+
+  call begin_test('walls: a 3 x 3 multi-cell tube, half and quarter')
+  ! outer square 3a, two webs each way; the planes through its centre cut walls square
+  deallocate(seg)
+  allocate(seg(5, 24))
+  k = 0
+  do i = 0, 2
+    do j = 0, 3
+      k = k + 1
+      seg(:, k) = [i*a, j*a, (i + 1)*a, j*a, 1.0e-3_wp]                    ! along x
+      k = k + 1
+      seg(:, k) = [j*a, i*a, j*a, (i + 1)*a, 1.0e-3_wp]                    ! along y
+    end do
+  end do
+  call section_walls(seg, 1.0e-9_wp, s)
+  call section_mesh(s, 4, xc, quad, pw, stat, msg)
+  area_whole = section_area(xc, quad)
+  ! mitred outer square 12 a t, four webs (3a - t) t each, less their 4 crossings: 24 a t - 8 t^2
+  call check(stat == 0, 'whole meshed: '//msg)
+  call check_close(area_whole, 24.0_wp*a*1.0e-3_wp - 8.0e-6_wp, 'whole: 24 a t - 8 t^2', &
+                   rtol=1.0e-12_wp)
+  do parts = 2, 4, 2
+    call section_walls(seg, 1.0e-9_wp, s)
+    call section_clip(s, [1.5_wp*a, 1.5_wp*a], [1.0_wp, 0.0_wp], stat, msg)
+    call check(stat == 0, 'half: clipped: '//msg)
+    if (parts == 4) then
+      call section_clip(s, [1.5_wp*a, 1.5_wp*a], [0.0_wp, 1.0_wp], stat, msg)
+      call check(stat == 0, 'quarter: clipped: '//msg)
+    end if
+    call section_mesh(s, 4, xc, quad, pw, stat, msg)
+    call check(stat == 0, 'sector meshed: '//msg)
+    call check_close(section_area(xc, quad)*real(parts, wp), area_whole, &
+                     'area x parts = the whole''s', rtol=1.0e-12_wp)
+    call check(minval(xc(1, :)) > 1.5_wp*a - 1.0e-12_wp, 'x >= centre')
+    if (parts == 4) call check(minval(xc(2, :)) > 1.5_wp*a - 1.0e-12_wp, 'y >= centre')
+  end do
+
+  call begin_test('sectors refused')
+  call section_walls(seg, 1.0e-9_wp, s)                  ! 3 x 3 about a wall: not symmetric
+  call section_clip(s, [a, 1.5_wp*a], [1.0_wp, 0.0_wp], stat, msg)
+  call check(stat /= 0 .and. index(msg, 'not its own mirror image') > 0, 'an asymmetric section: '//msg)
+  call section_walls(reshape([0.0_wp, 0.0_wp, 2*a, 0.0_wp, 1.0e-3_wp, &
+                              0.0_wp, 2*a, 2*a, 2*a, 1.0e-3_wp, &
+                              0.0_wp, 0.0_wp, 0.0_wp, 2*a, 1.0e-3_wp, &
+                              2*a, 0.0_wp, 2*a, 2*a, 1.0e-3_wp, &
+                              a, 0.0_wp, a, 2*a, 1.0e-3_wp], [5, 5]), 1.0e-9_wp, s)  ! 2 x 1
+  call section_clip(s, [a, a], [1.0_wp, 0.0_wp], stat, msg)
+  call check(stat /= 0 .and. index(msg, 'along a plane') > 0, &
+             'a web along the plane: '//msg)
+  call section_tube(reshape([0.0_wp, -a, a, 0.0_wp, 0.0_wp, a, -a, 0.0_wp], [2, 4]), &
+                    1.0e-3_wp, 0.0_wp, 1.0e-3_wp, s)    ! a diamond: corners on the plane
+  call section_clip(s, [0.0_wp, 0.0_wp], [1.0_wp, 0.0_wp], stat, msg)
+  call check(stat /= 0 .and. index(msg, 'at an angle') > 0, 'a corner on the plane: '//msg)
+
+  call begin_test('walls that cross without a joint')
+  call section_walls(reshape([0.0_wp, 0.0_wp, 2*a, 0.0_wp, 1.0e-3_wp, &
+                              a, -a, a, a, 1.0e-3_wp], [5, 2]), 1.0e-9_wp, s)   ! a plus
+  call section_mesh(s, 4, xc, quad, pw, stat, msg)
+  call check(stat == 3 .and. index(msg, 'without a joint') > 0, 'crossing walls: '//msg)
+  call section_walls(reshape([0.0_wp, 0.0_wp, 2*a, 0.0_wp, 1.0e-3_wp, &
+                              a, 0.0_wp, a, a, 1.0e-3_wp], [5, 2]), 1.0e-9_wp, s)   ! a T
+  call section_mesh(s, 4, xc, quad, pw, stat, msg)
+  call check(stat == 3, 'a wall ending on another''s length: '//msg)
+  call section_walls(reshape([0.0_wp, 0.0_wp, a, 0.0_wp, 1.0e-3_wp, &
+                              a, 0.0_wp, 2*a, 0.0_wp, 1.0e-3_wp, &
+                              a, 0.0_wp, a, a, 1.0e-3_wp], [5, 3]), 1.0e-9_wp, s)   ! split T
+  call section_mesh(s, 4, xc, quad, pw, stat, msg)
+  call check(stat == 0, 'the same T split at the joint meshes: '//msg)
 
   call begin_test('bad sections')
   call section_walls(reshape([0.0_wp, 0.0_wp, 1.0e-3_wp, 0.0_wp, 2.0e-3_wp, &

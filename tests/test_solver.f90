@@ -279,7 +279,7 @@ contains
   subroutine test_ring_collision()
     type(config_t) :: cfg
     type(sim_t) :: s
-    real(wp) :: p0(2), e0, pscale, emax_err
+    real(wp) :: p0(2), e0, pscale, emax_err, ebook_err
     integer :: stat, k
     character(len=:), allocatable :: errmsg
     call begin_test('two elastic rings colliding')
@@ -293,19 +293,25 @@ contains
     pscale = sum(s%p%mass)*1.0_wp
     e0 = s%e0
     emax_err = 0.0_wp
+    ebook_err = 0.0_wp
     do k = 1, 1000000
       if (s%t >= s%prm%t_end) exit
       call solver_step(s, stat, errmsg)
       if (stat /= 0) exit
       emax_err = max(emax_err, abs(s%e_kin + s%e_strain + s%e_plastic - e0)/e0)
+      ebook_err = max(ebook_err, abs(s%e_kin + s%e_strain + s%e_plastic + s%e_contact_loss &
+                                     - e0)/e0)
     end do
     call check(stat == 0, 'run ok: '//errmsg)
     call check_close(momentum(s), p0, 'total momentum constant', atol=1.0e-10_wp*pscale)
     ! the rings are two bodies: each has its own velocity field and they meet by the contact
-    ! between bodies (docs/method.md), which dissipates at impact: 5.5 % here (4.6 % at h/2;
-    ! 1.8 % for the aluminium rings of tests/test_body_contact.py); when they shared one
-    ! field (before the body-contact issue) they welded and kept energy within 2 %
-    call check_close(emax_err, 0.0_wp, 'energy conserved within 7 %', atol=0.07_wp)
-    print '(a,es10.3)', '  rings: largest relative energy error ', emax_err
+    ! between bodies (docs/method.md), which dissipates at impact: 5.8 % here (1.6 % for the
+    ! elastic aluminium rings of tests/test_body_contact.py); that loss is booked in
+    ! contact_loss, with which the balance closes to 0.41 %
+    call check_close(emax_err, 0.0_wp, 'energy conserved within 7 % without contact_loss', &
+                     atol=0.07_wp)
+    call check_close(ebook_err, 0.0_wp, 'with contact_loss within 1 %', atol=0.01_wp)
+    print '(a,es10.3,a,es10.3)', '  rings: largest relative energy error ', emax_err, &
+      ', with contact_loss ', ebook_err
   end subroutine test_ring_collision
 end program test_solver

@@ -372,7 +372,7 @@ def test_automatic_cfl() -> None:
     """The study's runs at the automatic cfl (cfl = 0): tools/study.py's cfl_used, which the
     table, the cost estimate and --check's compiled advice use, is the cfl that tubempm
     reports for the run's input (`--check`: "cfl: X, automatic"), an independent computation
-    (src/advice/mpm_advice.f90 from src/advice/mpm_stability_table.inc); and at one particle
+    (src/method/mpm_time_step.f90 from src/method/mpm_time_step_table.inc); and at one particle
     per cell (the 1-per-cell limits) as well as at two."""
     import re
     import subprocess

@@ -15,7 +15,7 @@ the accurate cfl is the first value whose run completes within TOL (0: none down
 Tables: docs/stability/cfl_accuracy_ppc1.csv, cfl_accuracy_ppc2.csv (basis, scheme,
 accurate_cfl, error_at_accurate, next_cfl, error_at_next, stable_auto_cfl) and
 cfl_accuracy_runs.csv (every run). tools/advice_tables.py compiles the accurate cfl into
-src/advice/mpm_stability_table.inc, where the automatic cfl of a dynamic scene takes it
+src/method/mpm_time_step_table.inc, where the automatic cfl of a dynamic scene takes it
 (docs/stability.md#the-automatic-cfl). Runs go to build/cfl_accuracy/ (reused when the input
 is unchanged). About 10 CPU minutes, two runs at a time.
 

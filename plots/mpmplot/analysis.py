@@ -141,12 +141,17 @@ def probe_disturbance(history: dict[str, np.ndarray]) -> np.ndarray:
     return np.column_stack(cols) if cols else np.zeros((len(history["time"]), 0))
 
 
-def arrival_times(time: np.ndarray, v: np.ndarray, threshold: float = 0.1) -> np.ndarray | float:
-    """First time at which |v| exceeds ``threshold`` times its peak [s].
+def arrival_times(time: np.ndarray, v: np.ndarray, threshold: float = 0.1,
+                  levels: np.ndarray | None = None) -> np.ndarray | float:
+    """First time at which |v| exceeds ``threshold`` times its peak [s], or, with ``levels``
+    (one per signal, in v's units), exceeds that level.
 
     v: shape (n,) (one signal) or (n, m) (m signals in columns); the result is a float or an
-    array of m floats, NaN for a signal that stays zero. The crossing time is interpolated
-    linearly between rows. Pass a disturbance (e.g. |v - v(0)|) for a body that moves at t = 0.
+    array of m floats, NaN for a signal that stays zero or below its level. The crossing time
+    is interpolated linearly between rows. Pass a disturbance (e.g. |v - v(0)|) for a body that
+    moves at t = 0. Records compared by their arrivals are timed at the same levels (``levels``,
+    e.g. the reference's): a share of each record's own peak moves with whatever sets that
+    peak, which may come long after the first arrival.
     """
     t = np.asarray(time, dtype=float)
     a = np.abs(np.asarray(v, dtype=float))
@@ -154,12 +159,20 @@ def arrival_times(time: np.ndarray, v: np.ndarray, threshold: float = 0.1) -> np
     if single:
         a = a[:, None]
     out = np.full(a.shape[1], np.nan)
+    given = None if levels is None else np.atleast_1d(np.asarray(levels, dtype=float))
+    if given is not None and given.size != a.shape[1]:
+        raise ValueError(f"arrival_times: {given.size} levels for {a.shape[1]} signals")
     for j in range(a.shape[1]):
         s = a[:, j]
-        peak = np.nanmax(s) if s.size else 0.0
-        if not np.isfinite(peak) or peak <= 0.0:
-            continue
-        level = threshold * peak
+        if given is not None:
+            level = float(given[j])
+            if not np.isfinite(level) or level <= 0.0:
+                continue
+        else:
+            peak = np.nanmax(s) if s.size else 0.0
+            if not np.isfinite(peak) or peak <= 0.0:
+                continue
+            level = threshold * peak
         above = np.nonzero(s > level)[0]
         if above.size == 0:
             continue

@@ -89,7 +89,7 @@ def _has_table(wall: dict[str, Any]) -> bool:
 
 
 #: the shapes that may be a half or quarter model (`has_sector` in src/bodies/mpm_bodies.f90)
-SECTOR_SHAPES = ("ring", "tube", "disc")
+SECTOR_SHAPES = ("ring", "tube", "walls", "disc")
 
 
 def _is_mirror(wall: dict[str, Any]) -> bool:
@@ -101,7 +101,7 @@ def wall_table(inputs: dict[str, list[dict[str, Any]]], nwall: int | None = None
                ) -> list[dict[str, Any]]:
     """The walls as numbered in history.csv: the input's ``&wall`` groups, then the mirror
     planes a half/quarter ``sector`` adds (normal (1, 0), then (0, 1), through the centre of
-    the first sector ring, tube or disc).
+    the first sector ring, tube, walls or disc).
 
     Each entry: ``index`` (1-based), ``point``, ``normal`` (unit), ``velocity``, ``mirror``,
     ``moving`` (prescribed velocity nonzero), ``table`` (has a motion table), ``input``

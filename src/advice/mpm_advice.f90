@@ -2,48 +2,54 @@
 !! the start of a run) about the set-up, the end-of-run warning on the energy balance, and what
 !! the refinement study (docs/validation.md) says about an input: the cheapest settings the
 !! study found for 5 %, 2 % and 1 % error in the same kind of scene, and the error of the study
-!! run nearest to the input's resolution.
+!! run nearest to the input's resolution. Nothing on the way from the input to the results uses
+!! it: only the report of the set-up (mpm_report) and the driver's end of run.
 !!
-!! The data are compiled in from two generated tables (tools/advice_tables.py writes both):
-!! src/advice/mpm_advice_table.inc (the refinement study, docs/study/study_full.csv) and
-!! src/advice/mpm_stability_table.inc (the largest stable cfl per scheme and basis,
-!! docs/stability/cfl_limits_ppc*.csv), which also gives the automatic cfl (`cfl = 0`:
-!! cfl_margin times the largest stable cfl). The errors hold for the studies' scenes; for other
-!! tubes they are a guide in the dimensionless settings (h/t, n_t, particle aspect ratio), not a
-!! guarantee. The input reader's own warnings (a value that is ignored, cfl above 1) stay with
-!! the reader (mpm_config), which asks wall_too_thin for the one rule they share.
+!! The data are compiled in from three generated tables (tools/advice_tables.py writes them):
+!! src/advice/mpm_advice_table.inc (the refinement study, docs/study/study_full.csv),
+!! src/advice/mpm_stability_table.inc (the largest cfl at which the stability study's impact
+!! scene completes, per basis and scheme, docs/stability/cfl_limits_ppc*.csv) and
+!! src/advice/mpm_bench_table.inc (the throughput of make bench per basis). Their rows are found
+!! by the names of the basis and scheme: a basis or scheme no study has run has no advice. The
+!! automatic cfl and its table are the time step's (mpm_time_step). The errors hold for the
+!! studies' scenes; for other tubes they are a guide in the dimensionless settings (h/t, n_t,
+!! particle aspect ratio), not a guarantee.
 module mpm_advice
   use mpm_kinds, only: wp
   use mpm_constants, only: SHAPE_RING, SECTOR_FULL, SECTOR_QUARTER, basis_names, scheme_names, &
                            PLANE_STRESS, SCHEME_USL, SCHEME_MUSL, BASIS_LINEAR, BASIS_UGIMP, &
-                           BASIS_CPDI1, BASIS_CPDI2, MODEL_NEOHOOKEAN, &
+                           BASIS_CPDI2, MODEL_NEOHOOKEAN, &
                            VOLUMETRIC_FBAR, VOLUMETRIC_STANDARD, VOLUMETRIC_FBARWALL, &
                            volumetric_names, pi, CONTACT_STICK, CONTACT_BONDED
   use mpm_particles, only: ring_counts
-  use mpm_bodies, only: body_wall_thickness, is_section
-  use mpm_config_types, only: config_t
+  use mpm_bodies, only: body_wall_thickness, is_section, bodies_wall_ppc
+  use mpm_config_types, only: config_t, scene_of
   use mpm_walls, only: wall_t, wall_travel
+  use mpm_time_step, only: cfl_study, cfl_auto, cfl_margin, ppc_low, cfl_tried_min
   use mpm_errors, only: append_msg
   use mpm_units, only: advice_units
   use mpm_strings, only: rtoa, itoa, hms, sci
   implicit none
   private
 
-  public :: study_advice, scene_of, advice_check, advice_end_of_run, wall_too_thin
-  public :: advice_wall_time
-  public :: cfl_in_use, cfl_automatic, cfl_text, wall_particles_per_cell, cfl_margin
+  public :: study_advice, advice_check, advice_end_of_run, wall_too_thin
+  public :: advice_wall_time, cfl_text, cfl_why
+
+  !> A row of the stability table: the largest cfl at which the impact scene completes, at 2
+  !! and at 1 particle per cell through the wall (0: at none tried).
+  type :: limit_row_t
+    character(len=8) :: basis = '', scheme = ''
+    real(wp) :: completes(2) = 0.0_wp
+  end type limit_row_t
+  !> A row of the bench table: particle-steps per second on 1 and on 2 threads.
+  type :: bench_row_t
+    character(len=8) :: basis = ''
+    real(wp) :: rate(2) = 0.0_wp
+  end type bench_row_t
 
   include 'mpm_advice_table.inc'
   include 'mpm_stability_table.inc'
   include 'mpm_bench_table.inc'
-  ! The generated tables have a column per basis and a row per scheme of mpm_constants: a
-  ! basis or scheme added there without regenerating them (tools/advice_tables.py, with the
-  ! new name in its BASES or SCHEMES) stops the compilation here (division by zero).
-  integer, parameter, private :: tables_fit = 1/merge(1, 0, &
-    size(cfl_ppc2, 1) == size(scheme_names) .and. size(cfl_ppc2, 2) == size(basis_names) .and. &
-    all(shape(cfl_ppc1) == shape(cfl_ppc2)) .and. all(shape(cfl_stable_ppc1) == shape(cfl_ppc2)) &
-    .and. all(shape(cfl_stable_ppc2) == shape(cfl_ppc2)) .and. size(bench_rate, 1) == size(basis_names) &
-    .and. all(shape(cfl_accurate_ppc1) == shape(cfl_ppc2)) .and. all(shape(cfl_accurate_ppc2) == shape(cfl_ppc2)))
 
   real(wp), parameter :: flip_trusted = 0.999_wp   !! flip below this dissipates visibly [-]
   real(wp), parameter :: delta_fold = 0.8_wp       !! delta/D from which CPDI domains fold [-]
@@ -54,11 +60,6 @@ module mpm_advice
   real(wp), parameter :: quasi_static_ratio = 0.012_wp
 
   real(wp), parameter :: long_run = 3600.0_wp       !! runs longer than this are warned of [s]
-  !> The automatic cfl is this fraction of the largest cfl at which the stability study found
-  !! the basis and scheme stable (docs/stability.md, "The automatic cfl") [-]
-  real(wp), parameter :: cfl_margin = 0.5_wp
-  !> Below this many particles per cell through the wall the 1-per-cell limits apply [-]
-  real(wp), parameter :: ppc_low = 1.5_wp
   !> volumetric = 'fbarwall' is measured good at n_thick = 4 (h = t/4 and t/2) and too soft at
   !! 8 (docs/validation.md); above this n_thick --check warns [-]
   integer, parameter :: fbarwall_nt_max = 5
@@ -134,78 +135,39 @@ contains
     end associate
   end function ring_aspect
 
-  !> Particles per cell through the wall, n_thick h / t, the fewest over the ring bodies
-  !! (huge when there is no ring: the stability limits of 2 per cell apply).
-  pure real(wp) function wall_particles_per_cell(cfg) result(ppc)
+  !> The automatic cfl and why, in one line (--check's report): the stability study's limit
+  !! times the margin, the accuracy limit, or the fallback where no study ran the method.
+  function cfl_why(cfg, cfl) result(why)
     type(config_t), intent(in) :: cfg      !! the case
-    integer :: ib
-    ppc = huge(1.0_wp)
-    do ib = 1, size(cfg%bodies)
-      if (body_wall_thickness(cfg%bodies(ib)) <= 0.0_wp) cycle   ! rings and sections
-      ppc = min(ppc, real(cfg%bodies(ib)%n_thick, wp)*cfg%grid%h/ &
-                body_wall_thickness(cfg%bodies(ib)))
-    end do
-  end function wall_particles_per_cell
-
-  !> The cfl a run uses: the input's, or the automatic value when the input's is 0.
-  pure real(wp) function cfl_in_use(cfg) result(cfl)
-    type(config_t), intent(in) :: cfg      !! the case
-    cfl = cfg%run%cfl
-    if (cfl <= 0.0_wp) call cfl_automatic(cfg, cfl)
-  end function cfl_in_use
-
-  !> The automatic cfl (`&run cfl = 0`): cfl_margin times the largest cfl at which the
-  !! stability study's impact scene was stable (energy error under 5 %, no failure detected)
-  !! for the basis and scheme, at the input's particles per cell through the wall (the 1-per-
-  !! cell limits below 1.5); where the study found no stable cfl, cfl_margin times the smallest
-  !! cfl it tried. A scene other than a crush (an impact, a wave, a drop weight, any case
-  !! without a ring) takes the accuracy limit instead where it is lower: the largest cfl at
-  !! which an elastic ring's impact on a rigid wall keeps its energy within 1 %
-  !! (tools/cfl_accuracy.py). A crush keeps the stability-based value: the refinement study
-  !! measured its force against the finite element curve at up to cfl 1.6. `why` says which,
-  !! in one line.
-  pure subroutine cfl_automatic(cfg, cfl, why)
-    type(config_t), intent(in) :: cfg      !! the case
-    real(wp), intent(out) :: cfl           !! the automatic cfl [-]
-    character(len=:), allocatable, intent(out), optional :: why  !! how it was chosen
-    real(wp) :: ppc, limit, accurate
+    real(wp), intent(in) :: cfl            !! the automatic cfl in use [-]
+    character(len=:), allocatable :: why
+    real(wp) :: ppc, limit, accurate, base
     character(len=160) :: density
     character(len=16) :: c_margin, c_ppc
     character(len=:), allocatable :: method
-    integer :: scheme, basis
-    logical :: by_accuracy
-    scheme = cfg%solver%scheme_id
-    basis = cfg%solver%basis_id
-    ppc = wall_particles_per_cell(cfg)
+    logical :: known
+    ppc = bodies_wall_ppc(cfg%bodies, cfg%grid%h)
+    call cfl_study(cfg%solver%basis_id, cfg%solver%scheme_id, ppc, limit, accurate, known)
+    write(c_ppc, '(f9.2)') ppc
     if (ppc < ppc_low) then
-      limit = cfl_stable_ppc1(scheme, basis)
-      accurate = cfl_accurate_ppc1(scheme, basis)
-      write(c_ppc, '(f9.2)') ppc
       density = 'at 1 particle per cell through the wall (this input: '// &
         trim(adjustl(c_ppc))//' < 1.5)'
+    else if (ppc < huge(1.0_wp)) then
+      density = 'at 2 particles per cell through the wall (this input: '// &
+        trim(adjustl(c_ppc))//' >= 1.5)'
     else
-      limit = cfl_stable_ppc2(scheme, basis)
-      accurate = cfl_accurate_ppc2(scheme, basis)
-      if (ppc < huge(1.0_wp)) then
-        write(c_ppc, '(f9.2)') ppc
-        density = 'at 2 particles per cell through the wall (this input: '// &
-          trim(adjustl(c_ppc))//' >= 1.5)'
-      else
-        density = 'at 2 particles per cell through the wall (the input has no ring)'
-      end if
+      density = 'at 2 particles per cell through the wall (the input has no ring)'
     end if
-    if (limit > 0.0_wp) then
-      cfl = cfl_margin*limit
-    else
-      cfl = cfl_margin*cfl_tried_min
-    end if
-    by_accuracy = scene_of(cfg) /= 'crush' .and. accurate > 0.0_wp .and. accurate < cfl
-    if (by_accuracy) cfl = accurate
-    if (.not. present(why)) return
     write(c_margin, '(f4.2)') cfl_margin
-    method = 'basis '''//trim(basis_names(basis))//''' with scheme '''// &
-             trim(scheme_names(scheme))//''''
-    if (by_accuracy) then
+    method = 'basis '''//trim(basis_names(cfg%solver%basis_id))//''' with scheme '''// &
+             trim(scheme_names(cfg%solver%scheme_id))//''''
+    base = cfl_margin*cfl_tried_min
+    if (limit > 0.0_wp) base = cfl_margin*limit
+    if (.not. known) then
+      why = cfl_text(cfl)//', automatic (cfl = 0): '//trim(c_margin)//' x '// &
+        cfl_text(cfl_tried_min)//', the smallest cfl the stability study tried: it has not '// &
+        'run '//method//' yet (make stability; docs/stability.md)'
+    else if (scene_of(cfg) /= 'crush' .and. accurate > 0.0_wp .and. accurate < base) then
       why = cfl_text(cfl)//', automatic (cfl = 0): the largest cfl at which '//method// &
         ' kept an elastic impact''s energy within 1 % '//trim(density)// &
         ' (docs/stability.md#the-automatic-cfl)'
@@ -218,7 +180,7 @@ contains
         cfl_text(cfl_tried_min)//', the smallest cfl the stability study tried; it found '// &
         method//' stable at no cfl '//trim(density)//' (docs/stability.md)'
     end if
-  end subroutine cfl_automatic
+  end function cfl_why
 
   !> A cfl as text with six decimals (the study's limits are multiples of 1/32, exact here).
   pure function cfl_text(cfl) result(str)
@@ -256,7 +218,8 @@ contains
 
   !> The wall time of a run of `work` particle-steps on `threads` threads of the release build
   !! at the throughput `make bench` measured (src/advice/mpm_bench_table.inc, docs/performance.md)
-  !! [s], and a warning line when it is beyond an hour ('' otherwise).
+  !! [s], and a warning line when it is beyond an hour ('' otherwise); rate = 0 where make
+  !! bench has not measured the basis.
   subroutine advice_wall_time(work, basis, threads, seconds, rate, warning)
     real(wp), intent(in) :: work           !! particles x steps [-]
     integer, intent(in) :: basis           !! BASIS_* code
@@ -264,9 +227,17 @@ contains
     real(wp), intent(out) :: seconds       !! estimated wall time [s]
     real(wp), intent(out) :: rate          !! throughput used [particle-steps/s]
     character(len=:), allocatable, intent(out) :: warning  !! '' or the warning
-    rate = bench_rate(basis, min(max(threads, 1), 2))
-    seconds = work/rate
+    integer :: k
+    rate = 0.0_wp
+    seconds = 0.0_wp
     warning = ''
+    do k = 1, size(bench_rows)
+      if (basis < 1 .or. basis > size(basis_names)) exit
+      if (bench_rows(k)%basis == basis_names(basis)) rate = bench_rows(k)%rate(min(max(threads, &
+                                                                                      1), 2))
+    end do
+    if (.not. rate > 0.0_wp) return        ! not measured yet (make bench)
+    seconds = work/rate
     if (seconds > long_run) warning = 'the run will take about '//hms(seconds)// &
       ' (h:mm:ss; '//rtoa(work)//' particle-steps at the '//rtoa(rate)//' per second that '// &
       'make bench measured, docs/performance.md): check t_end, h and the particles, and set '// &
@@ -390,18 +361,24 @@ contains
     type(config_t), intent(in) :: cfg
     real(wp), intent(in) :: cfl              !! the cfl in use [-]
     character(len=:), allocatable, intent(inout) :: warnings
-    real(wp) :: cfl_stable(size(cfl_ppc2, 1), size(cfl_ppc2, 2)), ppc, flip, cfl_auto
-    integer :: scheme, basis
+    real(wp) :: completes, ppc, flip, automatic
+    integer :: scheme, basis, k
     character(len=512) :: line
     character(len=32) :: flip_text
     logical :: wall_off
     scheme = cfg%solver%scheme_id
     basis = cfg%solver%basis_id
     flip = cfg%solver%flip
-    ppc = wall_particles_per_cell(cfg)    ! fewest particles per cell through a ring wall
-    call cfl_automatic(cfg, cfl_auto)
-    cfl_stable = cfl_ppc2
-    if (ppc < ppc_low) cfl_stable = cfl_ppc1
+    ppc = bodies_wall_ppc(cfg%bodies, cfg%grid%h)   ! fewest particles per cell through a wall
+    automatic = cfl_auto(basis, scheme, ppc, scene_of(cfg) == 'crush')
+    completes = -1.0_wp                     ! the study's limit (-1: no study ran the method)
+    do k = 1, size(limit_rows)
+      if (basis < 1 .or. basis > size(basis_names) .or. scheme < 1 .or. &
+          scheme > size(scheme_names)) exit
+      if (limit_rows(k)%basis /= basis_names(basis) .or. &
+          limit_rows(k)%scheme /= scheme_names(scheme)) cycle
+      completes = limit_rows(k)%completes(merge(2, 1, ppc < ppc_low))
+    end do
     ! 'fbarwall' through one or two layers is the standard treatment (a line through them is
     ! exact): the warnings of 'standard' apply then
     wall_off = cfg%solver%volumetric_id == VOLUMETRIC_FBARWALL .and. &
@@ -446,14 +423,14 @@ contains
     ! MUSL stable to 1.94-1.97 there; what is left, e.g. CPDI2 with USF failing at every cfl,
     ! is in the 1-per-cell table below)
     write(flip_text, '(g0.4)') flip
-    if (cfl_stable(scheme, basis) <= 0.0_wp) then
+    if (completes == 0.0_wp) then
       call append_msg(warnings, 'basis '''//trim(basis_names(basis))//''' with scheme '''// &
         trim(scheme_names(scheme))//''' failed on the impact scene at every cfl (0.125 up). '// &
         'Set scheme = ''musl'', n_thick >= 2 t/h ('//doc_schemes//')')
-    else if (cfl > cfl_stable(scheme, basis)*(1.0_wp + 1.0e-9_wp)) then
-      call append_msg(warnings, 'cfl '//rtoa(cfl)//' > '//rtoa(cfl_stable(scheme, basis))// &
+    else if (completes > 0.0_wp .and. cfl > completes*(1.0_wp + 1.0e-9_wp)) then
+      call append_msg(warnings, 'cfl '//rtoa(cfl)//' > '//rtoa(completes)// &
         ', the stable limit of basis '''//trim(basis_names(basis))//''' with scheme '''// &
-        trim(scheme_names(scheme))//'''. Set cfl = 0 (automatic: '//cfl_text(cfl_auto)//') ('// &
+        trim(scheme_names(scheme))//'''. Set cfl = 0 (automatic: '//cfl_text(automatic)//') ('// &
         doc_cfl//')')
     end if
     if (scheme == SCHEME_USL) call append_msg(warnings, 'scheme ''usl'' loses 5-8 % of '// &
@@ -595,43 +572,6 @@ contains
     end if
   end function advice_end_of_run
 
-  !> Which study scene the case resembles: 'impact' (a wall with mass: a drop weight), 'wave'
-  !! (a wall gives a blow: a motion table that ends at rest), 'crush' (a platen keeps moving),
-  !! 'impact' (a ring body moves at t = 0), or
-  !! '' (generic). The only classifier: summary.nml's scene and `tubempm --scene` print it, and
-  !! the plots read those.
-  pure function scene_of(cfg) result(scene)
-    type(config_t), intent(in) :: cfg     !! the case
-    character(len=6) :: scene
-    integer :: k
-    scene = ''
-    if (.not. any(cfg%bodies%shape_id == SHAPE_RING)) return
-    if (any(cfg%walls%mass > 0.0_wp)) then  ! a drop weight
-      scene = 'impact'
-      return
-    end if
-    do k = 1, size(cfg%walls)
-      if (cfg%walls(k)%n_motion < 1) cycle
-      if (any(cfg%walls(k)%velocity /= 0.0_wp) .and. &
-          cfg%walls(k)%motion_f(cfg%walls(k)%n_motion) == 0.0_wp) then
-        scene = 'wave'
-        return
-      end if
-    end do
-    do k = 1, size(cfg%walls)
-      if (any(cfg%walls(k)%velocity /= 0.0_wp)) then
-        scene = 'crush'
-        return
-      end if
-    end do
-    do k = 1, size(cfg%bodies)
-      if (cfg%bodies(k)%shape_id == SHAPE_RING .and. any(cfg%bodies(k)%velocity /= 0.0_wp)) then
-        scene = 'impact'
-        return
-      end if
-    end do
-  end function scene_of
-
   !> The relative approach speed of the platens [m/s]: the normal speed of every moving wall
   !! (its prescribed velocity, before any ramp or motion table), doubled where a mirror plane of
   !! a half/quarter model is parallel to it (the image platen approaches too), as
@@ -699,9 +639,10 @@ contains
   end function study_condemned
 
   !> The advice as text lines (empty when the case is not one of the study's kinds).
-  subroutine study_advice(cfg, h, walls, text)
+  subroutine study_advice(cfg, h, cfl, walls, text)
     type(config_t), intent(in) :: cfg     !! the case
     real(wp), intent(in) :: h             !! grid spacing of the set-up [m]
+    real(wp), intent(in) :: cfl           !! the cfl in use (given or automatic) [-]
     type(wall_t), intent(in) :: walls(:)  !! its walls, with the mirror planes of a sector
     character(len=:), allocatable, intent(out) :: text  !! lines, '' when no advice applies
     character(len=6) :: scene, basis
@@ -774,7 +715,7 @@ contains
     do i = 1, n_study
       if (study_scene(i) /= scene) cycle
       d = abs(log(study_h_over_t(i)/hot)) + abs(log(real(study_n_t(i), wp)/real(nt, wp))) + &
-          abs(log(study_aspect(i)/aspect)) + abs(log(study_cfl(i)/cfl_in_use(cfg)))
+          abs(log(study_aspect(i)/aspect)) + abs(log(study_cfl(i)/cfl))
       if (study_basis(i) /= basis) d = d + 10.0_wp
       if (study_volumetric(i) /= volumetric) d = d + 10.0_wp
       if (d < dbest) then
@@ -786,7 +727,7 @@ contains
     if (count(cfg%bodies%shape_id == SHAPE_RING) > 1) line = '  this input (body '//itoa(ib)// &
       ', its coarsest ring)'
     write(line, '(a,a,g0.3,a,i0,a,f4.2,a,a,a,f4.2,a)') trim(line), ': h/t ', hot, ', n_thick ', &
-      nt, ', aspect ', aspect, ', ', trim(basis), ', cfl ', cfl_in_use(cfg), vol_text(volumetric)
+      nt, ', aspect ', aspect, ', ', trim(basis), ', cfl ', cfl, vol_text(volumetric)
     call append_msg(text, trim(line))
     if (best > 0) then
       write(line, '(a,g0.3,a,i0,a,f4.2,a,a,a,f4.2,a)') '  nearest study run: h/t ', &

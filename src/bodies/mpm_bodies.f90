@@ -22,7 +22,7 @@ module mpm_bodies
   private
   public :: body_cfg_t, body_counts, body_fill, body_box, body_low, body_overlap, body_estimate, &
             body_report, body_section, body_mesh, is_section, body_fields, body_field_split, &
-            has_sector, body_wall_thickness
+            has_sector, body_wall_thickness, bodies_wall_ppc
 
   !> &body (repeatable): one component per row of the input table (mpm_config_table), with its
   !! default; the rows of one shape only carry `only = '<shape>'`.
@@ -91,10 +91,24 @@ contains
     end select
   end function body_wall_thickness
 
-  !> Whether the shape may be a half or quarter model (`sector`): rings, tubes and discs.
+  !> Particles per cell through the walls, n_thick h / t, the fewest over the bodies with a
+  !! wall (rings and sections; huge without one) [-].
+  pure real(wp) function bodies_wall_ppc(bodies, h) result(ppc)
+    type(body_cfg_t), intent(in) :: bodies(:)  !! the bodies
+    real(wp), intent(in) :: h              !! cell size [m]
+    integer :: ib
+    ppc = huge(1.0_wp)
+    do ib = 1, size(bodies)
+      if (body_wall_thickness(bodies(ib)) <= 0.0_wp) cycle
+      ppc = min(ppc, real(bodies(ib)%n_thick, wp)*h/body_wall_thickness(bodies(ib)))
+    end do
+  end function bodies_wall_ppc
+
+  !> Whether the shape may be a half or quarter model (`sector`): rings, tubes, walls and discs.
   elemental logical function has_sector(shape_id)
     integer, intent(in) :: shape_id        !! SHAPE_* code
-    has_sector = shape_id == SHAPE_RING .or. shape_id == SHAPE_TUBE .or. shape_id == SHAPE_DISC
+    has_sector = shape_id == SHAPE_RING .or. shape_id == SHAPE_TUBE .or. &
+                 shape_id == SHAPE_WALLS .or. shape_id == SHAPE_DISC
   end function has_sector
 
   !> Whether the shape is a wall graph of mpm_sections (tube, honeycomb, walls).
@@ -173,7 +187,8 @@ contains
     real(wp), allocatable, intent(out) :: xc(:,:)  !! corners (2, nc) [m]
     integer, allocatable, intent(out) :: quad(:,:) !! corners of each particle (4, np)
     integer, allocatable, intent(out) :: pwall(:)  !! logical wall of each particle (np)
-    integer, intent(out) :: stat           !! 0 when meshed
+    integer, intent(out) :: stat           !! 0 when meshed; 2: not cut by the sector's planes;
+                                           !! 3: walls that meet without a joint
     character(len=:), allocatable, intent(out) :: msg  !! what is wrong
     type(section_t) :: s
     if (b%shape_id == SHAPE_DISC) then
@@ -191,7 +206,8 @@ contains
       call section_clip(s, b%center, [1.0_wp, 0.0_wp], stat, msg)   ! half: x >= centre
     if (stat == 0 .and. b%sector_id == SECTOR_QUARTER) &
       call section_clip(s, b%center, [0.0_wp, 1.0_wp], stat, msg)   ! quarter: and y >= centre
-    if (stat /= 0) then
+    if (stat /= 0) then                    ! stat 2: the sector's planes
+      stat = 2
       allocate(xc(2, 0), quad(4, 0), pwall(0))
       return
     end if

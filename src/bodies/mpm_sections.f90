@@ -199,9 +199,11 @@ contains
   end subroutine section_walls
 
   !> Keep the part of the walls on the side (x - c) . n >= 0 of a mirror plane: a wall that
-  !! crosses it is cut there (it must cross square to the plane: its cut end lies in the
-  !! plane), walls behind it are dropped. The logical walls keep their ids (the colours of
-  !! self-contact are those of the whole section).
+  !! crosses it is cut there, walls behind it are dropped. The section must be its own mirror
+  !! image (each wall's image a wall of the same thickness), and every wall that reaches the
+  !! plane must meet it square, so that the cut end lies in the plane; a wall along the plane
+  !! is refused (half its thickness lies behind it). The logical walls keep their ids (the
+  !! colours of self-contact are those of the whole section).
   pure subroutine section_clip(s, c, n, stat, msg)
     type(section_t), intent(inout) :: s    !! the walls
     real(wp), intent(in) :: c(2), n(2)     !! a point of the plane, its unit normal
@@ -214,6 +216,11 @@ contains
     stat = 0
     msg = ''
     tol = 1.0e-9_wp*maxval(abs(s%xn))
+    if (.not. mirror_symmetric(s, c, n, tol)) then
+      stat = 1
+      msg = 'the section is not its own mirror image about a plane'
+      return
+    end if
     x = s%xn
     nn = s%nn
     allocate(en(2, 0), et(0), ew(0))
@@ -223,18 +230,19 @@ contains
       b = s%en(2, k)
       da = dot_product(s%xn(:, a) - c, n)
       db = dot_product(s%xn(:, b) - c, n)
+      u = (s%xn(:, b) - s%xn(:, a))/norm2(s%xn(:, b) - s%xn(:, a))
+      if ((abs(da) <= tol .or. abs(db) <= tol .or. da*db < 0.0_wp) .and. &
+          abs(abs(dot_product(u, n)) - 1.0_wp) > 1.0e-9_wp) then
+        stat = 1
+        msg = trim(merge('a wall lies along a plane       ', &
+                         'a wall meets a plane at an angle', abs(da) <= tol .and. abs(db) <= tol))
+        return
+      end if
       if (da >= -tol .and. db >= -tol) then
-        if (abs(da) <= tol .and. abs(db) <= tol) cycle        ! in the plane: its image's
+        continue                                              ! on the kept side
       else if (da <= tol .and. db <= tol) then
         cycle                                                 ! behind the plane
       else
-        u = (s%xn(:, b) - s%xn(:, a))/norm2(s%xn(:, b) - s%xn(:, a))
-        if (abs(abs(dot_product(u, n)) - 1.0_wp) > 1.0e-9_wp) then
-          stat = 1
-          msg = 'a wall crosses the mirror plane at an angle (a sector needs the walls '// &
-            'it cuts square to its planes, and a section symmetric about them)'
-          return
-        end if
         xm = s%xn(:, a) + (s%xn(:, b) - s%xn(:, a))*(da/(da - db))
         xm = xm - dot_product(xm - c, n)*n                    ! exactly in the plane
         m = find_node(x, nn, xm, tol)
@@ -263,6 +271,69 @@ contains
     s%et = et
     s%ew = ew
   end subroutine section_clip
+
+  !> stat 3 with msg when two walls' centrelines meet other than at a node they share: walls
+  !! that cross, or a wall's end on another's length (a joint needs both split there).
+  pure subroutine crossings(s, stat, msg)
+    type(section_t), intent(in) :: s
+    integer, intent(out) :: stat
+    character(len=:), allocatable, intent(out) :: msg
+    real(wp) :: a(2), b(2), c(2), d(2), r(2), u(2), den, ta, tb, tol, x(2)
+    character(len=24) :: at
+    integer :: i, j
+    stat = 0
+    msg = ''
+    tol = 1.0e-9_wp
+    do i = 1, s%ne - 1
+      a = s%xn(:, s%en(1, i))
+      b = s%xn(:, s%en(2, i))
+      do j = i + 1, s%ne
+        if (any(s%en(:, j) == s%en(1, i)) .or. any(s%en(:, j) == s%en(2, i))) cycle
+        c = s%xn(:, s%en(1, j))
+        d = s%xn(:, s%en(2, j))
+        if (max(a(1), b(1)) < min(c(1), d(1)) .or. max(c(1), d(1)) < min(a(1), b(1)) .or. &
+            max(a(2), b(2)) < min(c(2), d(2)) .or. max(c(2), d(2)) < min(a(2), b(2))) cycle
+        r = b - a
+        u = d - c
+        den = r(1)*u(2) - r(2)*u(1)
+        if (abs(den) <= tol*norm2(r)*norm2(u)) cycle       ! parallel: apart (boxes may touch)
+        ta = ((c(1) - a(1))*u(2) - (c(2) - a(2))*u(1))/den
+        tb = ((c(1) - a(1))*r(2) - (c(2) - a(2))*r(1))/den
+        if (ta < -tol .or. ta > 1.0_wp + tol .or. tb < -tol .or. tb > 1.0_wp + tol) cycle
+        x = a + ta*r
+        write(at, '(es10.3,a,es10.3)') x(1), ', ', x(2)
+        stat = 3
+        msg = 'two walls meet at ('//trim(adjustl(at))//') m without a joint: split both '// &
+              'there, so that walls meet only at their ends'
+        return
+      end do
+    end do
+  end subroutine crossings
+
+  !> Whether each wall's mirror image about the plane through c of unit normal n is a wall
+  !! of the section with the same thickness (to tol in position).
+  pure logical function mirror_symmetric(s, c, n, tol) result(ok)
+    type(section_t), intent(in) :: s
+    real(wp), intent(in) :: c(2), n(2), tol
+    real(wp) :: pa(2), pb(2), qa(2), qb(2)
+    integer :: k, j
+    ok = .false.
+    do k = 1, s%ne
+      pa = s%xn(:, s%en(1, k))
+      pb = s%xn(:, s%en(2, k))
+      pa = pa - 2.0_wp*dot_product(pa - c, n)*n
+      pb = pb - 2.0_wp*dot_product(pb - c, n)*n
+      do j = 1, s%ne
+        qa = s%xn(:, s%en(1, j))
+        qb = s%xn(:, s%en(2, j))
+        if (abs(s%et(j) - s%et(k)) > 1.0e-9_wp*s%et(k)) cycle
+        if ((norm2(qa - pa) <= tol .and. norm2(qb - pb) <= tol) .or. &
+            (norm2(qa - pb) <= tol .and. norm2(qb - pa) <= tol)) exit
+      end do
+      if (j > s%ne) return
+    end do
+    ok = .true.
+  end function mirror_symmetric
 
   !> The node of x(:, 1:n) within tol of p, or 0.
   pure integer function find_node(x, n, p, tol) result(id)
@@ -293,7 +364,8 @@ contains
   !> The particles of a section: corners xc (2, nc), each particle's four corners (4, np,
   !! counter-clockwise) and its wall (the logical wall of its strip; a joint core: that of
   !! its first wall). stat /= 0 with msg when the walls cannot be meshed (a wall shorter
-  !! than its joints need, walls meeting at too sharp an angle, n_thick odd at a Y joint).
+  !! than its joints need, walls meeting at too sharp an angle, n_thick odd at a Y joint);
+  !! stat 3 when two walls cross or touch other than at a joint.
   pure subroutine section_mesh(s, n_thick, xc, quad, pwall, stat, msg)
     type(section_t), intent(in) :: s       !! the wall graph
     integer, intent(in) :: n_thick         !! particles through each wall
@@ -311,6 +383,8 @@ contains
     msg = ''
     allocate(cut(2, 2, s%ne), q(2, 4, 64), qw(64))
     nq = 0
+    call crossings(s, stat, msg)
+    if (stat /= 0) return
     call joint_cuts(s, cut, stat, msg)
     if (stat /= 0) return
     call strips(s, n_thick, cut, q, qw, nq, stat, msg)

@@ -53,6 +53,15 @@ module mpm_contact_law
     integer, allocatable :: plist(:)       !! those particles (np)
     real(wp), allocatable :: pair_imp(:,:) !! per pair of bodies this step: normal impulse and
                                            !! the impulse on the first body (3, npair) [kg/s/m]
+    real(wp), allocatable :: pn_j(:,:)     !! impulse on field a of each entry in step 3, or 0
+                                           !! (2, npn) [kg/s per m]
+    real(wp), allocatable :: pn_dv0(:,:)   !! v_a - v_b at the step's start, mom / m of the
+                                           !! P2G (2, npn) [m/s]
+    real(wp), allocatable :: pn_jd(:,:)    !! impulse on field a of each entry in the velocities
+                                           !! the deformation update reads, or 0 (2, npn)
+                                           !! [kg/s per m]
+    real(wp), allocatable :: mom1(:,:,:)   !! sum_p phi_ip m_p v_p of each field at the contact
+                                           !! nodes after G2P (2, nf, ncn) [kg m/s per m]
     real(wp) :: gap_min = 0.0_wp           !! the smallest gap of the step's entries [m]
   end type field_contact_t
 
@@ -97,10 +106,11 @@ contains
     real(wp), allocatable :: tg(:,:,:)
     integer :: m
     if (.not. allocated(fc%node)) then
-      allocate(fc%node(64), fc%grad(2, nf, 64), fc%first(65))
+      allocate(fc%node(64), fc%grad(2, nf, 64), fc%mom1(2, nf, 64), fc%first(65))
       allocate(fc%pn_a(64), fc%pn_b(64), fc%pn_cn(64), fc%pn_law(64), fc%pn_pair(64), &
                fc%pn_mu(64), fc%pn_n(2, 64), fc%pn_ext(2, 64), fc%pn_gap(64), &
-               fc%pn_fixed(64), fc%cq_first(65))
+               fc%pn_fixed(64), fc%pn_j(2, 64), fc%pn_dv0(2, 64), fc%pn_jd(2, 64), &
+               fc%cq_first(65))
     end if
     if (ncn > size(fc%node)) then
       m = max(ncn, 2*size(fc%node))
@@ -110,16 +120,16 @@ contains
       allocate(tg(2, nf, m))
       tg(:, :, 1:fc%ncn) = fc%grad(:, :, 1:fc%ncn)
       call move_alloc(tg, fc%grad)
-      deallocate(fc%first)
-      allocate(fc%first(m + 1))
+      deallocate(fc%first, fc%mom1)
+      allocate(fc%first(m + 1), fc%mom1(2, nf, m))
     end if
     if (npn > size(fc%pn_a)) then
       m = max(npn, 2*size(fc%pn_a))
       deallocate(fc%pn_a, fc%pn_b, fc%pn_cn, fc%pn_law, fc%pn_pair, fc%pn_mu, fc%pn_n, &
-                 fc%pn_ext, fc%pn_gap, fc%pn_fixed, fc%cq_first)
+                 fc%pn_ext, fc%pn_gap, fc%pn_fixed, fc%pn_j, fc%pn_dv0, fc%pn_jd, fc%cq_first)
       allocate(fc%pn_a(m), fc%pn_b(m), fc%pn_cn(m), fc%pn_law(m), fc%pn_pair(m), &
                fc%pn_mu(m), fc%pn_n(2, m), fc%pn_ext(2, m), fc%pn_gap(m), fc%pn_fixed(m), &
-               fc%cq_first(m + 1))
+               fc%pn_j(2, m), fc%pn_dv0(2, m), fc%pn_jd(2, m), fc%cq_first(m + 1))
     end if
   end subroutine field_contact_reserve
 end module mpm_contact_law

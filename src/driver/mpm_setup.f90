@@ -1,35 +1,32 @@
 !> Build the simulation from the case: materials, bodies, walls (with sector mirror planes),
-!! fitted grid, initial energies; the derived set-up for --check (its warnings: mpm_advice).
+!! fitted grid, initial energies (the derived set-up as text: mpm_report).
 ! SPDX-License-Identifier: MIT
 module mpm_setup
   use mpm_kinds, only: wp, i8
   use mpm_constants, only: EXIT_INPUT, SHAPE_RING, SECTOR_FULL, SECTOR_HALF, &
-                           SECTOR_QUARTER, CONTACT_SLIP, basis_names, &
-                           scheme_names, plane_names, volumetric_names, &
-                           VOLUMETRIC_STANDARD, CONTACT_FRICTIONLESS, CONTACT_BONDED, &
-                           contact_names
-  use mpm_config, only: config_t
+                           SECTOR_QUARTER, CONTACT_SLIP, VOLUMETRIC_STANDARD, &
+                           CONTACT_FRICTIONLESS
+  use mpm_config, only: config_t, scene_of
   use mpm_particles, only: particles_allocate, basis_reach
-  use mpm_bodies, only: body_counts, body_fill, body_report, body_fields, body_field_split, &
-                        is_section, has_sector
+  use mpm_bodies, only: body_counts, body_fill, body_fields, body_field_split, is_section, &
+                        has_sector, bodies_wall_ppc
   use mpm_grid, only: grid_init
   use mpm_tiles, only: tiles_init
-  use mpm_walls, only: wall_t, wall_stroke_setup, wall_end_time, wall_travel
+  use mpm_walls, only: wall_t, wall_stroke_setup
   use mpm_material, only: material_from, material_wave_speed
-  use mpm_solver, only: sim_t, solver_stable_dt, solver_init_energy
+  use mpm_solver, only: sim_t, solver_init_energy
   use mpm_errors, only: append_msg
-  use mpm_strings, only: itoa, rtoa, plural, hms, sci
+  use mpm_strings, only: itoa, rtoa
   use mpm_weights, only: weights_compute
-  use mpm_advice, only: advice_check, advice_wall_time, cfl_in_use, cfl_automatic, cfl_text
+  use mpm_time_step, only: cfl_auto
   use mpm_budget, only: budget_t, budget_estimate, budget_check, budget_threads, &
                         budget_max_nodes, bytes_text, contact_fields
-  use mpm_sys, only: sys_memory_available
   use mpm_self_contact, only: self_contact_split
   use mpm_contact, only: contact_tie
-  use mpm_surface_contact, only: surface_tied
+  use mpm_sys, only: sys_memory_available
   implicit none
   private
-  public :: setup_sim, setup_report, sector_factor
+  public :: setup_sim, sector_factor
 
 contains
 
@@ -92,6 +89,11 @@ contains
           end if
         end if
         call body_counts(b, npb, ncb, nk)
+        if (npb == 0) then                 ! a mesh the reader's check left to here
+          call append_msg(errmsg, trim(cfg%file)//': &body #'//itoa(ib)//': its shape makes '// &
+            'no particles (a section that cannot be meshed: run tubempm --check)')
+          stat = EXIT_INPUT
+        end if
         np = np + npb
         nc = nc + ncb
       end associate
@@ -157,7 +159,9 @@ contains
     s%prm%flip = cfg%solver%flip
     s%prm%damping = cfg%solver%damping
     s%prm%deterministic = cfg%solver%deterministic
-    s%prm%cfl = cfl_in_use(cfg)            ! the input's, or the automatic value (cfl = 0)
+    s%prm%cfl = cfg%run%cfl                ! the input's, or the automatic value (cfl = 0)
+    if (.not. s%prm%cfl > 0.0_wp) s%prm%cfl = cfl_auto(cfg%solver%basis_id, &
+      cfg%solver%scheme_id, bodies_wall_ppc(cfg%bodies, cfg%grid%h), scene_of(cfg) == 'crush')
     s%prm%dt_fixed = cfg%run%dt
     s%prm%t_end = cfg%run%t_end
     s%prm%gravity = cfg%run%gravity
@@ -369,81 +373,6 @@ contains
     end do
   end subroutine setup_walls
 
-  !> The law of every pair of bodies, 'pairs 1-2 frictionless, 1-3 coulomb (0.3), ...'.
-  function pair_laws_text(s) result(text)
-    type(sim_t), intent(in) :: s           !! simulation (pair laws)
-    character(len=:), allocatable :: text
-    integer :: i, j
-    text = 'pairs'
-    do i = 1, s%prm%nbody - 1
-      do j = i + 1, s%prm%nbody
-        if (len(text) > 5) text = text//','
-        text = text//' '//itoa(i)//'-'//itoa(j)//' '//trim(contact_names(s%prm%pair_law(i, j)))
-        if (s%prm%pair_mu(i, j) > 0.0_wp) text = text//' ('//rtoa(s%prm%pair_mu(i, j))//')'
-      end do
-    end do
-  end function pair_laws_text
-
-  !> The walls with a stroke (when they reach it, the approach and delta/D then), with mass
-  !! (the drop weight's mass and energy) and 'bonded' (the points tied to it), one line each.
-  subroutine wall_motion_report(cfg, s, report)
-    type(config_t), intent(in) :: cfg      !! the case
-    type(sim_t), intent(in) :: s           !! the simulation at t = 0
-    character(len=:), allocatable, intent(inout) :: report  !! lines appended
-    integer :: k, m, ib
-    real(wp) :: delta, fac, d_mean, tm
-    logical :: strokes
-    delta = 0.0_wp
-    tm = 0.0_wp
-    strokes = .false.
-    do k = 1, s%nwall
-      associate (w => s%walls(k))
-        if (w%contact == CONTACT_BONDED) then
-          if (surface_tied(s%wk%surf(k)) > 0) then
-            call append_msg(report, 'wall '//itoa(k)//': bonded: '// &
-              itoa(surface_tied(s%wk%surf(k)))//' surface points within h/2 of it at t = 0 '// &
-              'are tied to it')
-          else
-            call append_msg(report, 'wall '//itoa(k)//': bonded: no surface point lies '// &
-              'within h/2 of it at t = 0: nothing is tied, it acts as ''coulomb''')
-          end if
-        end if
-        if (w%mass > 0.0_wp) then
-          call append_msg(report, 'wall '//itoa(k)//': a free rigid body of '// &
-            sci(cfg%walls(k)%mass, 4)//' kg (for depth '//sci(cfg%run%depth, 3)//' m) at '// &
-            sci(abs(w%vn), 4)//' m/s: kinetic energy '//sci(0.5_wp*cfg%walls(k)%mass*w%vn**2, &
-            4)//' J')
-        else if (w%stroke > 0.0_wp) then
-          strokes = .true.
-          call append_msg(report, 'wall '//itoa(k)//': stroke '//sci(w%stroke, 4)// &
-            ' m, easing from t = '//sci(w%t_stroke, 4)//' s, at rest from t = '// &
-            sci(wall_end_time(w), 4)//' s')
-          fac = 1.0_wp
-          do m = 1, s%nwall
-            if (s%walls(m)%mirror .and. abs(dot_product(s%walls(m)%normal, w%normal)) > &
-                0.999_wp) fac = 2.0_wp
-          end do
-          delta = delta - fac*wall_travel(w, wall_end_time(w))
-          tm = max(tm, wall_end_time(w))
-        end if
-      end associate
-    end do
-    if (.not. strokes) return
-    d_mean = 0.0_wp
-    do ib = size(cfg%bodies), 1, -1
-      if (cfg%bodies(ib)%shape_id == SHAPE_RING) d_mean = cfg%bodies(ib)%r_inner + &
-                                                          cfg%bodies(ib)%r_outer
-    end do
-    if (d_mean > 0.0_wp) then
-      call append_msg(report, 'approach at the strokes'' end (t = '//sci(tm, 4)//' s): delta = '// &
-        sci(delta, 4)//' m, delta/D = '//sci(delta/d_mean, 3)//' (D = '//sci(d_mean, 4)// &
-        ' m, the mean diameter of the first ring)')
-    else
-      call append_msg(report, 'approach at the strokes'' end (t = '//sci(tm, 4)//' s): delta = '// &
-        sci(delta, 4)//' m')
-    end if
-  end subroutine wall_motion_report
-
   !> Centre of the first ring body modelled as a sector [m].
   pure function first_sector_center(cfg) result(c)
     type(config_t), intent(in) :: cfg      !! the case
@@ -455,127 +384,5 @@ contains
         c = cfg%bodies(ib)%center
     end do
   end function first_sector_center
-
-  !> The derived set-up as text lines (for --check and the run's banner), and the warnings a
-  !! mechanics expert would give (mpm_advice's advice_check), one per line in `warnings`.
-  subroutine setup_report(cfg, s, report, warnings)
-    type(config_t), intent(in) :: cfg      !! the case
-    type(sim_t), intent(in) :: s           !! the simulation at t = 0
-    character(len=:), allocatable, intent(out) :: report    !! the set-up, one item per line
-    character(len=:), allocatable, intent(out) :: warnings  !! warnings, one per line ('' none)
-    integer :: ib, nthreads, nring, k
-    logical, allocatable :: ring_particle(:)
-    real(wp) :: dt_stable, dt, cfl_auto
-    real(wp) :: steps                      ! to t_end at the initial speeds [-]
-    real(wp) :: seconds, rate, avail
-    type(budget_t) :: bud
-    character(len=:), allocatable :: long_run, source, why
-    logical :: known
-    character(len=512) :: line
-    report = ''
-    write(line, '(a)') 'case '''//trim(cfg%run%title)//''' from '//trim(cfg%file)
-    call append_msg(report, line)
-    write(line, '(a,a,a,a,a,a,a,a,a,l1)') 'solver: basis ', trim(basis_names(s%prm%basis)), &
-      ', scheme ', trim(scheme_names(s%prm%scheme)), ', plane ', trim(plane_names(s%prm%plane)), &
-      ', volumetric ', trim(volumetric_names(s%prm%volumetric)), ', deterministic ', &
-      cfg%solver%deterministic
-    call append_msg(report, line)
-    do ib = 1, size(cfg%bodies)
-      line = body_report(cfg%bodies(ib), ib)
-      call append_msg(report, line)
-    end do
-    write(line, '(a,i0,a,i0)') 'particles: ', s%p%np, ', domain corners: ', s%p%nc
-    call append_msg(report, line)
-    write(line, '(a,i0,a,i0,a,i0,a)') 'grid: ', s%g%nx, ' x ', s%g%ny, ' = ', s%g%nn, &
-      ' nodes, h = '//sci(s%g%h, 3)//' m, from ('//sci(s%g%origin(1), 3)//', '// &
-      sci(s%g%origin(2), 3)//') to ('//sci(s%g%origin(1) + s%g%h*real(s%g%nx - 1, wp), 3)// &
-      ', '//sci(s%g%origin(2) + s%g%h*real(s%g%ny - 1, wp), 3)//') m'
-    call append_msg(report, line)
-    if (.not. s%g%fixed) call append_msg(report, '      (fitted to the bodies plus two '// &
-      'cells; it grows when the material moves out)')
-    if (s%prm%nf > 1 .and. s%prm%nbody > 1) then
-      if (allocated(s%prm%self_bond)) then
-        call append_msg(report, 'contact between bodies: '//itoa(s%prm%nf)//' velocity '// &
-          'fields (one per body, two for a ring with self-contact), '//pair_laws_text(s))
-      else
-        call append_msg(report, 'contact between bodies: '//itoa(s%prm%nf)//' velocity '// &
-          'fields (one per body), '//pair_laws_text(s))
-      end if
-    end if
-    if (allocated(s%prm%self_bond)) then
-      nring = count(cfg%bodies%self_contact .and. cfg%bodies%shape_id == SHAPE_RING)
-      ring_particle = cfg%bodies(s%p%body(1:s%p%np))%shape_id == SHAPE_RING
-      if (nring > 0) call append_msg(report, 'self-contact: '//itoa(nring)// &
-        ' ring(s) split into upper and lower halves (two velocity '// &
-        'fields, welded at the seams y = centre, frictionless contact elsewhere; '// &
-        itoa(count(s%prm%self_bond /= 0 .and. ring_particle))//' particles bonded at the seams)')
-      do k = 1, size(cfg%bodies)
-        if (.not. (cfg%bodies(k)%self_contact .and. is_section(cfg%bodies(k)%shape_id))) cycle
-        call append_msg(report, 'self-contact: body '//itoa(k)//': walls in '// &
-          itoa(body_fields(cfg%bodies(k)))//' velocity fields (walls of one cell that share '// &
-          'no joint apart), welded at the joints between them, frictionless elsewhere; '// &
-          itoa(count(s%prm%self_bond /= 0 .and. s%p%body(1:s%p%np) == k))// &
-          ' particles bonded at those joints')
-      end do
-    end if
-    write(line, '(a,i0,4a)') 'walls: ', s%nwall, ' (', &
-      plural(count(s%walls(:)%mirror), 'mirror plane'), ' added by the sector)'
-    call append_msg(report, line)
-    call wall_motion_report(cfg, s, report)
-    dt_stable = solver_stable_dt(s)
-    dt = dt_stable
-    if (s%prm%dt_fixed > 0.0_wp) dt = s%prm%dt_fixed
-    steps = s%prm%t_end/dt                 ! a real: t_end = 1e12 s must not overflow a count
-    if (steps < 1.0e15_wp) steps = real(ceiling(steps, i8), wp)
-    write(line, '(a,f5.3,a)') 'time step: stable limit '// &
-      sci(s%g%h/(s%prm%c_max + s%vmax), 4)//' s (cfl = 1), used '//sci(dt, 4)//' s (cfl ', &
-      dt*(s%prm%c_max + s%vmax)/s%g%h, '), wave speed '//sci(s%prm%c_max, 3)//' m/s'
-    call append_msg(report, line)
-    if (s%prm%dt_fixed > 0.0_wp) then
-      call append_msg(report, 'cfl: not used (fixed dt)')
-    else if (cfg%run%cfl > 0.0_wp) then
-      call append_msg(report, 'cfl: '//cfl_text(cfg%run%cfl)//', as given')
-    else
-      call cfl_automatic(cfg, cfl_auto, why)
-      call append_msg(report, 'cfl: '//why)
-    end if
-    if (steps < 1.0e15_wp) then
-      write(line, '(a,i0,a)') 'steps: about '//sci(steps, 4)//' to t_end (', nint(steps, i8), &
-        ' at the initial speeds)'
-    else
-      line = 'steps: about '//sci(steps, 4)//' to t_end at the initial speeds'
-    end if
-    call append_msg(report, line)
-    bud = budget_estimate(cfg, budget_threads(cfg))
-    call sys_memory_available(avail, source, known)
-    line = 'memory estimate: '//bytes_text(bud%total)//' (particles '// &
-      bytes_text(bud%particle_bytes)//', grid '//bytes_text(bud%grid_bytes)
-    if (cfg%grid%fitted) line = trim(line)//' with room to grow'
-    line = trim(line)//')'
-    if (known) line = trim(line)//' of '//bytes_text(avail)//' available'
-    call append_msg(report, line)
-    line = 'work estimate: '//sci(steps*real(s%p%np, wp), 4)//' particle-steps'
-    call append_msg(report, line)
-    nthreads = bud%threads                 ! below parallel_min particles loops run serially
-    if (s%p%np < s%prm%parallel_min) nthreads = 1
-    call advice_wall_time(steps*real(s%p%np, wp), s%prm%basis, nthreads, &
-                          seconds, rate, long_run)
-    write(line, '(a,i0,a)') 'wall-time estimate: about '//hms(seconds)// &
-      ' (h:mm:ss, release build, ', min(nthreads, 2), ' thread(s), at the '//sci(rate, 2)// &
-      ' particle-steps/s of make bench, docs/performance.md)'
-    if (cfg%run%threads == 0 .and. nthreads > 1) line = trim(line)//'; for free cores: a '// &
-      'run takes one thread per core that other work does not keep busy'
-    if (s%prm%nf > 1) line = trim(line)//'; contact between bodies is not in it and costs '// &
-      'more as the bodies meet (namelists/contact/nested.nml took x 1.5; docs/performance.md)'
-    call append_msg(report, line)
-    if (sector_factor(cfg) > 1.0_wp) then
-      call append_msg(report, 'outputs: energies and masses x '// &
-        itoa(nint(sector_factor(cfg)))//' and wall forces summed over mirror images (the '// &
-        'full ring; docs/output.md)')
-    end if
-
-    call advice_check(cfg, s%g%h, s%prm%c_max, s%vmax, dt, s%walls(1:s%nwall), warnings)
-    if (len(long_run) > 0) call append_msg(warnings, long_run)
-  end subroutine setup_report
 
 end module mpm_setup

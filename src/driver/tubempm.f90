@@ -11,9 +11,11 @@ program tubempm
   use mpm_kinds, only: wp, i8
   use mpm_constants, only: version_string, EXIT_INPUT, EXIT_IO, path_len, BASIS_CPDI2, SCHEME_MUSL
   use mpm_errors, only: fatal, warn
-  use mpm_config, only: config_t, read_config, write_config, write_config_unit, default_config
-  use mpm_setup, only: setup_sim, setup_report, sector_factor
-  use mpm_advice, only: study_advice, advice_end_of_run, scene_of
+  use mpm_config, only: config_t, read_config, write_config, write_config_unit, default_config, &
+                        scene_of
+  use mpm_setup, only: setup_sim, sector_factor
+  use mpm_report, only: setup_report
+  use mpm_advice, only: study_advice, advice_end_of_run
   use mpm_solver, only: sim_t, solver_step
   use mpm_particles, only: particles_t, particles_copy
   use mpm_basis, only: cpdi2_first_folded
@@ -134,7 +136,7 @@ program tubempm
   if (.not. sys_install_signals()) call warn('run', 'could not install signal handlers')
 
   ! input, set-up, report
-  call read_config(case_file, cfg, stat, errmsg, input_warnings, advice)   ! advice: once, below
+  call read_config(case_file, cfg, stat, errmsg, input_warnings)
   if (stat /= 0) call fatal('input', errmsg, stat)
   if (scene_only) then                   ! the kind of scene summary.nml will name, for plots/
     if (len_trim(scene_of(cfg)) == 0) then
@@ -159,7 +161,7 @@ program tubempm
   end if
   if (len(warnings) > 0) call print_warnings(warnings)
   if (check_only) then
-    call study_advice(cfg, s%g%h, s%walls(1:s%nwall), advice)
+    call study_advice(cfg, s%g%h, s%prm%cfl, s%walls(1:s%nwall), advice)
     if (len(advice) > 0) write(output_unit, '(a)') advice
     call warn_if_not_creatable(trim(cfg%run%output_dir))
     write(output_unit, '(a)') 'input ok: '//trim(case_file)

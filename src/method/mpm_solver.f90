@@ -37,13 +37,15 @@ module mpm_solver
   use mpm_grid_update, only: grid_velocity_walls, grid_update_walls
   use mpm_contact, only: contact_begin_step, contact_reactions, contact_energy, contact_check, &
                          contact_step_energy
-  use mpm_body_contact, only: body_contact_detect, body_contact_apply, body_contact_reactions
+  use mpm_body_contact, only: body_contact_detect, body_contact_apply, body_contact_reactions, &
+                              body_contact_loss
   use mpm_self_contact, only: self_contact_mark, self_contact_weld
   use mpm_deformation, only: deformation_update, domains_update
   use mpm_walls, only: wall_kinetic
   use mpm_timers, only: clock_seconds, PHASE_BASIS, PHASE_P2G, PHASE_GRID, PHASE_G2P, &
                         PHASE_REMAP, PHASE_STRESS, PHASE_CORNERS, PHASE_OTHER
   use mpm_strings, only: itoa, rtoa
+  use mpm_time_step, only: time_step_dt
   implicit none
   private
   public :: sim_t, solver_step, solver_stable_dt, solver_energies, solver_init_energy, &
@@ -51,11 +53,11 @@ module mpm_solver
 
 contains
 
-  !> Stable time step cfl * h / (c_d + max particle speed) [s] (docs/method.md, One explicit step).
+  !> The time step at the run's cfl, mpm_time_step's cfl h / (c_d + max particle speed) [s].
   pure function solver_stable_dt(s) result(dt)
     type(sim_t), intent(in) :: s           !! simulation
     real(wp) :: dt
-    dt = s%prm%cfl*s%g%h/(s%prm%c_max + s%vmax)
+    dt = time_step_dt(s%prm%cfl, s%g%h, s%prm%c_max, s%vmax)
   end function solver_stable_dt
 
   !> Kinetic and stored elastic energy of the particles now [J/m].
@@ -201,6 +203,7 @@ contains
     call contact_step_energy(s%state_t, s%g, s%wk, dt)
     call contact_reactions(s%state_t, dt, s%prm%gravity)
     call body_contact_reactions(s%prm, s%state_t, s%wk, dt)
+    call body_contact_loss(s%prm, s%state_t, s%g, s%wk, dt)
     call energy_balance(s%prm, s%state_t, s%g%h, dt, stat, errmsg)
     call tick(s%diag, PHASE_OTHER, clock)
   end subroutine solver_step
@@ -226,7 +229,7 @@ contains
     if (prm%dt_fixed > 0.0_wp) then
       dt = prm%dt_fixed
     else
-      dt = prm%cfl*h/(prm%c_max + st%vmax)
+      dt = time_step_dt(prm%cfl, h, prm%c_max, st%vmax)
     end if
     if (st%t + 1.0001_wp*dt >= prm%t_end) dt = prm%t_end - st%t
     if (.not. dt > 0.0_wp) then

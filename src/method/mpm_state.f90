@@ -42,7 +42,7 @@ module mpm_state
                                            !! volume change over each node's particles
     real(wp) :: flip = 1.0_wp              !! FLIP fraction [-]
     real(wp) :: damping = 0.0_wp           !! mass-proportional damping [1/s]
-    real(wp) :: cfl = 0.2_wp               !! Courant number [-]
+    real(wp) :: cfl = 0.0_wp               !! Courant number, given or automatic [-]
     real(wp) :: dt_fixed = 0.0_wp          !! fixed time step if > 0 [s]
     real(wp) :: t_end = 0.0_wp             !! end time [s]
     real(wp) :: gravity(2) = 0.0_wp        !! body acceleration [m/s^2]

@@ -4,7 +4,8 @@
 !! lines (advice_units).
 module mpm_units
   use mpm_kinds, only: wp
-  use mpm_constants, only: SHAPE_RING, MODEL_J2
+  use mpm_constants, only: SHAPE_RING, SHAPE_DISC, SHAPE_TUBE, SHAPE_HONEYCOMB, SHAPE_WALLS, &
+                           MODEL_J2, MODEL_FOAM
   use mpm_config_types, only: config_t
   use mpm_errors, only: append_msg
   use mpm_strings, only: rtoa, itoa
@@ -17,6 +18,8 @@ module mpm_units
   real(wp), parameter :: e_min = 1.0e6_wp, e_max = 1.0e13_wp  !! plausible E [Pa]
   real(wp), parameter :: rho_min = 10.0_wp, rho_max = 30000.0_wp  !! plausible rho [kg/m^3]
   real(wp), parameter :: yield_strain_max = 1.0_wp/50.0_wp  !! sigma_y / E above this is suspect
+  real(wp), parameter :: foam_strain_max = 1.0_wp/10.0_wp  !! foam sigma_p / E above this [-]
+  real(wp), parameter :: foam_sigma_min = 1.0e3_wp   !! foam sigma_p below this is suspect [Pa]
 
   !> A value that is usually a number in the wrong unit (advice_unit_issues).
   type :: unit_issue_t
@@ -32,7 +35,7 @@ contains
 
   !> Values that are possible but implausible for a tube, usually a number in the wrong unit
   !! (the input is SI): lengths over 1 m, E outside 1 MPa .. 1e13 Pa, sigma_y above E/50,
-  !! density outside 10 .. 30 000 kg/m^3. The reader refuses them (`&run check_units`,
+  !! a foam's sigma_p above E/10 or below 1 kPa, density outside 10 .. 30 000 kg/m^3. The reader refuses them (`&run check_units`,
   !! mpm_config_check) with its file, line and allowed range; advice_units words them as lines.
   pure subroutine advice_unit_issues(cfg, issues)
     type(config_t), intent(in) :: cfg      !! the case
@@ -51,14 +54,37 @@ contains
     end if
     do k = 1, size(cfg%bodies)
       associate (b => cfg%bodies(k))
-        if (b%shape_id == SHAPE_RING) then
+        select case (b%shape_id)
+        case (SHAPE_RING, SHAPE_DISC)
           if (b%r_outer > length_max) call push(issues, 'body', k, 'r_outer', &
                                                 rtoa(b%r_outer)//' m', mm, metres)
           if (b%r_inner > length_max) call push(issues, 'body', k, 'r_inner', &
                                                 rtoa(b%r_inner)//' m', mm, metres)
-        else if (maxval(b%size) > length_max) then
-          call push(issues, 'body', k, 'size', rtoa(maxval(b%size))//' m', mm, metres)
-        end if
+        case (SHAPE_TUBE)
+          if (b%n_vertices > 0) then
+            if (maxval(abs(b%vertices(1:2*b%n_vertices))) > length_max) call push(issues, &
+              'body', k, 'vertices', rtoa(maxval(abs(b%vertices(1:2*b%n_vertices))))// &
+              ' m', mm, metres)
+          end if
+          if (b%thickness > length_max) call push(issues, 'body', k, 'thickness', &
+                                                  rtoa(b%thickness)//' m', mm, metres)
+        case (SHAPE_HONEYCOMB)
+          if (max(b%cell_l, b%cell_h) > length_max) call push(issues, 'body', k, &
+            trim(merge('cell_l', 'cell_h', b%cell_l >= b%cell_h)), &
+            rtoa(max(b%cell_l, b%cell_h))//' m', mm, metres)
+          if (b%thickness > length_max) call push(issues, 'body', k, 'thickness', &
+                                                  rtoa(b%thickness)//' m', mm, metres)
+        case (SHAPE_WALLS)
+          if (allocated(b%seg)) then
+            if (size(b%seg, 2) > 0) then
+              if (maxval(abs(b%seg)) > length_max) call push(issues, 'body', k, &
+                'walls_file', rtoa(maxval(abs(b%seg)))//' m', mm, metres)
+            end if
+          end if
+        case default
+          if (maxval(b%size) > length_max) call push(issues, 'body', k, 'size', &
+                                                     rtoa(maxval(b%size))//' m', mm, metres)
+        end select
         if (maxval(abs(b%center)) > length_max) call push(issues, 'body', k, 'center', &
           rtoa(maxval(abs(b%center)))//' m', mm, metres)
       end associate
@@ -77,6 +103,15 @@ contains
           'material', k, 'sigma_y', rtoa(m%sigma_y)//' Pa', 'above E/50 = '// &
           rtoa(yield_strain_max*m%E)//' Pa: both are in Pa (steel sigma_y about 2e8 to 1e9 '// &
           'against E = 2.1e11)', 'a real number of at most E/50 [Pa]')
+        if (m%model_id == MODEL_FOAM .and. m%sigma_p > 0.0_wp) then
+          if (m%sigma_p > foam_strain_max*m%E) call push(issues, 'material', k, 'sigma_p', &
+            rtoa(m%sigma_p)//' Pa', 'above E/10 = '//rtoa(foam_strain_max*m%E)//' Pa: both '// &
+            'are in Pa (aluminium foam sigma_p about 1e6 to 1e7 against E = 1e8 to 1e9)', &
+            'a real number of at most E/10 [Pa]')
+          if (m%sigma_p < foam_sigma_min) call push(issues, 'material', k, 'sigma_p', &
+            rtoa(m%sigma_p)//' Pa', 'below 1e3 Pa: sigma_p is in Pa (MPa typed as Pa?)', &
+            'a real number of at least 1e3 [Pa]')
+        end if
         if (m%rho < rho_min .or. m%rho > rho_max) call push(issues, 'material', k, 'rho', &
           rtoa(m%rho)//' kg/m^3', 'outside 10 .. 30000 kg/m^3: rho is in kg/m^3 (steel 7800, '// &
           'aluminium 2700; g/cm^3 times 1000)', 'a real number from 10 to 30000 [kg/m^3]')
