@@ -18,7 +18,8 @@ module mpm_contact
   use mpm_tiles, only: tiles_t
   use mpm_walls, only: wall_velocity, wall_mirror_node, wall_travel, wall_free_step, wall_shift
   use mpm_surface_contact, only: surface_points, surface_push, surface_friction, surface_energy, &
-                                 surface_slip_loss, contact_alpha, surface_tie
+                                 surface_slip_loss, contact_alpha, surface_tie, &
+                                 surface_step_energy
   use mpm_surface_curve, only: surface_curve_points
   use mpm_body_tie, only: body_tie_forces, body_tie_energy
   use mpm_constants, only: BASIS_CPDI2
@@ -27,7 +28,7 @@ module mpm_contact
   implicit none
   private
   public :: contact_begin_step, contact_reactions, contact_energy, contact_check, &
-            slip_span_columns, contact_tie
+            slip_span_columns, contact_tie, contact_step_energy
   ! for the node loops of mpm_grid_update
   public :: wall_setup, surface_forces, surface_friction_walls, slip_columns, row_walls
 
@@ -67,12 +68,8 @@ contains
   end subroutine contact_reactions
 
   !> The penalty forces of every wall but 'slip' on the surface points behind it at the start
-  !! of the step, added to the node forces; their momentum over dt is the wall's impulse. The
-  !! energy stored in the contact, st%e_contact, is that of the start of the step: the walls'
-  !! work is counted from the impulses, which act one step after the penetration that causes
-  !! them, and the energy is counted with the same lag (counted at the end of the step, a wall
-  !! meeting a body at rest would show energy before any work, which the growth check of a
-  !! body with E0 = 0 takes for an instability).
+  !! of the step, added to the node forces; their momentum over dt is the wall's impulse. (The
+  !! energy stored in them is counted after the step, contact_step_energy.)
   subroutine surface_forces(prm, st, g, wk, dt)
     type(params_t), intent(in) :: prm      !! parameters (basis, wave speed)
     type(state_t), intent(inout) :: st     !! state: particles, wall impulses
@@ -82,7 +79,6 @@ contains
     integer :: iw, nm
     real(wp) :: imp(2), mirror(4, st%nwall), e_tie
     call surface_allocate(st, wk)
-    st%e_contact = 0.0_wp
     do iw = 1, st%nwall
       if (st%walls(iw)%contact == CONTACT_SLIP) cycle
       wk%surf(iw)%shift = wall_shift(st%walls(iw), st%t)   ! the anchors of a 'bonded' wall
@@ -94,7 +90,6 @@ contains
         call surface_points(st%p, prm%basis, wk%wall_work(3:4, iw), wk%wall_work(5:6, iw), &
                             stiffness(prm, g), wk%par, wk%surf(iw))
       end if
-      st%e_contact = st%e_contact + surface_energy(wk%surf(iw))
       call surface_push(wk%surf(iw), g%origin, g%h, g%nx, g%ny, g%mass, g%mass_cut, wk%nb, &
                         wk%blk, wk%w, wk%gw, wk%wall_work(5:6, iw), dt, g%force, imp, g%nf, &
                         prm%field, prm%corner_field)
@@ -149,6 +144,29 @@ contains
         surface_slip_loss(wk%surf(iw), wk%wall_work(5:6, iw), wk%wall_work(1:2, iw), g%vel)
     end do
   end subroutine surface_friction_walls
+
+  !> End of a step: the energy stored in the walls' contact as the step conserves it, into
+  !! st%e_contact [J/m]: per CPDI2 point of the step's forces, 1/2 k_c times its gap at the
+  !! start (that of its force) times its gap at the end; the corners of the other bases,
+  !! 1/2 k_c g_c^2 at the start (mpm_surface_contact, surface_step_energy).
+  !! A point behind a wall only at the end has no energy yet: its force, and the wall's work
+  !! through it, come in the next step (counted with the end's gap alone, a wall meeting a
+  !! body at rest would show energy before any work, which the growth check of a body with E0
+  !! = 0 takes for an instability). vel: the node velocity the points moved with.
+  subroutine contact_step_energy(st, g, wk, dt)
+    type(state_t), intent(inout) :: st     !! state: e_contact
+    type(grid_t), intent(in) :: g          !! grid: node velocities of the step
+    type(work_t), intent(in) :: wk         !! surface points and walls of the step
+    real(wp), intent(in) :: dt             !! the step just taken [s]
+    integer :: iw
+    st%e_contact = 0.0_wp
+    if (.not. allocated(wk%surf)) return
+    do iw = 1, st%nwall
+      if (st%walls(iw)%contact == CONTACT_SLIP) cycle
+      st%e_contact = st%e_contact + surface_step_energy(wk%surf(iw), wk%wall_work(5:6, iw), &
+                                                        wk%wall_work(1:2, iw), g%vel, dt)
+    end do
+  end subroutine contact_step_energy
 
   !> The energy stored in the walls' contact now (time st%t, particles at the end of the
   !! step), into st%e_contact [J/m].

@@ -25,18 +25,26 @@
 !
 !     f_c = k_c (-g_c) n,        k_c = alpha m_c c^2 / h^2,
 !
-! spread to the active nodes as above, in the same grid update as the internal forces. For a
-! point of mass m_c the penalty frequency is sqrt(alpha) c / h, the grid's own highest, so the
-! stable time step is not lowered. On a face of particles of size l (m_c = rho l^2 / 2 per
-! length l) the penalty is as stiff as a layer 2 h^2 / (alpha l) of the material, 2 h at one
-! particle per cell and 4 h at two: the penetration under a pressure p is p 2 h^2 / (alpha l
-! rho c^2), and a wall that speeds up loads the material about 2 h^2 / (alpha l c) late (a
-! wave struck into a ring's wall at h = t/4, n_t = 8: 0.3 us; docs/fe_reference/README.md). A
-! stiffer penalty rings on a flat face (docs/fe_reference/README.md). The force is the gradient
+! spread to the active nodes as above, in the same grid update as the internal forces. On a
+! face of particles of size l (m_c = rho l^2 / 2 per length l) the penalty is as stiff as a
+! layer 2 h^2 / (alpha l) of the material, 2 h at one particle per cell and 4 h at two: the
+! penetration under a pressure p is p 2 h^2 / (alpha l rho c^2), and a wall that speeds up
+! loads the material about 2 h^2 / (alpha l c) late (a wave struck into a ring's wall at
+! h = t/4, n_t = 8: 0.3 us; docs/fe_reference/README.md). A stiffer penalty rings on a flat
+! face (docs/fe_reference/README.md). Where the face's corners lie on a row of nodes, sum_c k_c
+! N_i is 0.5 to 0.56 alpha c^2 / h^2 times the node's mass at two particles per cell (the node
+! also carries the next row of corners): a penalty frequency of about 0.7 sqrt(alpha) c / h
+! against the 2 c / h of a row of cells, so at the automatic cfl the stable time step is not
+! lowered (at the stability study's limit, 1.75, a platen striking a flat face on grid lines
+! stops the run, for a solid block whatever alpha: docs/method.md). The force is the gradient
 ! of the energy 1/2 k_c g_c^2: what the material puts into the contact it gets back at
-! separation. A kinematic constraint (the velocity of the point cut to what closes its
-! gap) loses the kinetic energy of the nodes it stops at every impact, which costs an elastic
-! bar a per cent of its rebound; that is why this code uses a penalty (docs/method.md).
+! separation. The energy the balance counts after a step is, for a CPDI2 point,
+! 1/2 k_c g_c g_c', the gap at the start of the step times that at its end
+! (surface_step_energy), the explicit update's own invariant: 1/2 k_c g_c^2 alone lags it by
+! dt/2 f_c gdot_c (the corners of the other bases keep it). A kinematic constraint (the
+! velocity of the point cut to what closes its gap) loses the kinetic energy of the nodes it
+! stops at every impact, which costs an elastic bar a per cent of its rebound; that is why this
+! code uses a penalty (docs/method.md).
 !
 ! Friction acts on the points that carry a normal force, after the velocity update: the
 ! tangential impulse that stops the point's slip relative to the wall ('stick'), bounded by mu
@@ -71,7 +79,7 @@ module mpm_surface_contact
   implicit none
   private
   public :: surface_work_t, surface_points, surface_energy, surface_push, surface_friction, &
-            surface_slip_loss, &
+            surface_slip_loss, surface_step_energy, &
             contact_alpha, surface_reserve, corner_masses, surface_tie, surface_tied, &
             tie_force
 
@@ -229,6 +237,46 @@ contains
     real(wp) :: e
     e = sum(wk%en(1:wk%npt))
   end function surface_energy
+
+  !> The energy stored in the contact of the points gathered, as the step's explicit update
+  !! conserves it [J/m]: per CPDI2 point 1/2 k_c g_c g_c', the gap at the start of the step
+  !! (that of its force) times the gap at its end, g_c' = g_c + dt gdot_c (gdot_c = (v_c -
+  !! v_w) . n, v_c = sum_i N_i v_i the velocity the corners move with); in general e_c - dt/2
+  !! f_c . (v_c - v_w), which is 1/2 k_c d_c . d_c' for a tied point; never below zero (a point
+  !! that leaves the wall within the step). The energy at the start of the step alone, e_c, is
+  !! off by dt/2 f_c gdot_c, the lag between the force and the velocity it makes: a thin wall
+  !! thrown off a platen within a few steps showed 5 % growth from it (docs/method.md, "Normal
+  !! contact"). The corner of another basis (a particle's point, owner > 0) moves with its
+  !! particle's position and F, which the schemes update from different velocity fields (USF:
+  !! F from the next step's mapped velocity), not with sum_i W_i v_i: it keeps e_c (with the
+  !! pairing a uGIMP disc crushed by 'bonded' platens under USF, whose ties carry a lasting
+  !! force, missed its balance by 2.1 % instead of 0.24 %). So does a point without active
+  !! nodes (no force). Call after the step (surface_push set the weights; vel is the node
+  !! velocity the corners moved with).
+  pure function surface_step_energy(wk, normal, vwall, vel, dt) result(e)
+    type(surface_work_t), intent(in) :: wk !! points, weights (surface_push)
+    real(wp), intent(in) :: normal(2)      !! unit normal into the material [-]
+    real(wp), intent(in) :: vwall(2)       !! wall velocity over the step [m/s]
+    real(wp), intent(in) :: vel(:,:)       !! node velocity (2, nn) [m/s]
+    real(wp), intent(in) :: dt             !! time step [s]
+    real(wp) :: e
+    integer :: k, a
+    real(wp) :: vr(2), f(2)
+    e = 0.0_wp
+    do k = 1, wk%npt
+      if (wk%owner(k) > 0 .or. .not. wk%s(k) > 0.0_wp) then
+        e = e + wk%en(k)
+        cycle
+      end if
+      vr = -vwall
+      do a = 1, wk%nnode
+        if (wk%nw(a, k) /= 0.0_wp) vr = vr + wk%nw(a, k)*vel(:, wk%node(a, k))
+      end do
+      f = wk%fn(k)*normal
+      if (wk%tied(k)) f = f + wk%ft(k)*[-normal(2), normal(1)]
+      e = e + max(0.0_wp, wk%en(k) - 0.5_wp*dt*(f(1)*vr(1) + f(2)*vr(2)))
+    end do
+  end function surface_step_energy
 
   !> The penalty forces of the points gathered, added to the node forces of the active nodes
   !! (CPDI2 corners: the bilinear weights at the corner; the corners of the other bases:

@@ -35,7 +35,8 @@ module mpm_solver
   use mpm_weights, only: weights_compute
   use mpm_transfer, only: transfer_p2g, transfer_g2p, transfer_g2p_coloured
   use mpm_grid_update, only: grid_velocity_walls, grid_update_walls
-  use mpm_contact, only: contact_begin_step, contact_reactions, contact_energy, contact_check
+  use mpm_contact, only: contact_begin_step, contact_reactions, contact_energy, contact_check, &
+                         contact_step_energy
   use mpm_body_contact, only: body_contact_detect, body_contact_apply, body_contact_reactions, &
                               body_contact_loss
   use mpm_self_contact, only: self_contact_mark, self_contact_weld
@@ -199,6 +200,7 @@ contains
     ! 7. time, wall forces and work, energy balance
     s%t = s%t + dt
     s%step = s%step + 1_i8
+    call contact_step_energy(s%state_t, s%g, s%wk, dt)
     call contact_reactions(s%state_t, dt, s%prm%gravity)
     call body_contact_reactions(s%prm, s%state_t, s%wk, dt)
     call body_contact_loss(s%prm, s%state_t, s%g, s%wk, dt)

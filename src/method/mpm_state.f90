@@ -97,7 +97,8 @@ module mpm_state
     real(wp) :: e_kin = 0.0_wp, e_strain = 0.0_wp, e_plastic = 0.0_wp
     real(wp) :: e_external = 0.0_wp, e_damped = 0.0_wp, e0 = 0.0_wp
     real(wp) :: w_gravity = 0.0_wp         !! work of gravity and body forces [J/m]
-    real(wp) :: e_contact = 0.0_wp         !! energy stored in the walls' contact now [J/m]
+    real(wp) :: e_contact = 0.0_wp         !! energy stored in the walls' contact, as the last
+                                           !! step conserves it (mpm_contact) [J/m]
                                            !! (recomputed from the positions: not written)
     real(wp) :: e_contact_loss = 0.0_wp    !! energy lost to the walls' friction so far (not
                                            !! the contact between bodies') [J/m]
