@@ -20,7 +20,7 @@
 !   into the plane as the particle compresses, with no force doing that work (5 % energy
 !   error).
 !
-! Normal contact (docs/method.md, "Wall contact"): a point whose gap to the plane
+! Normal contact (docs/method.md, "Rigid walls and contact"): a point whose gap to the plane
 ! g_c = (x_c - x_w) . n is negative at the start of the step takes the force
 !
 !     f_c = k_c (-g_c) n,        k_c = alpha m_c c^2 / h^2,
