@@ -13,8 +13,7 @@ module mpm_placement
   use mpm_config_types, only: config_t
   use mpm_bodies, only: body_low, body_overlap
   use mpm_config_text, only: itoa, fmt_short, fmt_vec
-  use mpm_config_lexer, only: reader_t, occurrence
-  use mpm_config_values, only: err_var, warn_var
+  use mpm_config_scan, only: reader_t, occurrence, err_var, warn_var
   implicit none
   private
   public :: placement_checks
