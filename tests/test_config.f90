@@ -342,8 +342,8 @@ contains
     call check(stat == 0, 'warnings do not fail the read: '//msg)
     call check(index(warn, 'warn.nml:2:') == 0, 'h >= wall thickness is advice (--check), '// &
       'not the reader''s: '//warn)
-    call check(index(warn, 'warn.nml:5: &wall #1: ramp = 1e-4: ignored') > 0, &
-      'ramp with a motion table is a warning')
+    call check(index(warn, 'warn.nml:5: &wall #1: ramp = 1e-4: the motion table replaces it. '// &
+      'Set ramp = 0 (docs/input.md#wall)') > 0, 'ramp with a motion table is a warning: '//warn)
     call test_other_shape()
   end subroutine test_warnings
 
@@ -488,6 +488,7 @@ contains
     call check(all(c%bodies(1)%velocity == [3.0_wp, 3.0_wp]), 'velocity = 2*3.0')
     call check(c%walls(1)%friction == 0.0_wp, 'the later friction wins')
     f = write_case('forms2', [character(len=100) :: run_ok//' '//grid_ok, mat_ok, body_ok, &
+      '&solver, basis = ''cpdi1'' /', &
       '&wall point = 0.5,   ! x, and a comment after the comma', '  -0.25  ! y', &
       '  normal = 0, 1 /'])
     call read_config(f, c, stat, msg)
@@ -495,6 +496,7 @@ contains
     if (stat /= 0) return
     call check(c%grid%h == 1.0e-3_wp .and. all(c%walls(1)%point == [0.5_wp, -0.25_wp]), &
       'both groups of the line read; the values go on after the comment')
+    call check(c%solver%basis_id == BASIS_CPDI1, 'a comma after the group name is allowed')
   end subroutine test_value_forms
 
   ! ---------------------------------------------------------------------- bad inputs
@@ -632,6 +634,8 @@ contains
     call bad('b_open_quote', [character(len=100) :: '&run t_end = 1', ' title = ''abc', '/', &
       grid_ok, mat_ok, body_ok], [character(len=100) :: ':2: &run: text value ''abc'// &
       ' is not closed on this line'])
+    call bad('b_stray', [character(len=100) :: run_ok, '&grid h', '/', mat_ok, body_ok], &
+      [character(len=100) :: ':2: &grid: unexpected text ''h'' (expected <name> = <value>)'])
     call bad('b_probe_unknown', [character(len=100) :: run_ok, grid_ok, mat_ok, body_ok, &
       '&probe point = 0, 0, radius = 1 /'], [character(len=100) :: &
       ':5: &probe #1: radius = 1: unknown variable; allowed: point'])

@@ -250,8 +250,9 @@ contains
         do ib = 1, ia - 1                   ! a variable given twice: the last value is used
           if (len(a%sub) > 0 .or. len(rd%occ(io)%asg(ib)%sub) > 0) cycle
           if (lower(rd%occ(io)%asg(ib)%name) /= lower(a%name)) cycle
-          call add_warn(rd, a%line, head//'given again (first on line '// &
-            itoa(rd%occ(io)%asg(ib)%line)//'); the last value is used')
+          call add_warn(rd, a%line, head//'given again (line '// &
+            itoa(rd%occ(io)%asg(ib)%line)//'); the last counts. Delete one (docs/input.md#'// &
+            rd%occ(io)%group//')')
           exit
         end do
       end associate
@@ -404,7 +405,8 @@ contains
     end do
     if (len(other) > 0) call warn_group(rd, io, other(3:)//trim(merge(' is ignored ', &
       ' are ignored', index(other(3:), ',') == 0))//' for '//trim(merge('shape', 'model', &
-      ig == 5))//' = '''//sel//'''')
+      ig == 5))//' = '''//sel//'''. Delete '//trim(merge('it  ', 'them', index(other(3:), ',') &
+      == 0)))
   end subroutine check_rows
 
   !> The values of a field as a list ('1.0, 2.0'; integers without a point).

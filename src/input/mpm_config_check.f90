@@ -83,16 +83,16 @@ contains
     type(material_cfg_t), intent(inout) :: m
     character(len=*), parameter :: jc = 'flow_stress = ''johnson_cook'''
     character(len=:), allocatable :: not_j2
-    not_j2 = 'used only by model = ''j2'' (model is '''//trim(m%model)//''')'
+    not_j2 = 'not used by model = '''//trim(m%model)//''''
     if (m%model_id == MODEL_J2 .and. .not. given(rd, io, 'sigma_y')) &
       call err_missing(rd, io, 'sigma_y')
     if (m%model_id /= MODEL_J2 .and. m%model_id > 0 .and. given(rd, io, 'sigma_y')) &
-      call warn_var(rd, io, 'sigma_y', not_j2)
-    if (m%rate_law_id == RATE_COWPER_SYMONDS .and. m%model_id /= MODEL_J2) call warn_var(rd, &
-      io, 'rate_law', 'used only by model = ''j2'' (it scales the yield stress)')
+      call warn_var(rd, io, 'sigma_y', not_j2//'. Delete it')
+    if (m%rate_law_id == RATE_COWPER_SYMONDS .and. m%model_id /= MODEL_J2) call warn_group(rd, &
+      io, 'rate_law needs model = ''j2''. Set rate_law = ''none''')
     if (m%flow_stress_id == FLOW_JOHNSON_COOK) then
-      if (m%model_id /= MODEL_J2 .and. m%model_id > 0) call warn_var(rd, io, 'flow_stress', &
-        not_j2)
+      if (m%model_id /= MODEL_J2 .and. m%model_id > 0) call warn_group(rd, io, 'flow_stress '// &
+        'needs model = ''j2''. Set flow_stress = ''linear''')
       if (m%hardening > 0.0_wp) call err_var(rd, io, 'hardening', fmt_real(m%hardening), &
         'has no effect with '//jc//' (jc_b and jc_n give its hardening)', &
         '0 with '//jc//' (or flow_stress = ''linear'')')
@@ -103,8 +103,7 @@ contains
         'its rate effect)', '''none'' with '//jc//' (or flow_stress = ''linear'')')
     else if (m%jc_b /= 0.0_wp .or. m%jc_n /= 1.0_wp .or. m%jc_c /= 0.0_wp .or. &
              m%jc_rate0 /= 1.0_wp) then
-      call warn_group(rd, io, 'jc_b, jc_n, jc_c, jc_rate0 are ignored with flow_stress = '// &
-        '''linear'' (set flow_stress = ''johnson_cook'' to use them)')
+      call warn_group(rd, io, 'jc_* need flow_stress = ''johnson_cook''. Delete them')
     end if
     if (m%model_id == MODEL_FOAM) call check_foam(rd, io, m)
     m%curve_strain(m%n_curve+1:) = 0.0_wp      ! past the curve: the type's default
@@ -352,7 +351,7 @@ contains
     call read_pair(rd, io, 'motion_t', 'motion_f', .false., w%motion_t, w%motion_f, nt, ok)
     if (ok) w%n_motion = nt
     if (ok .and. nt > 0 .and. w%ramp > 0.0_wp) call warn_var(rd, io, 'ramp', &
-      'ignored: the motion table replaces it')
+      'the motion table replaces it. Set ramp = 0')
     w%motion_t(w%n_motion+1:) = 0.0_wp         ! past the table: the type's default
     w%motion_f(w%n_motion+1:) = 0.0_wp
     call check_free_wall(rd, io, w)

@@ -196,9 +196,8 @@ contains
       eq = [eq, i]
     end do
     n = size(start)
-    if (n == 0) then
-      start = [len(b) + 1]
-    else if (len_trim(b(:start(1)-1)) > 0) then
+    start = [start, len(b) + 1]
+    if (verify(b(:start(1)-1), ' ,') > 0) then          ! (a comma may follow the name)
       call add_err(rd, line_at(rd%occ(io), 1), label(rd, io)//': unexpected text '''// &
         trim(adjustl(b(:start(1)-1)))//''' (expected <name> = <value>); allowed: '// &
         join_list(var_names(rd%occ(io)%group), ''))
@@ -208,8 +207,7 @@ contains
     rd%occ(io)%n_asg = n
     do k = 1, n
       associate (a => rd%occ(io)%asg(k))
-        j = merge(len(b) + 1, 0, k == n)
-        if (k < n) j = start(k + 1)
+        j = start(k + 1)
         a%name = trim(b(start(k):eq(k) - 1))
         a%sub = ''
         if (index(a%name, '(') > 0) then
@@ -465,32 +463,33 @@ contains
     rd%occ(io)%ok = .false.
   end subroutine err_missing
 
-  !> A warning about a variable of occurrence io (at its assignment, with its value).
+  !> A warning about a variable of occurrence io (at its assignment, with its value): what is
+  !! wrong and what to set; the group's section of docs/input.md follows.
   subroutine warn_var(rd, io, var, what)
     type(reader_t), intent(inout) :: rd
     integer, intent(in) :: io
     character(len=*), intent(in) :: var, what
     integer :: ia
+    character(len=:), allocatable :: shown
     ia = last_asg(rd, io, var)
-    if (ia > 0) then
-      associate (a => rd%occ(io)%asg(ia))
-        if (len(a%sub) > 0) then
-          call add_warn(rd, a%line, label(rd, io)//': '//var//'('//a%sub//') = '//a%value// &
-            ': '//what)
-        else
-          call add_warn(rd, a%line, label(rd, io)//': '//var//' = '//a%value//': '//what)
-        end if
-      end associate
-    else
-      call add_warn(rd, rd%occ(io)%line, label(rd, io)//': '//var//': '//what)
+    if (ia == 0) then
+      call warn_group(rd, io, var//': '//what)
+      return
     end if
+    associate (a => rd%occ(io)%asg(ia))
+      shown = var
+      if (len(a%sub) > 0) shown = var//'('//a%sub//')'
+      call add_warn(rd, a%line, label(rd, io)//': '//shown//' = '//a%value//': '//what// &
+        ' (docs/input.md#'//rd%occ(io)%group//')')
+    end associate
   end subroutine warn_var
 
-  !> A warning about occurrence io as a whole.
+  !> A warning about occurrence io as a whole, with the group's section of docs/input.md.
   subroutine warn_group(rd, io, what)
     type(reader_t), intent(inout) :: rd
     integer, intent(in) :: io
     character(len=*), intent(in) :: what
-    call add_warn(rd, rd%occ(io)%line, label(rd, io)//': '//what)
+    call add_warn(rd, rd%occ(io)%line, label(rd, io)//': '//what//' (docs/input.md#'// &
+      rd%occ(io)%group//')')
   end subroutine warn_group
 end module mpm_config_scan

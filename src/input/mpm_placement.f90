@@ -57,8 +57,8 @@ contains
               1.0e-9_wp*cfg%grid%h .or. any(a%velocity /= b%velocity) .or. &
               a%ramp /= b%ramp .or. a%n_motion /= b%n_motion) cycle
           if (any(a%motion_t /= b%motion_t) .or. any(a%motion_f /= b%motion_f)) cycle
-          call warn_var(rd, io(k), 'point', 'the same plane, normal and motion as &wall #'// &
-            itoa(j)//': the two act together and share the contact force (give it once)')
+          call warn_var(rd, io(k), 'point', 'the plane and motion of &wall #'//itoa(j)// &
+            ': the two share the contact force. Delete one &wall')
           exit
         end associate
       end do
