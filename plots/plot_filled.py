@@ -1,16 +1,22 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
-"""A foam-filled ring against its parts (docs/scenes.md, namelists/foam/): the force and the
-absorbed energy against the platens' approach delta of the filled ring, the empty ring of
-equal outer size, the empty ring of equal mass and the foam core alone, with the sum of the
-empty ring and the core, and the interaction effect E_filled - (E_empty + E_foam alone) at
-equal approach. Prints the table of the &results numbers (mass, absorbed energy, SEA, mean
-and peak force, CFE), the bodies' plastic work in the filled ring, and the interaction at the
-end and at a few approaches (the platens' work integrated along each curve).
+"""A foam-filled tube against its parts (docs/scenes.md, namelists/foam/): the force and the
+absorbed energy against the platens' approach delta of the filled tube, the empty tube of
+equal outer size, the empty tube of equal mass (optional) and the foam core alone, with the sum
+of the empty tube and the core, and the interaction effect E_filled - (E_empty + E_foam alone)
+at equal approach; optionally a second filled tube (`--filled2`, another law between tube and
+core) with its own interaction. Prints the table of the &results numbers (mass, absorbed
+energy, SEA, mean and peak force, CFE), the bodies' plastic work in the filled tube(s), and
+the interaction at the end and at a few approaches (the platens' work integrated along each
+curve).
 
     python3 -m plots.plot_filled --out docs/figures/filled_ring_compare.png
     python3 -m plots.plot_filled --filled out/filled_ring --empty out/empty_ring \\
         --equal-mass out/empty_ring_equal_mass --foam out/foam_disc --at 5 10 20 30
+    python3 -m plots.plot_filled --tube "square tube" --filled out/filled_square \\
+        --filled2 out/filled_square_bonded --label2 "bonded core" --empty out/square_tube \\
+        --equal-mass none --foam out/foam_square --at 5 10 15 20 \\
+        --out docs/figures/filled_square_compare.png
 """
 from __future__ import annotations
 
@@ -25,8 +31,9 @@ from plots.mpmplot import readers, scene
 
 import matplotlib.pyplot as plt
 
-RUNS = (("filled", "filled ring", "C3"), ("empty", "empty ring, equal size", "C0"),
-        ("equal_mass", "empty ring, equal mass", "C2"), ("foam", "foam core alone", "C1"))
+RUNS = (("filled", "filled {tube}", "C3"), ("filled2", "filled {tube}, {label2}", "C5"),
+        ("empty", "empty {tube}, equal size", "C0"), ("equal_mass", "empty {tube}, equal mass",
+                                                     "C2"), ("foam", "foam core alone", "C1"))
 
 
 def load(outdir: str) -> dict:
@@ -53,27 +60,35 @@ def work_at(run: dict, d: float) -> float:
 
 
 def main(argv: list[str] | None = None) -> int:
-    p = argparse.ArgumentParser(description="A foam-filled ring against the empty rings and "
+    p = argparse.ArgumentParser(description="A foam-filled tube against the empty tubes and "
                                 "the foam core alone: force and energy against the approach, "
                                 "the &results table and the interaction effect.")
-    p.add_argument("--filled", default="out/filled_ring", help="the filled ring's output folder")
+    p.add_argument("--tube", default="ring", help="what the tube is, for the labels "
+                   "(default ring)")
+    p.add_argument("--filled", default="out/filled_ring", help="the filled tube's output folder")
+    p.add_argument("--filled2", default="none", help="a second filled tube (another law between "
+                   "tube and core), or none (default)")
+    p.add_argument("--label2", default="bonded core", help="what the second filled tube is")
     p.add_argument("--empty", default="out/empty_ring",
-                   help="the empty ring of equal outer size")
+                   help="the empty tube of equal outer size")
     p.add_argument("--equal-mass", dest="equal_mass", default="out/empty_ring_equal_mass",
-                   help="the empty ring of equal mass")
+                   help="the empty tube of equal mass, or none")
     p.add_argument("--foam", default="out/foam_disc", help="the foam core alone")
     p.add_argument("--at", type=float, nargs="*", default=[5.0, 10.0, 20.0, 30.0], metavar="MM",
                    help="approaches [mm] at which to print the interaction (default 5 10 20 30)")
     p.add_argument("--out", metavar="PNG", help="output image (default <filled>/compare.png)")
     a = p.parse_args(argv)
-    runs = {key: load(getattr(a, key)) for key, _, _ in RUNS}
+    labels = {key: label.format(tube=a.tube, label2=a.label2) for key, label, _ in RUNS}
+    runs = {key: load(getattr(a, key)) for key, _, _ in RUNS if getattr(a, key) != "none"}
     failed = [f"{key}: {r['failure']}" for key, r in runs.items() if r["failure"]]
 
     print(f"{'run':<24} {'mass kg':>8} {'stroke mm':>9} {'E J':>8} {'SEA J/kg':>9} "
           f"{'mean kN':>8} {'peak kN':>8} {'CFE':>6}")
-    for key, label, _ in RUNS:
+    for key, _, _ in RUNS:
+        if key not in runs:
+            continue
         r = runs[key]["results"]
-        print(f"{label:<24} {r['mass']:8.4f} {r['stroke'] * 1e3:9.2f} "
+        print(f"{labels[key]:<24} {r['mass']:8.4f} {r['stroke'] * 1e3:9.2f} "
               f"{r['absorbed_energy']:8.1f} {r['sea']:9.1f} {r['mean_force'] / 1e3:8.2f} "
               f"{r['peak_force'] / 1e3:8.2f} {r['cfe']:6.3f}")
     rf = runs["filled"]["results"]
@@ -82,16 +97,29 @@ def main(argv: list[str] | None = None) -> int:
     print(f"interaction at the end: E_filled - (E_empty + E_foam alone) = {e_f:.1f} - "
           f"({e_e:.1f} + {e_c:.1f}) = {inter:.1f} J ({100.0 * inter / (e_e + e_c):+.1f} % of "
           f"the sum)")
-    if "body1_energy" in rf and "body2_energy" in rf:
-        print(f"filled ring, plastic work by body: ring {rf['body1_energy']:.1f} J (empty ring "
-              f"{runs['empty']['results']['body1_energy']:.1f}), core {rf['body2_energy']:.1f} J "
-              f"(alone {runs['foam']['results']['body1_energy']:.1f})")
+    if "filled2" in runs:
+        e_2 = runs["filled2"]["results"]["absorbed_energy"]
+        print(f"{labels['filled2']}: interaction at the end {e_2 - (e_e + e_c):.1f} J "
+              f"({100.0 * (e_2 - (e_e + e_c)) / (e_e + e_c):+.1f} % of the sum)")
+    for key in ("filled", "filled2"):
+        rk = runs[key]["results"] if key in runs else {}
+        if "body1_energy" in rk and "body2_energy" in rk:
+            print(f"{labels[key]}, plastic work by body: {a.tube} {rk['body1_energy']:.1f} J "
+                  f"(empty {runs['empty']['results']['body1_energy']:.1f}), core "
+                  f"{rk['body2_energy']:.1f} J (alone "
+                  f"{runs['foam']['results']['body1_energy']:.1f})")
     for mm in a.at:
         d = 1e-3 * mm
-        w = {k: work_at(runs[k], d) for k in ("filled", "empty", "foam", "equal_mass")}
-        print(f"at delta = {mm:g} mm: platens' work filled {w['filled']:.1f} J, empty "
-              f"{w['empty']:.1f} J, core alone {w['foam']:.1f} J, equal mass "
-              f"{w['equal_mass']:.1f} J; interaction {w['filled'] - w['empty'] - w['foam']:.1f} J")
+        w = {k: work_at(runs[k], d) for k in runs}
+        line = (f"at delta = {mm:g} mm: platens' work filled {w['filled']:.1f} J, empty "
+                f"{w['empty']:.1f} J, core alone {w['foam']:.1f} J")
+        for k in ("filled2", "equal_mass"):
+            if k in w:
+                line += f", {labels[k]} {w[k]:.1f} J"
+        line += f"; interaction {w['filled'] - w['empty'] - w['foam']:.1f} J"
+        if "filled2" in w:
+            line += f" ({labels['filled2']}: {w['filled2'] - w['empty'] - w['foam']:.1f} J)"
+        print(line)
     for key in runs:
         s = runs[key]["summary"]
         print(f"{key}: {int(s['steps'])} steps, energy error {float(s['energy_error']):.2e}, "
@@ -99,10 +127,12 @@ def main(argv: list[str] | None = None) -> int:
 
     fig, (ax_f, ax_e) = plt.subplots(1, 2, layout="constrained", figsize=(12.0, 4.8))
     grid = np.linspace(0.0, min(runs[k]["delta"].max() for k in ("empty", "foam")), 400)
-    for key, label, colour in RUNS:
+    for key, _, colour in RUNS:
+        if key not in runs:
+            continue
         r = runs[key]
-        ax_f.plot(r["delta"] * 1e3, r["force"] / 1e3, color=colour, lw=1.0, label=label)
-        ax_e.plot(r["delta"] * 1e3, r["work"], color=colour, lw=1.2, label=label)
+        ax_f.plot(r["delta"] * 1e3, r["force"] / 1e3, color=colour, lw=1.0, label=labels[key])
+        ax_e.plot(r["delta"] * 1e3, r["work"], color=colour, lw=1.2, label=labels[key])
     f_sum = np.array([np.interp(d, runs["empty"]["delta"], runs["empty"]["force"]) +
                       np.interp(d, runs["foam"]["delta"], runs["foam"]["force"]) for d in grid])
     w_sum = np.array([work_at(runs["empty"], d) + work_at(runs["foam"], d) for d in grid])
@@ -111,6 +141,10 @@ def main(argv: list[str] | None = None) -> int:
     ax_e.plot(grid * 1e3, w_sum, "k--", lw=1.0, label="empty + foam alone")
     ax_e.plot(grid * 1e3, w_fil - w_sum, ":", color="C4", lw=1.6,
               label="interaction: filled − (empty + foam alone)")
+    if "filled2" in runs:
+        w_2 = np.array([work_at(runs["filled2"], d) for d in grid])
+        ax_e.plot(grid * 1e3, w_2 - w_sum, ":", color="C5", lw=1.6,
+                  label=f"interaction, {a.label2}")
     ax_f.set_xlabel("approach δ [mm]")
     ax_f.set_ylabel("platen force [kN] (depth 1 m)")
     ax_f.set_title("force against approach")

@@ -23,7 +23,7 @@ program test_config
   character(len=*), parameter :: nml_files(5) = [character(len=32) :: &
     'namelists/default.nml', 'namelists/crush.nml', 'namelists/impact.nml', 'namelists/wave.nml', &
     'namelists/foam/foam_block.nml']
-  character(len=*), parameter :: bad_files(41) = [character(len=32) :: &
+  character(len=*), parameter :: bad_files(42) = [character(len=32) :: &
     '01_empty', '02_missing_run', '03_only_run', '04_unknown_group', '05_unknown_variable', &
     '06_text_for_number', '07_integer_expected', '08_unquoted_text', '09_bad_enum', &
     '10_repeated_run', '11_cfl_range', '12_t_end_missing', '13_nu_range', &
@@ -34,7 +34,7 @@ program test_config
     '28_too_many_values', '29_unclosed_group', '30_text_outside_group', &
     '31_probe_point_missing', '32_several_errors', '33_missing_equals', '34_motion_too_long', &
     '36_logical_expected', '37_inf_value', '38_number_too_large', &
-    '39_johnson_cook', '40_contact', '41_volumetric', '42_fbar_bodies']
+    '39_johnson_cook', '40_contact', '41_volumetric', '42_fbar_bodies', '55_filler']
   ! a valid scene to which the inline bad cases add one mistake
   character(len=*), parameter :: run_ok = '&run t_end = 1.0e-3 /'
   character(len=*), parameter :: grid_ok = '&grid h = 1.0e-3 /'
@@ -378,7 +378,7 @@ contains
     call write_config(c, dir//'/shape1_echo.nml', stat, msg)
     echo = file_text(dir//'/shape1_echo.nml')
     call check(count_of(echo, '  ! size, n_x, n_y, vertices, thickness, corner_radius, '// &
-      'n_cells, cell_l, cell_h, cell_angle, walls_file: not for rings') == 2, &
+      'n_cells, cell_l, cell_h, cell_angle, walls_file, fills, fill_gap: not for rings') == 2, &
       'the echo names the other shapes'' variables once per ring')
     call check(count_of(echo, '  ! r_inner, r_outer, n_thick, n_circ, sector, self_contact: '// &
       'not for rectangles') == 4, 'the echo names the rings'' variables once per rectangle')

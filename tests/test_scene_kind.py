@@ -52,6 +52,9 @@ EXPECTED = {
     "namelists/foam/filled_ring.nml": "crush",    # a ring and its foam core between platens
     "namelists/foam/filled_drop.nml": "impact",   # a wall with mass: a drop test
     "namelists/foam/foam_disc.nml": "generic",    # a foam disc between platens: no ring
+    "namelists/foam/filled_square.nml": "generic",  # a square tube (no ring) and its core
+    "namelists/foam/filled_square_bonded.nml": "generic",
+    "namelists/foam/foam_square.nml": "generic",  # a foam block between platens: no ring
     "tests/scenes/crush_quarter.nml": "crush",
     "tests/scenes/damped_quarter.nml": "wave",    # a platen pulse (triangle back to 0)
     "tests/scenes/elastic_quarter.nml": "wave",   # a platen pulse, as the wave scene's

@@ -17,7 +17,10 @@ deterministically here; `--list` prints it):
   'bonded' as a fourth value the greedy array re-forms, and its row of 'stick' + drop weight +
   half + linear + usf + fbarwall + mass_scale 4 ends at 2.65 % energy error, bit for bit as
   before 'bonded' existed: a limit of that combination the array of three laws never ran);
-* law between the bodies (two rings only): 'frictionless', 'coulomb' (0.3), 'stick';
+* law between the bodies (two rings only): 'frictionless', 'coulomb' (0.3), 'stick'; and
+  'bonded' (basis 'cpdi2' only; friction 0.3 for what is not tied: the rings start h/2 apart,
+  so nothing is tied and they meet by Coulomb's law) on the first row of the two rings with
+  basis 'cpdi2', run again with it (outside the pairwise array, as the walls' 'bonded');
 * loading of the crush: a platen at constant speed, a platen with a stroke, a drop weight;
 * basis (linear, ugimp, cpdi1, cpdi2), scheme (usl, usf, musl), volumetric (standard, fbar,
   fbarwall), plane (strain, stress), damping (0 or 2000 1/s), mass_scale (1 or 4),
@@ -31,6 +34,14 @@ a walls file with self-contact, and a solid disc, each crushed between platens,
 with every basis, scheme 'usf' and 'musl', every wall law, both planes and both volumetric
 treatments a single velocity field allows (F-bar on the tube without self-contact; the
 input refuses it for a disc).
+
+A foam-filled half square tube (`shape = 'filler'`, FILLER_ROWS) takes every law between
+tube and filler, each with another basis, scheme, wall law and plane: 'frictionless', 'coulomb'
+(0.3), 'stick', 'bonded' (cpdi2: the filler touches the tube, so its surface is tied), and a
+filler with `fill_gap` (0.5 mm, half a cell) that the crush closes, with 'coulomb'. With basis
+'ugimp' a filler touching its tube went unstable at the automatic cfl (0.86; at 0.6 too, the
+squares of the two bodies' particles overlap at t = 0): `--check` must warn of it, and the row
+runs at the cfl the warning gives, 0.4.
 
 Each run must complete (exit 0) with its energy balance (summary.nml `energy_error`: the largest
 imbalance of kinetic + strain + plastic + damped + contact_loss against the external work over
@@ -100,6 +111,8 @@ def allowed(c: dict) -> bool:
         return False
     if scene == "impact" and g("sector") == "quarter":
         return False              # the impact is symmetric about x only
+    if g("body_law") == "bonded" and g("basis") not in (None, "cpdi2"):
+        return False              # 'bonded' bodies tie CPDI2's corners (docs/input.md)
     if g("loading") == "mass" and g("wall_law") == "bonded":
         return False              # a wall with mass is not 'bonded' (docs/input.md)
     if g("loading") == "mass" and g("sector") not in (None, "full", "half"):
@@ -165,6 +178,13 @@ def bonded_rows(rows: list[dict]) -> list[dict]:
     return out
 
 
+def bonded_body_rows(rows: list[dict]) -> list[dict]:
+    """The first row of the two rings with basis 'cpdi2', with 'bonded' between the bodies."""
+    ok = [dict(r, body_law="bonded") for r in rows
+          if r["scene"] == "two_rings" and r["basis"] == "cpdi2"]
+    return ok[:1]
+
+
 def completable(partial: dict) -> bool:
     """Whether some full row extends this allowed partial one."""
     rest = [n for n in FACTORS if n not in partial]
@@ -225,8 +245,8 @@ def case_text(c: dict, name: str) -> str:
         return (f"&run title = '{name}', t_end = 6.0e-5, cfl = 0.0, history_every = 2.0e-6, "
                 f"output_dir = 'OUT', snapshot_every = 1.0 /\n{solver}&grid h = {H} /\n"
                 f"{MATERIAL}{body}&wall point = 0.0, 0.0, normal = 0.0, 1.0, {wall} /\n")
-    law = f"law = '{c['body_law']}'" + (", friction = 0.3" if c["body_law"] == "coulomb"
-                                         else "")
+    law = f"law = '{c['body_law']}'" + (", friction = 0.3" if c["body_law"] in
+                                         ("coulomb", "bonded") else "")
     lower = f"&body shape = 'ring', center = 0.0, {RO}, {ring}{sc} /\n"
     upper = (f"&body shape = 'ring', center = 4.0e-3, {3 * RO + 0.5 * H}, {ring}, "
              f"velocity = 0.0, -30.0{sc} /\n")
@@ -337,6 +357,64 @@ def section_text(c: dict, name: str) -> str:
             f"ramp = 2.0e-5 /\n&wall point = 0.0, {-0.1 * H}, normal = 0.0, 1.0, {wall} /\n")
 
 
+FOAM = ("&material name = 'foam', model = 'foam', E = 1.0e9, nu = 0.3, rho = 230.0, "
+        "sigma_p = 1.6e6, nu_plastic = 0.0, foam_gamma = 2.0e6, foam_alpha2 = 4.0e6, "
+        "foam_beta = 4.0, eps_d = 2.46 /\n")
+FILLER_ROWS = [
+    dict(law="frictionless", basis="linear", scheme="usf", wall_law="coulomb", plane="stress",
+         gap=0.0),
+    dict(law="coulomb", basis="ugimp", scheme="musl", wall_law="stick", plane="strain", gap=0.0),
+    dict(law="stick", basis="cpdi1", scheme="usf", wall_law="bonded", plane="strain", gap=0.0),
+    dict(law="bonded", basis="cpdi2", scheme="musl", wall_law="frictionless", plane="stress",
+         gap=0.0),
+    dict(law="coulomb", basis="cpdi2", scheme="usf", wall_law="coulomb", plane="strain",
+         gap=0.5e-3),
+]
+
+
+def filler_text(c: dict, name: str) -> str:
+    """A filler row: SECTION_BODY's half square tube (without self-contact) filled with foam
+    (12 divisions), crushed between platens at 10 m/s for 0.1 ms."""
+    tube = SECTION_BODY["tube"][0].replace(", self_contact = .true.", "")
+    law = f"law = '{c['law']}'" + (", friction = 0.3" if c["law"] in ("coulomb", "bonded")
+                                   else "")
+    wall = f"contact = '{c['wall_law']}'" + (", friction = 0.3" if c["wall_law"] in
+                                              ("coulomb", "bonded") else "")
+    top = SECTION_BODY["tube"][1] + 0.1 * H
+    return (f"&run title = '{name}', t_end = 1.0e-4, cfl = 0.0, history_every = 2.0e-6, "
+            f"output_dir = 'OUT', snapshot_every = 1.0 /\n&solver basis = '{c['basis']}', "
+            f"scheme = '{c['scheme']}', plane = '{c['plane']}', mass_scale = 4.0 /\n"
+            f"&grid h = {H} /\n{MATERIAL}{FOAM}{tube}&body shape = 'filler', material = 'foam', "
+            f"fills = 1, n_thick = 12, fill_gap = {c['gap']} /\n&contact bodies = 1, 2, {law} /\n"
+            f"&wall point = 0.0, {top}, normal = 0.0, -1.0, {wall}, velocity = 0.0, -10.0, "
+            f"ramp = 2.0e-5 /\n&wall point = 0.0, {-0.1 * H}, normal = 0.0, 1.0, {wall} /\n")
+
+
+def run_fillers(scratch: Path) -> int:
+    """The filler rows: each completes within ENERGY_TOL (two bodies without self-contact: the
+    contact's loss is booked; the ties of 'bonded' are springs)."""
+    for law in ("frictionless", "coulomb", "stick", "bonded"):
+        check(any(r["law"] == law for r in FILLER_ROWS), f"the filler rows run law = {law!r}")
+    for k, c in enumerate(FILLER_ROWS):
+        name = f"f{k:02d}_filler"
+        text = filler_text(c, name)
+        if c["basis"] == "ugimp" and c["gap"] < 0.5 * H:
+            folder = scratch / name
+            folder.mkdir(parents=True, exist_ok=True)
+            (folder / f"{name}.nml").write_text(text.replace("OUT", str(folder / "out")))
+            warn = check_warnings(folder / f"{name}.nml")
+            check("a filler touching its tube with basis 'ugimp'" in warn and "cfl = 0.4" in warn,
+                  f"{name}: --check warns of 'ugimp' with a touching filler ({warn[-300:]!r})")
+            text = text.replace("cfl = 0.0", "cfl = 0.4")
+        _, s = run_scene(T, scratch, name, text)
+        if not s:
+            print(f"   (filler row {k}: {c})")
+            continue
+        err = float(s["energy_error"])
+        check(err <= ENERGY_TOL, f"{name}: energy error {err:.4f} <= {ENERGY_TOL} ({c})")
+    return len(FILLER_ROWS)
+
+
 def seams_on_stick(scratch: Path, name: str, c: dict) -> None:
     """Self-contact seams on a 'stick' or 'bonded' wall with a basis of squares: --check warns
     of it, and the run completes within its tolerance or stops cleanly (exit 4, the last good
@@ -416,6 +494,7 @@ def half_matches_full(scratch: Path) -> None:
 def main() -> int:
     rows = covering_array()
     rows += bonded_rows(rows)
+    rows += bonded_body_rows(rows)
     if "--list" in sys.argv:
         for k, r in enumerate(rows):
             print(k, r)
@@ -475,7 +554,9 @@ def main() -> int:
         check(any(folder.glob("out/crash_*.h5")) and (folder / "out" / "history.csv").is_file(),
               "linear + usl: the stop leaves the last good state and history.csv")
     n_sections = run_sections(scratch)
-    print(f"test_scene_matrix: {len(rows)} runs, {n_sections} section runs")
+    n_fillers = run_fillers(scratch)
+    print(f"test_scene_matrix: {len(rows)} runs, {n_sections} section runs, {n_fillers} filler "
+          f"runs")
     return 0
 
 

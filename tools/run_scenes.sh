@@ -19,13 +19,17 @@
 # approach; not for filled_ring), <scene>_shapes.png (filled_ring, foam_disc, filled_drop: the
 # start, the middle and the end), <scene>_bodies.png (filled_ring, filled_drop: per body), and,
 # once the four crushes are there, filled_ring_compare.png (plots/plot_filled.py: the filled
-# ring against the empty rings and the foam alone, with the interaction effect).
+# ring against the empty rings and the foam alone, with the interaction effect). The filled
+# square tube (filled_square, filled_square_bonded, foam_square; `filled_square_all` runs the
+# three and sections/square_tube.nml) draws filled_square_compare.png (the filled tube, the
+# bonded one, the empty square_tube and the core alone) and <scene>_shapes.png,
+# <scene>_bodies.png of the two filled tubes.
 # Two runs at once with one thread each (the machine has two cores).
 # A subset of the scenes writes its figures but not scenes.txt (the numbers of all three scenes):
 # its numbers go to build/scenes.txt instead.
 #   usage: tools/run_scenes.sh [scene ...]      (default: crush impact wave)
 set -eu
-usage() { echo "usage: tools/run_scenes.sh [crush] [crush_fixed] [impact] [wave] [two_rings] [nested] [nested_eccentric] [stack] [row3] [plates] [densify] [square_tube] [hex_tube] [multicell_2x2] [honeycomb] [auxetic] [sections] [foam_block] [filled_ring] [empty_ring] [empty_ring_equal_mass] [foam_disc] [filled_drop] [foam]"
+usage() { echo "usage: tools/run_scenes.sh [crush] [crush_fixed] [impact] [wave] [two_rings] [nested] [nested_eccentric] [stack] [row3] [plates] [densify] [square_tube] [hex_tube] [multicell_2x2] [honeycomb] [auxetic] [sections] [foam_block] [filled_ring] [empty_ring] [empty_ring_equal_mass] [foam_disc] [filled_drop] [foam] [filled_square] [filled_square_bonded] [foam_square] [filled_square_all]"
           echo "  (default: crush impact wave) runs namelists/<scene>.nml (namelists/contact/ for the"
           echo "  scenes of several bodies; release build bin/tubempm), writes docs/figures/<scene>.png"
           echo "  and <scene>_shapes.png (several bodies: <scene>_bodies.png, _shapes.png, _eqps.png),"
@@ -36,6 +40,7 @@ for a in "$@"; do
     crush|crush_fixed|impact|wave|two_rings|nested|nested_eccentric|stack|row3|plates|densify) ;;
     square_tube|hex_tube|multicell_2x2|honeycomb|auxetic|sections) ;;
     foam_block|filled_ring|empty_ring|empty_ring_equal_mass|foam_disc|filled_drop|foam) ;;
+    filled_square|filled_square_bonded|foam_square|filled_square_all) ;;
     *) echo "ERROR [run_scenes]: unknown scene '$a'" >&2; usage >&2; exit 2 ;;
   esac
 done
@@ -45,6 +50,7 @@ scenes=${*:-crush impact wave}
 scenes=${scenes/sections/square_tube hex_tube multicell_2x2 honeycomb auxetic}
 words=; for c in $scenes; do   # the word foam (not foam_block, foam_disc): the five scenes
   [ "$c" = foam ] && c="filled_ring empty_ring empty_ring_equal_mass foam_disc filled_drop"
+  [ "$c" = filled_square_all ] && c="filled_square filled_square_bonded foam_square square_tube"
   words="$words $c"; done
 scenes=${words# }
 numbers=docs/figures/scenes.txt
@@ -88,15 +94,15 @@ for c in $scenes; do
     elif [ "$c" = densify_weld ]; then
       $py -m plots.plot_shapes --case "$(nml "$c")" --out "docs/figures/${c}_shapes.png"
     elif [ -f "namelists/foam/$c.nml" ]; then   # the figures docs/scenes.md shows
-      kind=(); case $c in foam_block|foam_disc) kind=(--kind crush) ;; esac
+      kind=(); case $c in foam_block|foam_disc|foam_square|filled_square*) kind=(--kind crush) ;; esac
       case $c in filled_ring) ;; *)
         $py -m plots.plot_case --case "$(nml "$c")" "${kind[@]}" --out "docs/figures/$c.png" ;;
       esac
-      case $c in filled_ring|foam_disc|filled_drop)
+      case $c in filled_ring|foam_disc|filled_drop|filled_square|filled_square_bonded|foam_square)
         $py -m plots.plot_shapes --case "$(nml "$c")" --frames 0 6 -1 \
           --out "docs/figures/${c}_shapes.png" ;;
       esac
-      case $c in filled_ring|filled_drop)
+      case $c in filled_ring|filled_drop|filled_square|filled_square_bonded)
         $py -m plots.plot_bodies --case "$(nml "$c")" --out "docs/figures/${c}_bodies.png" ;;
       esac
     elif [ -f "namelists/$c.nml" ] || [ -f "namelists/sections/$c.nml" ]; then
@@ -115,6 +121,16 @@ if [ -f out/filled_ring/summary.nml ] && [ -f out/empty_ring/summary.nml ] && \
   case " $scenes " in *" filled_ring "*|*" empty_ring "*|*" empty_ring_equal_mass "*|*" foam_disc "*)
     { echo "== filled ring against its parts"
       $py -m plots.plot_filled --out docs/figures/filled_ring_compare.png; } >> "$numbers" 2>&1 ;;
+  esac
+fi
+if [ -f out/filled_square/summary.nml ] && [ -f out/filled_square_bonded/summary.nml ] && \
+   [ -f out/square_tube/summary.nml ] && [ -f out/foam_square/summary.nml ]; then
+  case " $scenes " in *" filled_square "*|*" filled_square_bonded "*|*" foam_square "*|*" square_tube "*)
+    { echo "== filled square tube against its parts"
+      $py -m plots.plot_filled --tube "square tube" --filled out/filled_square \
+        --filled2 out/filled_square_bonded --label2 "bonded core" --empty out/square_tube \
+        --equal-mass none --foam out/foam_square --at 5 10 15 20 24 \
+        --out docs/figures/filled_square_compare.png; } >> "$numbers" 2>&1 ;;
   esac
 fi
 cat "$numbers"

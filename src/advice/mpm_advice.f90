@@ -20,7 +20,7 @@ module mpm_advice
                            PLANE_STRESS, SCHEME_USL, SCHEME_MUSL, BASIS_LINEAR, BASIS_UGIMP, &
                            BASIS_CPDI2, MODEL_NEOHOOKEAN, &
                            VOLUMETRIC_FBAR, VOLUMETRIC_STANDARD, VOLUMETRIC_FBARWALL, &
-                           volumetric_names, pi, CONTACT_STICK, CONTACT_BONDED
+                           volumetric_names, pi, CONTACT_STICK, CONTACT_BONDED, SHAPE_FILLER
   use mpm_particles, only: ring_counts
   use mpm_bodies, only: body_wall_thickness, is_section, bodies_wall_ppc
   use mpm_config_types, only: config_t, scene_of
@@ -75,7 +75,8 @@ module mpm_advice
     doc_fold = 'docs/stability.md#full-crush', &
     doc_self_contact = 'docs/method.md#self-contact', &
     doc_quasi_static = 'docs/validation.md#quasi-static', &
-    doc_energy = 'docs/stability.md#energy', doc_cfl = 'docs/stability.md#the-automatic-cfl'
+    doc_energy = 'docs/stability.md#energy', doc_cfl = 'docs/stability.md#the-automatic-cfl', &
+    doc_filler = 'docs/method.md#sections'
 
 contains
 
@@ -237,7 +238,30 @@ contains
     call advice_stability(cfg, dt*(c_max + vmax)/h, warnings)
     call advice_full_crush(cfg, walls, warnings)
     call advice_seams(cfg, warnings)
+    call advice_filler(cfg, h, dt*(c_max + vmax)/h, warnings)
   end subroutine advice_check
+
+  !> A filler that touches its tube (fill_gap below h/2) with basis 'ugimp': the squares of
+  !! the tube's and the filler's particles overlap at t = 0, and their contact went unstable
+  !! at the automatic cfl (0.86 with 'musl'; a half square tube filled with foam,
+  !! tests/test_scene_matrix.py's filler rows) and at 0.6: stable at cfl 0.4, with a gap of
+  !! h/2, or with the CPDI bases, whose domains are the particles' own.
+  subroutine advice_filler(cfg, h, cfl, warnings)
+    type(config_t), intent(in) :: cfg
+    real(wp), intent(in) :: h                !! cell size [m]
+    real(wp), intent(in) :: cfl              !! the cfl in use [-]
+    character(len=:), allocatable, intent(inout) :: warnings
+    integer :: ib
+    if (cfg%solver%basis_id /= BASIS_UGIMP .or. .not. cfl > 0.4_wp) return
+    do ib = 1, size(cfg%bodies)
+      if (cfg%bodies(ib)%shape_id /= SHAPE_FILLER) cycle
+      if (cfg%bodies(ib)%fill_gap >= 0.5_wp*h) cycle
+      call add_line(cfg, warnings, 'body '//itoa(ib)//': filler touching its tube with '// &
+        '''ugimp'' unstable at cfl '//cfl_short(cfl)//'. Set cfl = 0.4 or basis = ''cpdi2'' ('// &
+        doc_filler//')')
+      exit
+    end do
+  end subroutine advice_filler
 
   !> The wall time of a run of `work` particle-steps on `threads` threads of the release build
   !! at the throughput `make bench` measured (src/advice/mpm_bench_table.inc, docs/performance.md)

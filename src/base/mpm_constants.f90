@@ -14,6 +14,7 @@ module mpm_constants
   public :: RATE_NONE, RATE_COWPER_SYMONDS, rate_law_names
   public :: FLOW_LINEAR, FLOW_JOHNSON_COOK, flow_stress_names
   public :: SHAPE_RING, SHAPE_RECT, SHAPE_TUBE, SHAPE_HONEYCOMB, SHAPE_WALLS, SHAPE_DISC, &
+            SHAPE_FILLER, &
             shape_names, shape_plural, max_vertices, max_cells
   public :: SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER, sector_names
   public :: CONTACT_FRICTIONLESS, CONTACT_COULOMB, CONTACT_STICK, CONTACT_SLIP, CONTACT_BONDED, &
@@ -54,11 +55,11 @@ module mpm_constants
   character(len=*), parameter :: flow_stress_names(2) = [character(len=12) :: &
     'linear', 'johnson_cook']
   integer, parameter :: SHAPE_RING = 1, SHAPE_RECT = 2, SHAPE_TUBE = 3, SHAPE_HONEYCOMB = 4, &
-                        SHAPE_WALLS = 5, SHAPE_DISC = 6
-  character(len=*), parameter :: shape_names(6) = [character(len=9) :: 'ring', 'rect', 'tube', &
-    'honeycomb', 'walls', 'disc']
-  character(len=*), parameter :: shape_plural(6) = [character(len=10) :: 'rings', 'rectangles', &
-    'tubes', 'honeycombs', 'wall sets', 'discs']
+                        SHAPE_WALLS = 5, SHAPE_DISC = 6, SHAPE_FILLER = 7
+  character(len=*), parameter :: shape_names(7) = [character(len=9) :: 'ring', 'rect', 'tube', &
+    'honeycomb', 'walls', 'disc', 'filler']
+  character(len=*), parameter :: shape_plural(7) = [character(len=10) :: 'rings', 'rectangles', &
+    'tubes', 'honeycombs', 'wall sets', 'discs', 'fillers']
   integer, parameter :: max_vertices = 64  !! vertices of a 'tube'
   integer, parameter :: max_cells = 64     !! cells of a 'honeycomb' along x and along y
   integer, parameter :: SECTOR_FULL = 1, SECTOR_HALF = 2, SECTOR_QUARTER = 3

@@ -11,11 +11,13 @@
 module mpm_bodies
   use mpm_kinds, only: wp
   use mpm_constants, only: pi, name_len, path_len, SHAPE_RING, SHAPE_RECT, SHAPE_TUBE, &
-                           SHAPE_HONEYCOMB, SHAPE_WALLS, SHAPE_DISC, SECTOR_FULL, SECTOR_HALF, &
+                           SHAPE_HONEYCOMB, SHAPE_WALLS, SHAPE_DISC, SHAPE_FILLER, SECTOR_FULL, &
+                           SECTOR_HALF, &
                            SECTOR_QUARTER, sector_names, shape_names, max_vertices
   use mpm_particles, only: particles_t, ring_counts, ring_fill, rect_counts, rect_fill, quads_fill
   use mpm_sections, only: section_t, section_tube, section_honeycomb, section_walls, &
                           section_mesh, disc_mesh, section_clip
+  use mpm_filler, only: filler_mesh
   use mpm_section_colours, only: section_colours
   use mpm_strings, only: sci
   implicit none
@@ -29,6 +31,7 @@ module mpm_bodies
   !! table (mpm_config_table).
   type :: body_in_t
     character(len=name_len) :: shape = 'ring'      !! ring | rect | tube | honeycomb | walls | disc
+                                                   !! | filler
     character(len=name_len) :: material = ''       !! a &material name
     character(len=name_len) :: sector = 'full'     !! full | half | quarter
     integer :: shape_id = 0, material_id = 0, sector_id = 0  !! codes; material_id indexes materials
@@ -50,11 +53,17 @@ module mpm_bodies
     real(wp) :: cell_h = -1.0_wp                   !! honeycomb: vertical wall length [m]
     real(wp) :: cell_angle = 30.0_wp               !! honeycomb: inclined wall angle [degrees]
     character(len=path_len) :: walls_file = ''     !! walls: the CSV of segments
+    integer :: fills = 0                           !! filler: the 'tube' body it fills (its index)
+    real(wp) :: fill_gap = 0.0_wp                  !! filler: gap to the tube's inner face [m]
   end type body_in_t
 
-  !> A body: its input and what is read from its files.
+  !> A body: its input and what is read from its files or taken from another body.
   type, extends(body_in_t) :: body_cfg_t
     real(wp), allocatable :: seg(:,:)              !! walls: segments x1, y1, x2, y2, t (5, n) [m]
+    integer :: host_n_thick = 0                    !! filler: the tube's n_thick; its vertices,
+                                                   !! thickness, corner_radius, center and sector
+                                                   !! are copied into this body's
+                                                   !! (mpm_config_check's filler_checks)
   end type body_cfg_t
 
 contains
@@ -109,11 +118,13 @@ contains
     end do
   end function bodies_wall_ppc
 
-  !> Whether the shape may be a half or quarter model (`sector`): rings, tubes, walls and discs.
+  !> Whether the shape may be a half or quarter model (`sector`): rings, tubes, walls, discs
+  !! and fillers (a filler's is its tube's).
   elemental logical function has_sector(shape_id)
     integer, intent(in) :: shape_id        !! SHAPE_* code
     has_sector = shape_id == SHAPE_RING .or. shape_id == SHAPE_TUBE .or. &
-                 shape_id == SHAPE_WALLS .or. shape_id == SHAPE_DISC
+                 shape_id == SHAPE_WALLS .or. shape_id == SHAPE_DISC .or. &
+                 shape_id == SHAPE_FILLER
   end function has_sector
 
   !> Whether the shape is a wall graph of mpm_sections (tube, honeycomb, walls).
@@ -185,8 +196,9 @@ contains
     end select
   end subroutine body_section
 
-  !> The particles of a tube, honeycomb, walls or disc body (mpm_sections): corners, each
-  !! particle's corners, its logical wall (0 for a disc); stat /= 0 with msg if not meshable.
+  !> The particles of a tube, honeycomb, walls, disc or filler body (mpm_sections): corners,
+  !! each particle's corners, its logical wall (0 for a disc and a filler); stat /= 0 with msg
+  !! if not meshable.
   pure subroutine body_mesh(b, xc, quad, pwall, stat, msg)
     type(body_cfg_t), intent(in) :: b      !! the body
     real(wp), allocatable, intent(out) :: xc(:,:)  !! corners (2, nc) [m]
@@ -196,9 +208,24 @@ contains
                                            !! 3: walls that meet without a joint
     character(len=:), allocatable, intent(out) :: msg  !! what is wrong
     type(section_t) :: s
+    integer :: parts
+    parts = merge(4, merge(2, 1, b%sector_id == SECTOR_HALF), b%sector_id == SECTOR_QUARTER)
+    if (b%shape_id == SHAPE_FILLER) then
+      if (b%n_vertices < 3 .or. b%host_n_thick < 1) then
+        stat = 1
+        msg = 'the tube it fills is not known'
+        allocate(xc(2, 0), quad(4, 0), pwall(0))
+        return
+      end if
+      call filler_mesh(reshape(b%vertices(1:2*b%n_vertices), [2, b%n_vertices]), &
+                       b%thickness, b%corner_radius, b%thickness/real(b%host_n_thick, wp), &
+                       b%fill_gap, b%center, parts, b%n_thick, xc, quad, stat, msg)
+      allocate(pwall(size(quad, 2)))
+      pwall = 0
+      return
+    end if
     if (b%shape_id == SHAPE_DISC) then
-      call disc_mesh(b%center, b%r_outer, b%n_thick, xc, quad, merge(4, merge(2, 1, &
-                     b%sector_id == SECTOR_HALF), b%sector_id == SECTOR_QUARTER))
+      call disc_mesh(b%center, b%r_outer, b%n_thick, xc, quad, parts)
       allocate(pwall(size(quad, 2)))
       pwall = 0
       stat = 0
@@ -254,13 +281,15 @@ contains
     case (SHAPE_RECT)
       lo = b%center - 0.5_wp*b%size
       hi = b%center + 0.5_wp*b%size
-    case (SHAPE_TUBE, SHAPE_WALLS, SHAPE_HONEYCOMB)   ! the centrelines' box, grown by the
-      if (b%shape_id == SHAPE_TUBE) then              ! reach of a wall's mitred corner
+    case (SHAPE_TUBE, SHAPE_WALLS, SHAPE_HONEYCOMB, SHAPE_FILLER)  ! the centrelines' box,
+      if (b%shape_id == SHAPE_TUBE .or. b%shape_id == SHAPE_FILLER) then  ! grown by the reach
+        ! of a wall's mitred corner (a filler: within its tube's centreline)
         xn(:, 1) = [minval(b%vertices(1:2*b%n_vertices:2)), &
                     minval(b%vertices(2:2*b%n_vertices:2))]
         xn(:, 2) = [maxval(b%vertices(1:2*b%n_vertices:2)), &
                     maxval(b%vertices(2:2*b%n_vertices:2))]
         reach = 2.0_wp*b%thickness
+        if (b%shape_id == SHAPE_FILLER) reach = 0.0_wp
       else if (b%shape_id == SHAPE_WALLS) then
         xn(:, 1) = [minval(b%seg([1, 3], :)), minval(b%seg([2, 4], :))]
         xn(:, 2) = [maxval(b%seg([1, 3], :)), maxval(b%seg([2, 4], :))]
@@ -300,7 +329,7 @@ contains
     select case (b%shape_id)
     case (SHAPE_RECT)
       low = dot_product(b%center, n) - 0.5_wp*(b%size(1)*abs(n(1)) + b%size(2)*abs(n(2)))
-    case (SHAPE_TUBE, SHAPE_HONEYCOMB, SHAPE_WALLS, SHAPE_DISC)   ! the particles' corners
+    case (SHAPE_TUBE, SHAPE_HONEYCOMB, SHAPE_WALLS, SHAPE_DISC, SHAPE_FILLER)  ! the corners
       call body_mesh(b, xc, quad, pwall, stat, msg)
       low = huge(1.0_wp)
       if (stat /= 0) return
@@ -372,10 +401,10 @@ contains
     end select
   end function body_overlap
 
-  !> Tube, honeycomb, walls, disc: shapes whose particles come from body_mesh.
+  !> Tube, honeycomb, walls, disc, filler: shapes whose particles come from body_mesh.
   pure logical function meshed(shape_id)
     integer, intent(in) :: shape_id        !! SHAPE_* code
-    meshed = is_section(shape_id) .or. shape_id == SHAPE_DISC
+    meshed = is_section(shape_id) .or. shape_id == SHAPE_DISC .or. shape_id == SHAPE_FILLER
   end function meshed
 
   !> How deep body a's particles reach into body b's material at t = 0, measured by the
@@ -466,6 +495,15 @@ contains
       np = 4.0_wp*real(b%n_thick, wp)**2/parts
       nc = np + 8.0_wp*real(b%n_thick, wp)/parts + 1.0_wp
       ext = 2.0_wp*t
+    case (SHAPE_FILLER)                    ! filler_mesh: (n + nv)^2 in the rectangle, as many
+      parts = 1.0_wp                       ! in its blocks, n + nv along a side
+      if (b%sector_id == SECTOR_HALF) parts = 2.0_wp
+      if (b%sector_id == SECTOR_QUARTER) parts = 4.0_wp
+      nk = real(b%n_thick + 2, wp) + real(b%n_vertices, wp)*max(1.0_wp, b%corner_radius/ &
+           max(b%thickness/real(max(b%host_n_thick, 1), wp), tiny(1.0_wp)))
+      np = 2.0_wp*nk*nk/parts
+      nc = np + 4.0_wp*nk/parts + 1.0_wp
+      ext = 0.5_wp*section_reach(b)/real(max(b%n_thick, 1), wp)
     case default                           ! walls: n_thick through, about square along,
       t = b%thickness                      ! plus the joints' cores
       if (b%shape_id == SHAPE_WALLS) t = minval(b%seg(5, :))
@@ -481,7 +519,7 @@ contains
       integer :: k, m
       len_c = 0.0_wp
       select case (b%shape_id)
-      case (SHAPE_TUBE)
+      case (SHAPE_TUBE, SHAPE_FILLER)
         do k = 1, b%n_vertices
           m = 1 + mod(k, b%n_vertices)
           len_c = len_c + norm2(b%vertices(2*m - 1:2*m) - b%vertices(2*k - 1:2*k))
@@ -526,6 +564,9 @@ contains
     case (SHAPE_DISC)
       write(line, '(a,i0,a,i0,a,i0,a)') 'body ', ib, ': disc, ', np, ' particles (', &
         b%n_thick, ' along the radius)'
+    case (SHAPE_FILLER)
+      write(line, '(a,i0,a,i0,a,i0,a,i0,a)') 'body ', ib, ': filler of body ', b%fills, ', ', &
+        np, ' particles (', b%n_thick, ' divisions of its core), gap '//sci(b%fill_gap, 3)//' m'
     case default
       t = b%thickness
       if (b%shape_id == SHAPE_WALLS) t = minval(b%seg(5, :))

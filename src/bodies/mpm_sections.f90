@@ -31,8 +31,8 @@ module mpm_sections
   use mpm_constants, only: pi
   implicit none
   private
-  public :: section_t, section_tube, section_honeycomb, section_walls, section_mesh, &
-            section_area, section_length, disc_mesh, section_clip, incident, max_deg
+  public :: section_t, section_tube, section_honeycomb, section_walls, section_mesh, push_quad, &
+            section_area, section_length, disc_mesh, section_clip, incident, max_deg, merge_points
 
   integer, parameter :: max_deg = 16       !! walls at one joint, at most
 

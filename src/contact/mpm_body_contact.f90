@@ -34,12 +34,14 @@
 !     cfl 0.3 and above); it acts there without friction (see body_contact_apply).
 module mpm_body_contact
   use mpm_kinds, only: wp
-  use mpm_constants, only: CONTACT_SLIP, CONTACT_FRICTIONLESS, BASIS_CPDI2, SCHEME_USL
+  use mpm_constants, only: CONTACT_SLIP, CONTACT_FRICTIONLESS, CONTACT_BONDED, BASIS_CPDI2, &
+                           SCHEME_USL
   use mpm_particles, only: particles_t, particle_corners
   use mpm_grid, only: grid_t
   use mpm_tiles, only: tiles_t, tiles_span
   use mpm_contact_law, only: field_contact_t, contact_law_impulse, field_contact_reserve
   use mpm_state, only: params_t, state_t, work_t
+  use mpm_body_tie, only: body_tie_nodes
   implicit none
   private
   public :: body_contact_detect, body_contact_apply, body_contact_reactions, pair_index, &
@@ -78,7 +80,31 @@ contains
     call field_gradients(prm, st%p, g, wk)
     call find_pairs(prm, st, g, wk%fc)
     call surface_gaps(prm, st%p, g, wk)
+    call tied_off(prm, st, g, wk%fc)
   end subroutine body_contact_detect
+
+  !> 'bonded' bodies (mpm_body_tie): no contact law between them at the nodes of their tied
+  !! surfaces (body_tie_nodes): there the ties hold the surfaces, pressed or pulled.
+  subroutine tied_off(prm, st, g, fc)
+    type(params_t), intent(in) :: prm      !! parameters (ties, fields)
+    type(state_t), intent(in) :: st        !! state (corners)
+    type(grid_t), intent(in) :: g          !! grid
+    type(field_contact_t), intent(inout) :: fc  !! pair entries: laws
+    integer :: e, ba, bb
+    if (prm%ties%n == 0 .or. fc%npn == 0) return
+    if (allocated(fc%tied)) then
+      if (size(fc%tied) /= g%nn) deallocate(fc%tied)
+    end if
+    if (.not. allocated(fc%tied)) allocate(fc%tied(g%nn))
+    fc%tied = .false.
+    call body_tie_nodes(prm%ties, st%p%xc, g%origin, g%h, g%nx, g%ny, fc%tied)
+    do e = 1, fc%npn
+      ba = prm%field_body(fc%pn_a(e))
+      bb = prm%field_body(fc%pn_b(e))
+      if (ba == bb .or. fc%pn_law(e) /= CONTACT_BONDED) cycle
+      if (fc%tied(fc%node(fc%pn_cn(e)))) fc%pn_law(e) = 0
+    end do
+  end subroutine tied_off
 
   !> The contact nodes: live nodes where two fields or more have mass above the cut-off.
   subroutine find_nodes(g, tl, nf, fc)
@@ -583,5 +609,8 @@ contains
     if (prm%npair == 0 .or. .not. allocated(wk%fc%pair_imp)) return
     st%pair_acc = st%pair_acc + wk%fc%pair_imp
     st%pair_force = wk%fc%pair_imp/dt
+    if (prm%ties%n == 0 .or. .not. allocated(wk%tie_imp)) return
+    st%pair_acc = st%pair_acc + wk%tie_imp        ! 'bonded' bodies: their ties
+    st%pair_force = st%pair_force + wk%tie_imp/dt
   end subroutine body_contact_reactions
 end module mpm_body_contact

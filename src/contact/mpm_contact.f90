@@ -21,6 +21,7 @@ module mpm_contact
                                  surface_slip_loss, contact_alpha, surface_tie, &
                                  surface_step_energy
   use mpm_surface_curve, only: surface_curve_points
+  use mpm_body_tie, only: body_tie_forces, body_tie_energy
   use mpm_constants, only: BASIS_CPDI2
   use mpm_state, only: params_t, state_t, work_t
   use mpm_strings, only: itoa, rtoa
@@ -76,7 +77,7 @@ contains
     type(work_t), intent(inout) :: wk      !! per-wall data, surface points
     real(wp), intent(in) :: dt             !! time step [s]
     integer :: iw, nm
-    real(wp) :: imp(2), mirror(4, st%nwall)
+    real(wp) :: imp(2), mirror(4, st%nwall), e_tie
     call surface_allocate(st, wk)
     do iw = 1, st%nwall
       if (st%walls(iw)%contact == CONTACT_SLIP) cycle
@@ -94,6 +95,12 @@ contains
                         prm%field, prm%corner_field)
       st%walls(iw)%impulse = st%walls(iw)%impulse + imp
     end do
+    if (prm%ties%n == 0) return              ! 'bonded' bodies: their ties (mpm_body_tie), with
+    if (.not. allocated(wk%tie_imp)) allocate(wk%tie_imp(3, prm%npair))   ! the same lag
+    wk%tie_imp = 0.0_wp
+    call body_tie_forces(prm%ties, st%p%xc, prm%corner_field, g, stiffness(prm, g), dt, e_tie, &
+                         wk%tie_imp)
+    st%e_contact = st%e_contact + e_tie
   end subroutine surface_forces
 
   !> Friction of the walls with 'coulomb' or 'stick' on the points they push (velocities after
@@ -186,6 +193,8 @@ contains
       end if
       st%e_contact = st%e_contact + surface_energy(wk%surf(iw))
     end do
+    if (prm%ties%n > 0) st%e_contact = st%e_contact + body_tie_energy(prm%ties, st%p%xc, &
+                                                                      stiffness(prm, g))
   end subroutine contact_energy
 
   !> At t = 0: the surface points tied to each 'bonded' wall, those less than h/2 in front of

@@ -19,7 +19,7 @@
 ! docs/method.md, "Contact between bodies").
 module mpm_contact_law
   use mpm_kinds, only: wp
-  use mpm_constants, only: CONTACT_COULOMB, CONTACT_STICK
+  use mpm_constants, only: CONTACT_COULOMB, CONTACT_STICK, CONTACT_BONDED
   implicit none
   private
   public :: field_contact_t, contact_law_impulse, field_contact_reserve
@@ -63,6 +63,8 @@ module mpm_contact_law
     real(wp), allocatable :: mom1(:,:,:)   !! sum_p phi_ip m_p v_p of each field at the contact
                                            !! nodes after G2P (2, nf, ncn) [kg m/s per m]
     real(wp) :: gap_min = 0.0_wp           !! the smallest gap of the step's entries [m]
+    logical, allocatable :: tied(:)        !! 'bonded' bodies: the nodes of the tied surfaces
+                                           !! this step (mpm_body_tie, body_tie_nodes) (nn)
   end type field_contact_t
 
 contains
@@ -87,12 +89,12 @@ contains
     mu = ma*mb/(ma + mb)
     pn = mu*(w - allow)
     j = -pn*n
-    if (law /= CONTACT_COULOMB .and. law /= CONTACT_STICK) return
+    if (law /= CONTACT_COULOMB .and. law /= CONTACT_STICK .and. law /= CONTACT_BONDED) return
     s = (va - vb) - w*n                    ! relative tangential velocity
     sl = sqrt(s(1)**2 + s(2)**2)
     if (.not. sl > 0.0_wp) return
     pt = mu*sl                             ! the impulse that stops the slip
-    if (law == CONTACT_COULOMB) pt = min(pt, friction*pn)
+    if (law /= CONTACT_STICK) pt = min(pt, friction*pn)    ! 'bonded': where not tied
     j = j - (pt/sl)*s
   end subroutine contact_law_impulse
 

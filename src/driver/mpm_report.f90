@@ -17,6 +17,7 @@ module mpm_report
   use mpm_sys, only: sys_memory_available
   use mpm_surface_contact, only: surface_tied
   use mpm_setup, only: sector_factor
+  use mpm_body_contact, only: pair_index
   implicit none
   private
   public :: setup_report
@@ -34,6 +35,9 @@ contains
         if (len(text) > 5) text = text//','
         text = text//' '//itoa(i)//'-'//itoa(j)//' '//trim(contact_names(s%prm%pair_law(i, j)))
         if (s%prm%pair_mu(i, j) > 0.0_wp) text = text//' ('//rtoa(s%prm%pair_mu(i, j))//')'
+        if (s%prm%pair_law(i, j) == CONTACT_BONDED) text = text//' ('// &
+          itoa(count(s%prm%ties%pair(1:s%prm%ties%n) == pair_index(i, j, s%prm%nbody)))// &
+          ' corners tied)'
       end do
     end do
   end function pair_laws_text

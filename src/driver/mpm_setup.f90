@@ -5,7 +5,7 @@ module mpm_setup
   use mpm_kinds, only: wp, i8
   use mpm_constants, only: EXIT_INPUT, SHAPE_RING, SECTOR_FULL, SECTOR_HALF, &
                            SECTOR_QUARTER, CONTACT_SLIP, VOLUMETRIC_STANDARD, &
-                           CONTACT_FRICTIONLESS
+                           CONTACT_FRICTIONLESS, CONTACT_BONDED
   use mpm_config, only: config_t, scene_of
   use mpm_particles, only: particles_allocate, basis_reach
   use mpm_bodies, only: body_counts, body_fill, body_fields, body_field_split, is_section, &
@@ -24,6 +24,8 @@ module mpm_setup
   use mpm_self_contact, only: self_contact_split
   use mpm_contact, only: contact_tie
   use mpm_sys, only: sys_memory_available
+  use mpm_body_tie, only: body_tie_make
+  use mpm_body_contact, only: pair_index
   implicit none
   private
   public :: setup_sim, sector_factor
@@ -144,6 +146,7 @@ contains
       if (stat /= 0) return
     end if
     call tiles_init(s%tiles, s%g)
+    call body_ties(cfg, s)                                 ! 'bonded' bodies: from t = 0
     call contact_tie(s%prm, s%state_t, cfg%grid%h, s%wk)   ! 'bonded' walls: from t = 0 (also
     call solver_init_energy(s)                             ! on a restart: the same ties)
   end subroutine setup_sim
@@ -235,6 +238,29 @@ contains
     s%pair_acc = 0.0_wp
     s%pair_force = 0.0_wp
   end subroutine setup_fields
+
+  !> The ties of the pairs of bodies with law 'bonded' (mpm_body_tie): their boundary corners
+  !! within h/2 of the other's boundary at t = 0 (made again on a restart: the same ties).
+  subroutine body_ties(cfg, s)
+    type(config_t), intent(in) :: cfg      !! the case
+    type(sim_t), intent(inout) :: s        !! particles at t = 0, laws set; the ties
+    integer :: nb, i, j
+    logical, allocatable :: bonded(:,:)
+    integer, allocatable :: pair(:,:)
+    if (s%prm%nf < 2 .or. .not. allocated(s%prm%pair_law)) return
+    nb = size(cfg%bodies)
+    allocate(bonded(nb, nb), pair(nb, nb))
+    bonded = s%prm%pair_law == CONTACT_BONDED
+    pair = 0
+    do i = 1, nb
+      do j = 1, nb
+        if (i /= j) pair(i, j) = pair_index(i, j, nb)
+      end do
+    end do
+    if (.not. any(bonded)) return
+    call body_tie_make(s%p%xc(:, 1:s%p%nc), s%p%corner(:, 1:s%p%np), s%p%body(1:s%p%np), &
+                       s%p%mass(1:s%p%np), bonded, pair, 0.5_wp*cfg%grid%h, s%prm%ties)
+  end subroutine body_ties
 
   !> The fields of the sections with self-contact (mpm_bodies' body_field_split): each
   !! particle's field from its wall's colour, and bonded (welded to the other fields) when its

@@ -11,7 +11,8 @@ module mpm_config_check
                            VOLUMETRIC_FBARWALL, PLANE_STRESS, MODEL_NEOHOOKEAN, MODEL_J2, &
                            MODEL_FOAM, RATE_COWPER_SYMONDS, FLOW_LINEAR, FLOW_JOHNSON_COOK, &
                            CONTACT_COULOMB, CONTACT_SLIP, CONTACT_BONDED, SHAPE_TUBE, &
-                           SHAPE_HONEYCOMB, SHAPE_WALLS, sector_names, max_table, max_cells, pi
+                           SHAPE_HONEYCOMB, SHAPE_WALLS, SHAPE_FILLER, sector_names, &
+                           shape_names, max_table, max_cells, pi
   use mpm_config_types, only: config_t, grid_cfg_t, material_cfg_t, body_cfg_t, wall_cfg_t, &
                               contact_cfg_t, unset_real
   use mpm_bodies, only: body_box, body_mesh, is_section, body_estimate
@@ -398,13 +399,8 @@ contains
     real(wp), intent(inout) :: friction
     if (friction > 0.0_wp .and. id > 0 .and. id /= CONTACT_COULOMB .and. &
         id /= CONTACT_BONDED) then
-      if (var == 'contact') then           ! &wall
-        call err_var(rd, io, 'friction', fmt_real(friction), 'has no effect with '//var// &
-          ' = '''//trim(law)//'''; set '//var//' = ''coulomb'' or ''bonded'', or friction = 0')
-      else
-        call err_var(rd, io, 'friction', fmt_real(friction), 'has no effect with '//var// &
-          ' = '''//trim(law)//'''; set '//var//' = ''coulomb'' or friction = 0')
-      end if
+      call err_var(rd, io, 'friction', fmt_real(friction), 'has no effect with '//var// &
+        ' = '''//trim(law)//'''; set '//var//' = ''coulomb'' or ''bonded'', or friction = 0')
       friction = 0.0_wp
     end if
   end subroutine check_friction
@@ -494,6 +490,7 @@ contains
     else if (b(1) == b(2) .and. b(1) > 0) then
       call err_var(rd, io, 'bodies', '', 'a body cannot be in contact with itself')
     end if
+    if (c%law_id == 4) c%law_id = CONTACT_BONDED   ! the list's 4th name (enum_names)
     call check_friction(rd, io, 'law', c%law, c%law_id, c%friction)
   end subroutine check_contact
 
@@ -579,6 +576,8 @@ contains
       end if
     end do
 
+    call filler_checks(rd, cfg, occ_body)          ! fillers take their tubes' geometry
+    call bonded_checks(rd, cfg, occ_con)
     ! strokes reached, and t_end from them where it is not given
     if (io_run > 0) call stroke_checks(rd, cfg, io_run)
 
@@ -608,6 +607,80 @@ contains
 
     call contact_checks(rd, cfg, occ_con)
   end subroutine cross_checks
+
+  !> A filler (shape = 'filler') fills a 'tube' given before it (`fills`): the tube's
+  !! centreline, thickness, corner radius, n_thick, centre and sector become the filler's (its
+  !! own centre, if given, must be the tube's), then its particles must be possible
+  !! (mpm_filler's filler_mesh: a convex inner face, a gap that closes none of its edges).
+  subroutine filler_checks(rd, cfg, occ_body)
+    type(reader_t), intent(inout) :: rd
+    type(config_t), intent(inout) :: cfg
+    integer, intent(in) :: occ_body(:)
+    character(len=*), parameter :: a_tube = 'the number of a &body of shape ''tube'' given '// &
+      'before this one'
+    integer :: k, j, io, stat
+    real(wp), allocatable :: xc(:,:)
+    integer, allocatable :: quad(:,:), pwall(:)
+    character(len=:), allocatable :: msg
+    do k = 1, size(cfg%bodies)
+      io = occ_body(k)
+      if (.not. rd%occ(io)%ok .or. cfg%bodies(k)%shape_id /= SHAPE_FILLER) cycle
+      associate (b => cfg%bodies(k))
+        j = b%fills
+        if (j < 1 .or. j >= k) then
+          call err_var(rd, io, 'fills', itoa(j), 'not a &body given before this one (this '// &
+            'is &body #'//itoa(k)//')', a_tube)
+          cycle
+        end if
+        if (.not. rd%occ(occ_body(j))%ok) cycle      ! (its own errors are reported)
+        if (cfg%bodies(j)%shape_id /= SHAPE_TUBE) then
+          call err_var(rd, io, 'fills', itoa(j), '&body #'//itoa(j)//' is a '''// &
+            trim(shape_names(cfg%bodies(j)%shape_id))//''', not a ''tube''', a_tube)
+          cycle
+        end if
+        if (any(b%center /= 0.0_wp) .and. any(b%center /= cfg%bodies(j)%center)) then
+          call err_var(rd, io, 'center', fmt_vec(b%center), 'not the centre of the tube it '// &
+            'fills, &body #'//itoa(j)//' ('//fmt_vec(cfg%bodies(j)%center)//')', &
+            'not given (a filler takes its tube''s), or the tube''s')
+          cycle
+        end if
+        b%center = cfg%bodies(j)%center
+        b%sector = cfg%bodies(j)%sector
+        b%sector_id = cfg%bodies(j)%sector_id
+        b%vertices = cfg%bodies(j)%vertices
+        b%n_vertices = cfg%bodies(j)%n_vertices
+        b%thickness = cfg%bodies(j)%thickness
+        b%corner_radius = cfg%bodies(j)%corner_radius
+        b%host_n_thick = cfg%bodies(j)%n_thick
+        call body_mesh(b, xc, quad, pwall, stat, msg)
+        if (stat == 0) cycle
+        if (index(msg, 'fill_gap') > 0) then
+          call err_var(rd, io, 'fill_gap', fmt_real(b%fill_gap), msg, 'a gap >= 0 that '// &
+            'closes no edge of the inner face')
+        else
+          call err_var(rd, io, 'fills', itoa(j), 'the tube cannot be filled: '//msg, &
+            'a &body of shape ''tube'' whose inner face is convex')
+        end if
+      end associate
+    end do
+  end subroutine filler_checks
+
+  !> law = 'bonded' between bodies needs basis 'cpdi2': the ties join the shared domain
+  !! corners of the two surfaces (mpm_body_tie).
+  subroutine bonded_checks(rd, cfg, occ_con)
+    type(reader_t), intent(inout) :: rd
+    type(config_t), intent(in) :: cfg
+    integer, intent(in) :: occ_con(:)
+    integer :: k
+    do k = 1, size(cfg%contacts)
+      if (.not. rd%occ(occ_con(k))%ok) cycle
+      if (cfg%contacts(k)%law_id == CONTACT_BONDED .and. cfg%solver%basis_id /= BASIS_CPDI2 &
+          .and. cfg%solver%basis_id > 0) call err_var(rd, occ_con(k), 'law', '''bonded''', &
+        'ties the shared domain corners of the two surfaces, which only &solver basis = '// &
+        '''cpdi2'' has (basis = '''//trim(cfg%solver%basis)//''')', '''frictionless'', '// &
+        '''coulomb'' or ''stick'', or basis = ''cpdi2''')
+    end do
+  end subroutine bonded_checks
 
   !> Every stroke is reached by its wall's motion law; without t_end, the run ends when every
   !! moving wall has reached its stroke (t_end is required when one has none, or with a wall of

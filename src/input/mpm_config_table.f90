@@ -188,7 +188,7 @@ module mpm_config_table
       allowed='a real number > r_inner [m] (required for shape = ''ring'' and ''disc'')', &
       comment='outer radius [m]'), &
     var_spec_t('body', 'n_thick', lo=1.0_wp, hi=256.0_wp, &
-      only='ring tube honeycomb walls disc', &
+      only='ring tube honeycomb walls disc filler', &
       allowed='an integer from 1 to 256, even where three walls meet at an angle (default 16)', &
       comment='particles through the wall (disc: radius)'), &
     var_spec_t('body', 'n_circ', only='ring', own=.true., &
@@ -230,6 +230,10 @@ module mpm_config_table
       only='walls', allowed='a CSV file (relative to the input file''s folder), one wall '// &
       'per line: x1, y1, x2, y2, thickness [m] (required for shape = ''walls'')', &
       comment='CSV of walls: x1, y1, x2, y2, t'), &
+    var_spec_t('body', 'fills', required=.true., lo=1.0_wp, only='filler', unset='zero', &
+      allowed='the number of a ''tube'' &body given before', comment='the tube it fills'), &
+    var_spec_t('body', 'fill_gap', lo=0.0_wp, only='filler', allowed='a real number >= 0 '// &
+      '[m] (default 0)', comment='gap to the tube''s inner face [m]'), &
     var_spec_t('body', 'velocity', allowed=v0, comment='initial velocity [m/s]'), &
     ! ---------------------------------------------------------------------------- &wall
     var_spec_t('wall', 'point', required=.true., unset='huge', &
@@ -265,7 +269,7 @@ module mpm_config_table
       comment='the two bodies (0, 0 = every other pair) [-]'), &
     var_spec_t('contact', 'law', comment='%'), &
     var_spec_t('contact', 'friction', lo=0.0_wp, allowed='a real number >= 0, and > 0 only '// &
-      'with law = ''coulomb'' (default 0)', comment='Coulomb coefficient [-]')]
+      'with law = ''coulomb'' or ''bonded'' (default 0)', comment='Coulomb coefficient [-]')]
 
 contains
 
@@ -314,7 +318,7 @@ contains
     case ('shape'); names = shape_names
     case ('sector'); names = sector_names
     case ('contact'); names = contact_names
-    case ('law'); names = contact_names(1:3)  ! between bodies: no mirror plane ('slip')
+    case ('law'); names = contact_names([1, 2, 3, 5])  ! not 'slip' (check_contact: the 4th)
     case default; allocate(names(0))
     end select
   end function enum_names

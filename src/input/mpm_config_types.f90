@@ -80,7 +80,7 @@ module mpm_config_types
   !> &contact (repeatable): how two bodies meet
   type :: contact_cfg_t
     integer :: bodies(2) = 0                       !! the two bodies (0, 0: every other pair)
-    character(len=name_len) :: law = 'frictionless'  !! frictionless | coulomb | stick
+    character(len=name_len) :: law = 'frictionless'  !! frictionless | coulomb | stick | bonded
     integer :: law_id = 0                          !! code of mpm_constants (CONTACT_*)
     real(wp) :: friction = 0.0_wp                  !! Coulomb coefficient [-]
   end type contact_cfg_t

@@ -22,6 +22,7 @@ module mpm_state
   use mpm_surface_contact, only: surface_work_t
   use mpm_contact_law, only: field_contact_t
   use mpm_self_contact, only: self_weld_t
+  use mpm_body_tie, only: body_tie_t
   use mpm_material, only: material_t
   use mpm_timers, only: n_phases
   use mpm_strings, only: itoa, rtoa
@@ -80,6 +81,7 @@ module mpm_state
     integer, allocatable :: self_bond(:)   !! a ring with self-contact (mpm_self_contact): the
                                            !! field each particle is welded to at the seams, or
                                            !! 0 (np; allocated only with self-contact)
+    type(body_tie_t) :: ties               !! 'bonded' pairs of bodies: their ties (mpm_body_tie)
   end type params_t
 
   !> The state: everything a checkpoint holds (with the grid placement and diag_t's extremes).
@@ -136,6 +138,8 @@ module mpm_state
     type(surface_work_t), allocatable :: surf(:)  !! per wall: surface points in contact
     type(field_contact_t) :: fc            !! contact between fields: nodes, pairs, gaps
     type(self_weld_t) :: sw                !! self-contact: the nodes where a ring's halves weld
+    real(wp), allocatable :: tie_imp(:,:)  !! 'bonded' bodies: the ties' impulses of the step
+                                           !! per pair (3, npair) [kg/s per m]
   end type work_t
 
   !> Diagnostics: measured, reported, never read back by the step. The extremes and the
