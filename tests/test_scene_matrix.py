@@ -403,7 +403,7 @@ def run_fillers(scratch: Path) -> int:
             folder.mkdir(parents=True, exist_ok=True)
             (folder / f"{name}.nml").write_text(text.replace("OUT", str(folder / "out")))
             warn = check_warnings(folder / f"{name}.nml")
-            check("a filler touching its tube with basis 'ugimp'" in warn and "cfl = 0.4" in warn,
+            check("filler touching its tube with 'ugimp'" in warn and "cfl = 0.4" in warn,
                   f"{name}: --check warns of 'ugimp' with a touching filler ({warn[-300:]!r})")
             text = text.replace("cfl = 0.0", "cfl = 0.4")
         _, s = run_scene(T, scratch, name, text)

@@ -33,7 +33,25 @@ RING = """&run t_end = 2.0e-3{run} /
 &wall point = 0, 0, normal = 0, 1{wall} /
 """
 
-#: (name, the case's substitutions, texts that its warnings must hold)
+#: a half square tube filled with foam that touches it, basis 'ugimp' at the automatic cfl
+FILLER = """&run t_end = 1.0e-4 /
+&solver basis = 'ugimp', mass_scale = 4.0 /
+&grid h = 1.0e-3 /
+&material name = 'al', E = 70.0e9, nu = 0.33, rho = 2700.0, sigma_y = 150.0e6 /
+&material name = 'foam', model = 'foam', E = 1.0e9, nu = 0.3, rho = 230.0, sigma_p = 1.6e6,
+  nu_plastic = 0.0, eps_d = 2.46 /
+&body shape = 'tube', vertices = -10.0e-3, 1.0e-3, 10.0e-3, 1.0e-3, 10.0e-3, 21.0e-3,
+  -10.0e-3, 21.0e-3, center = 0.0, 11.0e-3, thickness = 2.0e-3, corner_radius = 2.0e-3,
+  n_thick = 4, sector = 'half' /
+&body shape = 'filler', material = 'foam', fills = 1, n_thick = 12, sector = 'half' /
+&contact bodies = 1, 2, law = 'coulomb', friction = 0.3 /
+&wall point = 0.0, 22.1e-3, normal = 0.0, -1.0, velocity = 0.0, -10.0, ramp = 2.0e-5 /
+&wall point = 0.0, -0.1e-3, normal = 0.0, 1.0 /
+"""
+
+#: (name, the case's substitutions, texts that its warnings must hold); substitutions with
+#: `text` give the whole case
+
 CASES = [
     ("coarse", dict(solver=", basis = 'linear', scheme = 'usl', flip = 0.95", h="2.0e-3", nt=2,
                     wall=", velocity = 0, 30, ramp = 1e-4, motion_t = 0, 1e-4, motion_f = 0, 1"),
@@ -57,10 +75,14 @@ CASES = [
     ("units", dict(run=", check_units = .false.", mat=", rho = 7.8", h="0.5e-3", nt=4),
      ["rho = 7.8"]),
     ("long", dict(run=", t_end = 10.0", h="0.5e-3", nt=8), ["will take about"]),
+    ("filler", dict(text=FILLER), ["filler touching its tube with 'ugimp'",
+                                   "sector is ignored for shape = 'filler'"]),
 ]
 
 
 def case_text(subs: dict) -> str:
+    if "text" in subs:
+        return subs["text"]
     d = dict(run="", solver="", h="0.5e-3", mat="", nt=4, body="", wall="")
     d.update(subs)
     text = RING.format(**d)

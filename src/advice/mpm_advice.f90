@@ -252,13 +252,14 @@ contains
     real(wp), intent(in) :: cfl              !! the cfl in use [-]
     character(len=:), allocatable, intent(inout) :: warnings
     integer :: ib
+    character(len=8) :: c_cfl
     if (cfg%solver%basis_id /= BASIS_UGIMP .or. .not. cfl > 0.4_wp) return
     do ib = 1, size(cfg%bodies)
       if (cfg%bodies(ib)%shape_id /= SHAPE_FILLER) cycle
       if (cfg%bodies(ib)%fill_gap >= 0.5_wp*h) cycle
+      write(c_cfl, '(f5.2)') cfl
       call add_line(cfg, warnings, 'body '//itoa(ib)//': filler touching its tube with '// &
-        '''ugimp'' unstable at cfl '//cfl_short(cfl)//'. Set cfl = 0.4 or basis = ''cpdi2'' ('// &
-        doc_filler//')')
+        '''ugimp'': unstable at cfl '//trim(adjustl(c_cfl))//'. Set cfl = 0.4 ('//doc_filler//')')
       exit
     end do
   end subroutine advice_filler
