@@ -117,7 +117,7 @@ def main() -> int:
                       f"{name}: the time step is not cfl {expect}: {used and used[0]}")
                 if limit <= 0:
                     # no stable cfl: the warning instead of a run
-                    check(re.search(r"WARNING.*(failed on the impact scene at every cfl|"
+                    check(re.search(r"WARNING.*(failed at every cfl|"
                                     r"scheme 'usl' loses)", out) is not None,
                           f"{name}: no stable cfl in the study, but no warning:\n{out}")
                     continue

@@ -23,7 +23,7 @@ program test_config
   character(len=*), parameter :: nml_files(5) = [character(len=32) :: &
     'namelists/default.nml', 'namelists/crush.nml', 'namelists/impact.nml', 'namelists/wave.nml', &
     'namelists/foam/foam_block.nml']
-  character(len=*), parameter :: bad_files(43) = [character(len=32) :: &
+  character(len=*), parameter :: bad_files(42) = [character(len=32) :: &
     '01_empty', '02_missing_run', '03_only_run', '04_unknown_group', '05_unknown_variable', &
     '06_text_for_number', '07_integer_expected', '08_unquoted_text', '09_bad_enum', &
     '10_repeated_run', '11_cfl_range', '12_t_end_missing', '13_nu_range', &
@@ -33,7 +33,7 @@ program test_config
     '25_lower_without_upper', '26_n_circ_sector', '27_rect_missing_size', &
     '28_too_many_values', '29_unclosed_group', '30_text_outside_group', &
     '31_probe_point_missing', '32_several_errors', '33_missing_equals', '34_motion_too_long', &
-    '35_comment_after_comma', '36_logical_expected', '37_inf_value', '38_number_too_large', &
+    '36_logical_expected', '37_inf_value', '38_number_too_large', &
     '39_johnson_cook', '40_contact', '41_volumetric', '42_fbar_bodies', '55_filler']
   ! a valid scene to which the inline bad cases add one mistake
   character(len=*), parameter :: run_ok = '&run t_end = 1.0e-3 /'
@@ -342,8 +342,8 @@ contains
     call check(stat == 0, 'warnings do not fail the read: '//msg)
     call check(index(warn, 'warn.nml:2:') == 0, 'h >= wall thickness is advice (--check), '// &
       'not the reader''s: '//warn)
-    call check(index(warn, 'warn.nml:5: &wall #1: ramp = 1e-4: ignored') > 0, &
-      'ramp with a motion table is a warning')
+    call check(index(warn, 'warn.nml:5: &wall #1: ramp = 1e-4: the motion table replaces it. '// &
+      'Set ramp = 0 (docs/input.md#wall)') > 0, 'ramp with a motion table is a warning: '//warn)
     call test_other_shape()
   end subroutine test_warnings
 
@@ -487,6 +487,16 @@ contains
     call check(all(c%bodies(1)%center == [0.0_wp, 0.5_wp]), 'center(2) = 0.5')
     call check(all(c%bodies(1)%velocity == [3.0_wp, 3.0_wp]), 'velocity = 2*3.0')
     call check(c%walls(1)%friction == 0.0_wp, 'the later friction wins')
+    f = write_case('forms2', [character(len=100) :: run_ok//' '//grid_ok, mat_ok, body_ok, &
+      '&solver, basis = ''cpdi1'' /', &
+      '&wall point = 0.5,   ! x, and a comment after the comma', '  -0.25  ! y', &
+      '  normal = 0, 1 /'])
+    call read_config(f, c, stat, msg)
+    call check(stat == 0, 'two groups on one line, a comment after a comma: '//msg)
+    if (stat /= 0) return
+    call check(c%grid%h == 1.0e-3_wp .and. all(c%walls(1)%point == [0.5_wp, -0.25_wp]), &
+      'both groups of the line read; the values go on after the comment')
+    call check(c%solver%basis_id == BASIS_CPDI1, 'a comma after the group name is allowed')
   end subroutine test_value_forms
 
   ! ---------------------------------------------------------------------- bad inputs
@@ -624,8 +634,8 @@ contains
     call bad('b_open_quote', [character(len=100) :: '&run t_end = 1', ' title = ''abc', '/', &
       grid_ok, mat_ok, body_ok], [character(len=100) :: ':2: &run: text value ''abc'// &
       ' is not closed on this line'])
-    call bad('b_same_line', [character(len=100) :: run_ok//' '//grid_ok, mat_ok, body_ok], &
-      [character(len=100) :: ':1: &grid: starts on the line where &run ends'])
+    call bad('b_stray', [character(len=100) :: run_ok, '&grid h', '/', mat_ok, body_ok], &
+      [character(len=100) :: ':2: &grid: unexpected text ''h'' (expected <name> = <value>)'])
     call bad('b_probe_unknown', [character(len=100) :: run_ok, grid_ok, mat_ok, body_ok, &
       '&probe point = 0, 0, radius = 1 /'], [character(len=100) :: &
       ':5: &probe #1: radius = 1: unknown variable; allowed: point'])

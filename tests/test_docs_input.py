@@ -1,14 +1,16 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
 """The tables of docs/input.md must list exactly the input variables of the table in
-src/mpm_config_table.f90 (the one declaration of every namelist variable).
+src/input/mpm_config_table.f90 (what each variable accepts and means; the variable itself is a
+component of its group's type).
 
 For every group, the names in the first column of the table under the heading `## &<group>`
 are compared with the rows `var_spec_t('<group>', '<name>', ...)` of the source; a name in one
 but not the other is a failure. The unit column must be the unit in brackets at the end of the
-row's echo comment (`-` when it has none), and for a variable with a list of names the default
-column must name the row's default (`c0`). The variables used in the full example of the docs must
-be in the tables as well. The error lines quoted in "## Error messages" must be what the binary
+row's echo comment (`-` when it has none), and for a variable with a list of names (its comment
+holds `%`) the default column must name the default of its component in the types
+(`character(len=name_len) :: basis = 'cpdi2'`). The variables used in the full example of the
+docs must be in the tables as well. The error lines quoted in "## Error messages" must be what the binary
 named by TUBEMPM (default bin/tubempm) prints for the file they name, each one verbatim (so an
 example cannot go stale when a group gains a variable). Prints `test_docs_input: N passed, M
 failed` last; exit 1 on failure. Standard library only.
@@ -24,7 +26,9 @@ from tests.pycheck import Checks
 
 ROOT = Path(__file__).resolve().parent.parent
 DOC = ROOT / "docs" / "input.md"
-SRC = ROOT / "src" / "mpm_config_table.f90"
+SRC = ROOT / "src" / "input" / "mpm_config_table.f90"
+TYPES = [ROOT / "src" / "input" / "mpm_config_types.f90",
+         ROOT / "src" / "method" / "mpm_material.f90", ROOT / "src" / "bodies" / "mpm_bodies.f90"]
 
 T = Checks("test_docs_input")
 check = T.check
@@ -38,18 +42,32 @@ def source_groups(text):
     return groups
 
 
+#: a text component of a Fortran type with its default: `character(len=name_len) :: basis = 'cpdi2'`
+TYPE_DEFAULT = re.compile(r"character\(len=\w+\)\s*::\s*(\w+)\s*=\s*'(\w*)'")
+
+
+def type_defaults():
+    """{component: default text} of the text components of the input's types."""
+    found = {}
+    for path in TYPES:
+        for m in TYPE_DEFAULT.finditer(path.read_text()):
+            found.setdefault(m.group(1).lower(), m.group(2))
+    return found
+
+
 def source_rows(text):
     """{(group, name): (unit, default name or None)} from the rows of the table."""
     rows = {}
+    defaults = type_defaults()
     for m in re.finditer(r"var_spec_t\(\s*'(\w+)'\s*,\s*'(\w+)'(.*?)\)\s*(?:,\s*&|\])", text,
                          re.DOTALL):
         rest = re.sub(r"'\s*//\s*&\s*\n\s*'", "", m.group(3))   # join continued texts
         comment = re.search(r"comment='((?:[^']|'')*)'", rest)
         unit = re.search(r"\[([^\]]*)\]\s*$", comment.group(1)) if comment else None
-        kind_e = re.match(r"\s*,\s*'e'", rest) is not None
-        c0 = re.search(r"c0='(\w*)'", rest)
+        listed = comment is not None and "%" in comment.group(1)
         rows[(m.group(1).lower(), m.group(2).lower())] = (
-            unit.group(1) if unit else "-", c0.group(1) if (kind_e and c0) else None)
+            unit.group(1) if unit else "-",
+            defaults.get(m.group(2).lower(), "") if listed else None)
     return rows
 
 
@@ -125,6 +143,7 @@ def main():
         check(len(cells) >= 5 and cells[2] == unit,
               f"&{key[0]}: {key[1]}: unit {cells[2] if len(cells) > 2 else '?'!r} in the docs, "
               f"{unit!r} in the table's comment")
+        check(default != "", f"&{key[0]}: {key[1]}: no default in the types ({TYPES[0].name} ...)")
         if default is not None:
             check(len(cells) >= 5 and f"'{default}'" in cells[4],
                   f"&{key[0]}: {key[1]}: default '{default}' of the table not in the docs")

@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
 # Error exits print the project's own lines only (issue 15): bad input (2), an output folder
-# that cannot be written (3), a numerical failure (4) and SIGTERM (143) each give their exit
-# status and, on standard error, nothing but `ERROR [...]` / `WARNING [...]` lines: no
-# "ERROR STOP n" and no backtrace (before the fix gfortran printed both after the project's
-# lines). Also: --help states the exit status that SIGTERM actually gives; a new run into the
-# folder of an interrupted one, or into a folder another run writes, is refused; SIGTERM during
-# the set-up; a t_end far beyond any run; --check with --scene.
+# that cannot be written (3) and a numerical failure (4) each give their exit status and, on
+# standard error, nothing but `ERROR [...]` / `WARNING [...]` lines: no "ERROR STOP n" and no
+# backtrace (before the fix gfortran printed both after the project's lines). An interrupt is
+# not an error (issue 32): SIGTERM (143) and SIGINT (130) give one line `stopped by SIGTERM:
+# checkpoint saved, continue with tubempm --restart DIR` (`SIGINT (Ctrl-C)`), no ERROR. Also:
+# --help states the exit status that SIGTERM actually gives; a new run into the folder of an
+# interrupted one, or into a folder another run writes, is refused; SIGTERM during the set-up;
+# a t_end far beyond any run; --check with --scene.
 #   usage: TUBEMPM=build/debug/tubempm bash tests/test_exits.sh SCRATCH
 set -u
 bin=${TUBEMPM:-bin/tubempm}
@@ -17,6 +19,17 @@ pass=0; fail=0
 ok()  { pass=$((pass + 1)); }
 bad() { fail=$((fail + 1)); echo "FAIL [exits]: $*"; }
 export OMP_NUM_THREADS=1
+
+# stopped NAME WANTED_STATUS STATUS ERRFILE: an interrupt: the status, a `stopped by` line and
+# no ERROR line, nothing foreign
+stopped() {
+  [ "$3" -eq "$2" ] && ok || bad "$1: exit $3, expected $2"
+  grep -q '^stopped by SIG' "$4" && ! grep -q '^ERROR' "$4" && ok \
+    || bad "$1: not one 'stopped by' line without ERROR: $(head -c 300 "$4")"
+  local foreign
+  foreign=$(grep -v -E '^((ERROR|WARNING) \[|stopped by SIG)' "$4" | grep -v -E '^\s*$' | head -3)
+  [ -z "$foreign" ] && ok || bad "$1: standard error holds more than the project's lines: $foreign"
+}
 
 # expect NAME WANTED_STATUS STATUS ERRFILE: the status, at least one ERROR line, nothing foreign
 expect() {
@@ -62,12 +75,23 @@ pid=$!
 sleep 2
 kill -TERM $pid 2>/dev/null
 wait $pid
-expect 'SIGTERM' 143 $? "$scratch/sig.err"
+stopped 'SIGTERM' 143 $? "$scratch/sig.err"
 grep -q '^stopped: ' "$scratch/sig.out" && ! grep -q '^done:' "$scratch/sig.out" && ok \
   || bad "an interrupted run's end line: $(grep -E '^(done|stopped)' "$scratch/sig.out")"
 # the stop says which signal, that the checkpoint is saved and how to continue, on one line
-grep -q "stopped by SIGTERM: checkpoint saved, continue with tubempm --restart $scratch/sig\$" "$scratch/sig.err" && ok \
+grep -q "^stopped by SIGTERM: checkpoint saved, continue with tubempm --restart $scratch/sig\$" "$scratch/sig.err" && ok \
   || bad "the SIGTERM line does not name the signal, the checkpoint and --restart DIR: $(cat "$scratch/sig.err")"
+# Ctrl-C: the same line, naming SIGINT (Ctrl-C); exit 130
+ring int ""
+sed -i 's/t_end = 2.0e-4/t_end = 5.0e-2/' "$scratch/int.nml"
+"$bin" "$scratch/int.nml" > "$scratch/int.out" 2> "$scratch/int.err" &
+pid=$!
+sleep 2
+kill -INT $pid 2>/dev/null
+wait $pid
+stopped 'SIGINT' 130 $? "$scratch/int.err"
+grep -q "^stopped by SIGINT (Ctrl-C): checkpoint saved, continue with tubempm --restart $scratch/int\$" "$scratch/int.err" && ok \
+  || bad "the SIGINT line: $(cat "$scratch/int.err")"
 # one interrupt delivered twice (coreutils timeout signals the child and then its group; a
 # shell's Ctrl-C and scancel reach every process of the group): the echo is ignored and the run
 # stops cleanly with its checkpoint (before: the second copy killed it outright, no checkpoint)
@@ -78,7 +102,7 @@ pid=$!
 sleep 2
 kill -TERM $pid 2>/dev/null; kill -TERM $pid 2>/dev/null
 wait $pid
-expect 'SIGTERM twice at once' 143 $? "$scratch/sig2.err"
+stopped 'SIGTERM twice at once' 143 $? "$scratch/sig2.err"
 grep -q "status = 'interrupted'" "$scratch/sig2/summary.nml" 2>/dev/null \
   && [ -s "$scratch/sig2/checkpoint.bin" ] && ok \
   || bad "SIGTERM twice at once: no clean stop ($(grep status "$scratch/sig2/summary.nml" 2>&1); $(head -c 200 "$scratch/sig2.err"))"
@@ -118,7 +142,7 @@ grep -q "another tubempm run is writing into $scratch/lock" "$scratch/lock2.err"
 kill -0 $pid 2>/dev/null && ok || bad "the first run did not go on"
 kill -TERM $pid 2>/dev/null
 wait $pid
-expect 'SIGTERM of the first run' 143 $? "$scratch/lock1.err"
+stopped 'SIGTERM of the first run' 143 $? "$scratch/lock1.err"
 # SIGTERM while the case is being set up (a large one): the project's line and 143, nothing
 # written (before: the handlers came after the outputs, and the signal killed it silently)
 ring early ", snapshot_every = 1.0"
@@ -128,7 +152,7 @@ pid=$!
 sleep 0.3
 kill -TERM $pid 2>/dev/null
 wait $pid
-expect 'SIGTERM during the set-up' 143 $? "$scratch/early.err"
+stopped 'SIGTERM during the set-up' 143 $? "$scratch/early.err"
 # (a machine fast enough to be past the set-up stops in the loop, with a checkpoint)
 if grep -q 'during the set-up.*nothing written' "$scratch/early.err"; then
   [ ! -e "$scratch/early" ] && ok || bad "a stop during the set-up wrote $scratch/early"

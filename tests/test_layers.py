@@ -4,8 +4,7 @@
 modules of its own layer or of a lower one (LAYERS, lowest first; docs/architecture.md's layer
 table names the same folders in the same order). Every source of src/ lies in a folder of a
 layer, and no two sources share a file name (the build puts every object in one folder).
-Files at the top of src/ count as the input layer for now (the input reader,
-src/mpm_config*.f90, and the files added beside it). The checker is first run on a made-up
+mpm_advice is used only by the report of the set-up and the driver. The checker is first run on a made-up
 tree with one use of a lower layer and one of a higher one, so that it is seen to catch the
 wrong one. Prints `test_layers: N passed, M failed` last. Standard library only.
 """
@@ -29,7 +28,7 @@ LAYERS = [
     ("base", ["base"]),
     ("method", ["method", "contact"]),
     ("bodies", ["bodies"]),
-    ("input", ["", "input"]),
+    ("input", ["input"]),
     ("advice", ["advice"]),
     ("io", ["io"]),
     ("driver", ["driver"]),

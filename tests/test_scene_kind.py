@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
-"""One scene classifier: tubempm's (``scene_of``, src/mpm_config_types.f90), which it writes into
-summary.nml (``scene``) and prints with ``--scene`` without running; the plots only read it.
+"""One scene classifier: tubempm's (``scene_of``, src/input/mpm_config_types.f90), which it
+writes into summary.nml (``scene``) and prints with ``--scene`` without running; the plots only read it.
 
 Every namelist of namelists/, namelists/contact/, namelists/foam/ and tests/scenes/ is classified both ways and
 compared with the scene the file is known to be (the table below, written by hand from what each

@@ -25,7 +25,7 @@ module mpm_advice
   use mpm_bodies, only: body_wall_thickness, is_section, bodies_wall_ppc
   use mpm_config_types, only: config_t, scene_of
   use mpm_walls, only: wall_t, wall_travel
-  use mpm_time_step, only: cfl_study, cfl_auto, cfl_margin, ppc_low, cfl_tried_min
+  use mpm_time_step, only: cfl_study, cfl_margin, ppc_low, cfl_tried_min
   use mpm_errors, only: append_msg
   use mpm_units, only: advice_units
   use mpm_strings, only: rtoa, itoa, hms, sci
@@ -75,7 +75,8 @@ module mpm_advice
     doc_fold = 'docs/stability.md#full-crush', &
     doc_self_contact = 'docs/method.md#self-contact', &
     doc_quasi_static = 'docs/validation.md#quasi-static', &
-    doc_energy = 'docs/stability.md#energy', doc_cfl = 'docs/stability.md#the-automatic-cfl'
+    doc_energy = 'docs/stability.md#energy', doc_cfl = 'docs/stability.md#the-automatic-cfl', &
+    doc_filler = 'docs/method.md#sections'
 
 contains
 
@@ -182,6 +183,29 @@ contains
     end if
   end function cfl_why
 
+  !> Append a warning line; 'body 1: ' is left out when the case has a single body.
+  pure subroutine add_line(cfg, warnings, line)
+    type(config_t), intent(in) :: cfg      !! the case
+    character(len=:), allocatable, intent(inout) :: warnings  !! lines so far
+    character(len=*), intent(in) :: line   !! the warning
+    if (size(cfg%bodies) == 1 .and. index(line, 'body 1: ') == 1) then
+      call append_msg(warnings, line(9:))
+    else
+      call append_msg(warnings, line)
+    end if
+  end subroutine add_line
+
+  !> A cfl as text with up to four decimals ('1.9', '0.3125').
+  pure function cfl_short(cfl) result(str)
+    real(wp), intent(in) :: cfl            !! a cfl number [-]
+    character(len=:), allocatable :: str
+    str = cfl_text(cfl)
+    str = str(1:min(len(str), index(str, '.') + 4))
+    do while (str(len(str):len(str)) == '0' .and. str(len(str) - 1:len(str) - 1) /= '.')
+      str = str(1:len(str) - 1)
+    end do
+  end function cfl_short
+
   !> A cfl as text with six decimals (the study's limits are multiples of 1/32, exact here).
   pure function cfl_text(cfl) result(str)
     real(wp), intent(in) :: cfl            !! a cfl number [-]
@@ -207,9 +231,9 @@ contains
     if (.not. cfg%run%check_units) call advice_units(cfg, warnings)  ! (else refused at input)
     call advice_walls(cfg, walls, warnings)
     if (cfg%run%dt > 0.0_wp .and. cfg%run%dt > 0.3_wp*h/(c_max + vmax)) then
-      write(line, '(a,f5.2,a)') 'dt = '//sci(cfg%run%dt, 3)//' s is cfl ', &
-        cfg%run%dt*(c_max + vmax)/h, ' of the grid limit; above 0.3 runs may go unstable'
-      call append_msg(warnings, line)
+      line = 'dt = '//sci(cfg%run%dt, 3)//' s is cfl '//cfl_short(cfg%run%dt*(c_max + vmax)/h)// &
+        ' (> 0.3: may go unstable). Set dt = 0 ('//doc_cfl//')'
+      call add_line(cfg, warnings, line)
     end if
     call advice_stability(cfg, dt*(c_max + vmax)/h, warnings)
     call advice_full_crush(cfg, walls, warnings)
@@ -220,24 +244,22 @@ contains
   !> A filler that touches its tube (fill_gap below h/2) with basis 'ugimp': the squares of
   !! the tube's and the filler's particles overlap at t = 0, and their contact went unstable
   !! at the automatic cfl (0.86 with 'musl'; a half square tube filled with foam,
-  !! tests/test_scene_matrix.py's filler rows): stable at cfl 0.4, with a gap of h/2, or with
-  !! the CPDI bases, whose domains are the particles' own.
+  !! tests/test_scene_matrix.py's filler rows) and at 0.6: stable at cfl 0.4, with a gap of
+  !! h/2, or with the CPDI bases, whose domains are the particles' own.
   subroutine advice_filler(cfg, h, cfl, warnings)
     type(config_t), intent(in) :: cfg
     real(wp), intent(in) :: h                !! cell size [m]
     real(wp), intent(in) :: cfl              !! the cfl in use [-]
     character(len=:), allocatable, intent(inout) :: warnings
     integer :: ib
-    character(len=16) :: c_cfl
+    character(len=8) :: c_cfl
     if (cfg%solver%basis_id /= BASIS_UGIMP .or. .not. cfl > 0.4_wp) return
     do ib = 1, size(cfg%bodies)
       if (cfg%bodies(ib)%shape_id /= SHAPE_FILLER) cycle
       if (cfg%bodies(ib)%fill_gap >= 0.5_wp*h) cycle
       write(c_cfl, '(f5.2)') cfl
-      call append_msg(warnings, 'body '//itoa(ib)//': a filler touching its tube with '// &
-        'basis ''ugimp'' (their squares overlap at t = 0) went unstable at cfl 0.6 and '// &
-        'above; cfl here '//trim(adjustl(c_cfl))//'. Set cfl = 0.4, fill_gap >= h/2, or '// &
-        'basis = ''cpdi2'' (docs/method.md#sections)')
+      call add_line(cfg, warnings, 'body '//itoa(ib)//': filler touching its tube with '// &
+        '''ugimp'': unstable at cfl '//trim(adjustl(c_cfl))//'. Set cfl = 0.4 ('//doc_filler//')')
       exit
     end do
   end subroutine advice_filler
@@ -264,10 +286,8 @@ contains
     end do
     if (.not. rate > 0.0_wp) return        ! not measured yet (make bench)
     seconds = work/rate
-    if (seconds > long_run) warning = 'the run will take about '//hms(seconds)// &
-      ' (h:mm:ss; '//rtoa(work)//' particle-steps at the '//rtoa(rate)//' per second that '// &
-      'make bench measured, docs/performance.md): check t_end, h and the particles, and set '// &
-      '&run checkpoint_every so that it can be continued (tubempm --restart)'
+    if (seconds > long_run) warning = 'the run will take about '//hms(seconds)//' (h:mm:ss). '// &
+      'Set checkpoint_every = 600 (docs/output.md#checkpoints-and-restart)'
   end subroutine advice_wall_time
 
   !> Per ring body: cells against the wall thickness and particles through the wall
@@ -315,10 +335,10 @@ contains
       vwall = abs(dot_product(cfg%walls(k)%velocity, cfg%walls(k)%normal))
       which = ''
       if (count(cfg%bodies%shape_id == SHAPE_RING) > 1) which = ' of body '//itoa(worst(k))
-      write(line, '(a,i0,a,f6.4,a)') 'wall ', k, ': approach '//sci(approach_speed(walls), 2)// &
-        ' m/s = ', top(k), ' D omega_2'//which//': not quasi-static. Set speed <= '// &
-        sci(quasi_static_ratio*vwall/top(k), 2)//' m/s ('//doc_quasi_static//')'
-      call append_msg(warnings, line)
+      write(line, '(a,i0,a,f5.3,a)') 'wall ', k, ': not quasi-static (', top(k), ' D omega_2'// &
+        which//'). Set |velocity| <= '//sci(quasi_static_ratio*vwall/top(k), 1)//' ('// &
+        doc_quasi_static//')'
+      call add_line(cfg, warnings, line)
       exit
     end do
   end subroutine advice_walls
@@ -334,21 +354,20 @@ contains
     associate (b => cfg%bodies(ib))
       t = body_wall_thickness(b)
       if (wall_too_thin(cfg%grid%h, t)) then
-        write(line, '(a,i0,a)') 'body ', ib, ': h >= t = '//sci(t, 2)// &
-          ' m: wall faces share nodes. Set h = '//sci(0.25_wp*t, 2)// &
-          ', n_thick = 8 ('//doc_thin//')'
-        call append_msg(warnings, line)
+        write(line, '(a,i0,a)') 'body ', ib, ': h >= wall t = '//sci(t, 2)//' m. Set h = '// &
+          sci(0.25_wp*t, 2)//', n_thick = 8 ('//doc_thin//')'
+        call add_line(cfg, warnings, line)
       else if (cfg%grid%h > 0.5_wp*t*(1.0_wp + 1.0e-9_wp)) then
         write(line, '(a,i0,a,f4.2,a)') 'body ', ib, ': h/t = ', cfg%grid%h/t, &
           ': crush force 7-25 % high. Set h = '//sci(0.25_wp*t, 2)//', n_thick = 8 ('// &
           doc_thin//')'
-        call append_msg(warnings, line)
+        call add_line(cfg, warnings, line)
       end if
       if (b%n_thick <= 2) then
         write(line, '(a,i0,a,i0,a)') 'body ', ib, ': n_thick = ', b%n_thick, &
-          ' locks the wall (crush force x1.6-2.7). Set n_thick = '// &
+          ' locks the wall (crush x1.6-2.7). Set n_thick = '// &
           itoa(max(4, n_thick_for(cfg%grid%h, t)))//' ('//doc_ppc//')'
-        call append_msg(warnings, line)
+        call add_line(cfg, warnings, line)
       end if
       ! (from 1.045 t/4: the study's h = t/4 settings were run up to h x 1.04, the crush's 2 %
       ! setting 1.60 % there; 'fbarwall' at h = t/2, n_thick = 4, once excepted as the crush's
@@ -357,7 +376,7 @@ contains
         write(line, '(a,i0,a,f4.2,a)') 'body ', ib, ': h/t = ', cfg%grid%h/t, &
           ': crush 10-12 %, impact 26-29 % off. Set h = '// &
           sci(0.25_wp*t, 2)//', n_thick = 8 ('//doc_spacing//')'
-        call append_msg(warnings, line)
+        call add_line(cfg, warnings, line)
       end if
     end associate
   end subroutine ring_resolution
@@ -374,9 +393,9 @@ contains
                   cfg%walls%contact_id == CONTACT_BONDED)) return
     do ib = 1, size(cfg%bodies)
       if (.not. (cfg%bodies(ib)%self_contact .and. is_section(cfg%bodies(ib)%shape_id))) cycle
-      call append_msg(warnings, 'body '//itoa(ib)//': self-contact joints on a ''stick'' or '// &
-        '''bonded'' wall may go unstable with basis '''// &
-        trim(basis_names(cfg%solver%basis_id))//'''. Set basis = ''cpdi2'' ('//doc_seams//')')
+      call add_line(cfg, warnings, 'body '//itoa(ib)//': joints on a stick/bonded wall may go '// &
+        'unstable with '''//trim(basis_names(cfg%solver%basis_id))//'''. Set basis = '// &
+        '''cpdi2'' ('//doc_seams//')')
     end do
   end subroutine advice_seams
 
@@ -387,7 +406,7 @@ contains
     type(config_t), intent(in) :: cfg
     real(wp), intent(in) :: cfl              !! the cfl in use [-]
     character(len=:), allocatable, intent(inout) :: warnings
-    real(wp) :: completes, ppc, flip, automatic
+    real(wp) :: completes, ppc, flip
     integer :: scheme, basis, k
     character(len=512) :: line
     character(len=32) :: flip_text
@@ -396,7 +415,6 @@ contains
     basis = cfg%solver%basis_id
     flip = cfg%solver%flip
     ppc = bodies_wall_ppc(cfg%bodies, cfg%grid%h)   ! fewest particles per cell through a wall
-    automatic = cfl_auto(basis, scheme, ppc, scene_of(cfg) == 'crush')
     completes = -1.0_wp                     ! the study's limit (-1: no study ran the method)
     do k = 1, size(limit_rows)
       if (basis < 1 .or. basis > size(basis_names) .or. scheme < 1 .or. &
@@ -413,34 +431,34 @@ contains
       write(line, '(f4.2,a)') ppc, ' particles per cell through the wall '// &
         '(crush x2.4). Set n_thick = '// &
         itoa(n_thick_for(cfg%grid%h, ring_t(cfg)))//' ('//doc_ppc//')'
-      call append_msg(warnings, line)
+      call add_line(cfg, warnings, line)
     else if (ppc < ppc_low .and. cfg%solver%volumetric_id == VOLUMETRIC_FBAR) then
-      write(line, '(f4.2,a)') ppc, ' particles per cell through the wall '// &
-        'with ''fbar'': crush 9 % above FE. Set n_thick = '// &
+      write(line, '(f4.2,a)') ppc, ' particles/cell with ''fbar'': crush 9 % above FE. '// &
+        'Set n_thick = '// &
         itoa(n_thick_for(cfg%grid%h, ring_t(cfg)))//' ('//doc_ppc//')'
-      call append_msg(warnings, line)
+      call add_line(cfg, warnings, line)
     else if (ppc < ppc_low .and. cfg%solver%volumetric_id == VOLUMETRIC_FBARWALL .and. &
              .not. wall_off) then
-      write(line, '(f4.2,a)') ppc, ' particles per cell through the wall '// &
-        'with ''fbarwall'': crush 6-9 % off. Set ''standard'', n_thick = '// &
+      write(line, '(f4.2,a)') ppc, ' particles/cell with ''fbarwall'': crush 6-9 % off. '// &
+        'Set ''standard'', n_thick = '// &
         itoa(n_thick_for(cfg%grid%h, ring_t(cfg)))//' ('//doc_ppc//')'
-      call append_msg(warnings, line)
+      call add_line(cfg, warnings, line)
     else if (ppc < ppc_low) then
-      write(line, '(f4.2,a)') ppc, ' particles per cell through the wall: '// &
-        'too stiff (crush +28-32 %). Set n_thick = '// &
+      write(line, '(f4.2,a)') ppc, ' particles per cell through the wall: crush +28-32 %. '// &
+        'Set n_thick = '// &
         itoa(n_thick_for(cfg%grid%h, ring_t(cfg)))//' ('//doc_ppc//')'
-      call append_msg(warnings, line)
+      call add_line(cfg, warnings, line)
     end if
     if (wall_off) then
-      write(line, '(a,i0,a)') 'volumetric = ''fbarwall'' changes nothing with n_thick = ', &
-        ring_n_thick(cfg, .false.), ' (it acts as ''standard''). Set n_thick = 4 or '// &
-        'volumetric = ''fbar'' ('//doc_volumetric//')'
-      call append_msg(warnings, line)
+      write(line, '(a,i0,a)') '''fbarwall'' changes nothing with n_thick = ', &
+        ring_n_thick(cfg, .false.), '. Set n_thick = 4 ('// &
+        doc_volumetric//')'
+      call add_line(cfg, warnings, line)
     else if (cfg%solver%volumetric_id == VOLUMETRIC_FBARWALL) then
       if (ring_n_thick(cfg, .true.) > fbarwall_nt_max) then
         write(line, '(a,i0,a)') '''fbarwall'' with n_thick = ', ring_n_thick(cfg, .true.), &
-          ': crush 16 % low (made for 4). Set volumetric = ''standard'' ('//doc_volumetric//')'
-        call append_msg(warnings, line)
+          ': crush 16 % low. Set volumetric = ''standard'' ('//doc_volumetric//')'
+        call add_line(cfg, warnings, line)
       end if
       call fbarwall_aspect(cfg, warnings)
     end if
@@ -450,22 +468,20 @@ contains
     ! is in the 1-per-cell table below)
     write(flip_text, '(g0.4)') flip
     if (completes == 0.0_wp) then
-      call append_msg(warnings, 'basis '''//trim(basis_names(basis))//''' with scheme '''// &
-        trim(scheme_names(scheme))//''' failed on the impact scene at every cfl (0.125 up). '// &
-        'Set scheme = ''musl'', n_thick >= 2 t/h ('//doc_schemes//')')
+      call add_line(cfg, warnings, ''''//trim(basis_names(basis))//''' + '''// &
+        trim(scheme_names(scheme))//''' failed at every cfl. Set scheme = ''musl'', n_thick = '// &
+        itoa(n_thick_for(cfg%grid%h, ring_t(cfg)))//' ('//doc_schemes//')')
     else if (completes > 0.0_wp .and. cfl > completes*(1.0_wp + 1.0e-9_wp)) then
-      call append_msg(warnings, 'cfl '//rtoa(cfl)//' > '//rtoa(completes)// &
-        ', the stable limit of basis '''//trim(basis_names(basis))//''' with scheme '''// &
-        trim(scheme_names(scheme))//'''. Set cfl = 0 (automatic: '//cfl_text(automatic)//') ('// &
-        doc_cfl//')')
+      call add_line(cfg, warnings, 'cfl '//cfl_short(cfl)//' > '//cfl_short(completes)// &
+        ', the limit of '''//trim(basis_names(basis))//''' + '''//trim(scheme_names(scheme))// &
+        '''. Set cfl = 0 ('//doc_cfl//')')
     end if
-    if (scheme == SCHEME_USL) call append_msg(warnings, 'scheme ''usl'' loses 5-8 % of '// &
+    if (scheme == SCHEME_USL) call add_line(cfg, warnings, 'scheme ''usl'' loses 5-8 % of '// &
       'an impact''s energy. Set scheme = ''musl'' ('//doc_schemes//')')
-    if (basis == BASIS_LINEAR) call append_msg(warnings, 'basis ''linear'': '// &
+    if (basis == BASIS_LINEAR) call add_line(cfg, warnings, 'basis ''linear'': '// &
       'cell-crossing noise in the wall force. Set basis = ''cpdi2'' ('//doc_bases//')')
-    if (flip < flip_trusted) call append_msg(warnings, 'flip = '//trim(adjustl(flip_text))// &
-      ': the PIC part damps (49 % of an impact lost at 0.99). Set flip = 1 ('// &
-      doc_schemes//')')
+    if (flip < flip_trusted) call add_line(cfg, warnings, 'flip = '//trim(adjustl(flip_text))// &
+      ': PIC damps (49 % of an impact lost at 0.99). Set flip = 1 ('//doc_schemes//')')
   end subroutine advice_stability
 
   !> volumetric = 'fbarwall' with particles far from square: the study's crush at n_thick = 4
@@ -484,7 +500,7 @@ contains
       if (aspect >= fbarwall_aspect_lo .and. aspect <= fbarwall_aspect_hi) cycle
       write(line, '(a,i0,a,f4.2,a)') 'body ', ib, ': aspect ', aspect, ' with '// &
         '''fbarwall'': crush 8-16 % off. Set n_circ = 0 ('//doc_volumetric//')'
-      call append_msg(warnings, line)
+      call add_line(cfg, warnings, line)
     end do
   end subroutine fbarwall_aspect
 
@@ -518,15 +534,13 @@ contains
         if (.not. ratio > delta_fold) cycle
         if (cfg%solver%basis_id == BASIS_CPDI2) then
           write(line, '(a,i0,a,f4.2,a)') 'body ', ib, ': delta/D reaches ', ratio, &
-            ': CPDI2 can fold. Set basis = ''cpdi1'' or '// &
-            'delta/D <= 0.8 ('//doc_fold//')'
-          call append_msg(warnings, line)
+            ': CPDI2 can fold. Set basis = ''cpdi1'' ('//doc_fold//')'
+          call add_line(cfg, warnings, line)
         end if
         if (b%sector_id /= SECTOR_QUARTER .and. .not. b%self_contact) then
-          write(line, '(a,i0,a,f4.2,a,i0,a)') 'body ', ib, ': delta/D reaches ', ratio, &
-            ': inner walls weld. Set self_contact = .true. in &body ', ib, &
-            ' ('//doc_self_contact//')'
-          call append_msg(warnings, line)
+          write(line, '(a,i0,a,f4.2,a)') 'body ', ib, ': delta/D reaches ', ratio, &
+            ': inner walls weld. Set self_contact = .true. ('//doc_self_contact//')'
+          call add_line(cfg, warnings, line)
         end if
       end associate
     end do

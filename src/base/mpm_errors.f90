@@ -5,7 +5,7 @@ module mpm_errors
   use mpm_sys, only: sys_exit
   implicit none
   private
-  public :: fatal, warn, append_msg
+  public :: fatal, warn, append_msg, halt
 
 contains
 
@@ -32,6 +32,16 @@ contains
     ! the project's own lines only: ERROR STOP would add its own line and a backtrace
     call sys_exit(code)
   end subroutine fatal
+
+  !> A stop that is not an error (an interrupt: SIGINT, SIGTERM): msg on standard error as it
+  !! is, then exit with `code` (128 + the signal, as shells report it).
+  subroutine halt(msg, code)
+    character(len=*), intent(in) :: msg    !! what stopped the run and how to go on
+    integer, intent(in) :: code            !! exit status
+    write(error_unit, '(a)') trim(msg)
+    flush(error_unit)
+    call sys_exit(code)
+  end subroutine halt
 
   !> Print `WARNING [where]: msg` on standard error (runs go on).
   subroutine warn(where, msg)

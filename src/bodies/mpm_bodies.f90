@@ -22,13 +22,14 @@ module mpm_bodies
   use mpm_strings, only: sci
   implicit none
   private
-  public :: body_cfg_t, body_counts, body_fill, body_box, body_low, body_overlap, body_estimate, &
-            body_report, body_section, body_mesh, is_section, body_fields, body_field_split, &
+  public :: body_in_t, body_cfg_t, body_counts, body_fill, body_box, body_low, body_overlap, &
+            body_estimate, body_report, body_section, body_mesh, is_section, body_fields, body_field_split, &
             has_sector, body_wall_thickness, bodies_wall_ppc
 
-  !> &body (repeatable): one component per row of the input table (mpm_config_table), with its
-  !! default; the rows of one shape only carry `only = '<shape>'`.
-  type :: body_cfg_t
+  !> &body (repeatable): one component per input variable, with its default (the reader reads
+  !! the group into this type); the rows of one shape carry `only = '<shape>'` in the input
+  !! table (mpm_config_table).
+  type :: body_in_t
     character(len=name_len) :: shape = 'ring'      !! ring | rect | tube | honeycomb | walls | disc
                                                    !! | filler
     character(len=name_len) :: material = ''       !! a &material name
@@ -52,12 +53,17 @@ module mpm_bodies
     real(wp) :: cell_h = -1.0_wp                   !! honeycomb: vertical wall length [m]
     real(wp) :: cell_angle = 30.0_wp               !! honeycomb: inclined wall angle [degrees]
     character(len=path_len) :: walls_file = ''     !! walls: the CSV of segments
-    real(wp), allocatable :: seg(:,:)              !! walls: segments x1, y1, x2, y2, t (5, n) [m]
     integer :: fills = 0                           !! filler: the 'tube' body it fills (its index)
     real(wp) :: fill_gap = 0.0_wp                  !! filler: gap to the tube's inner face [m]
+  end type body_in_t
+
+  !> A body: its input and what is read from its files or taken from another body.
+  type, extends(body_in_t) :: body_cfg_t
+    real(wp), allocatable :: seg(:,:)              !! walls: segments x1, y1, x2, y2, t (5, n) [m]
     integer :: host_n_thick = 0                    !! filler: the tube's n_thick; its vertices,
                                                    !! thickness, corner_radius, center and sector
-                                                   !! are copied into this body's (mpm_config)
+                                                   !! are copied into this body's
+                                                   !! (mpm_config_check's filler_checks)
   end type body_cfg_t
 
 contains

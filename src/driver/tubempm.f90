@@ -10,7 +10,7 @@ program tubempm
   !$ use omp_lib, only: omp_set_num_threads, omp_get_max_threads
   use mpm_kinds, only: wp, i8
   use mpm_constants, only: version_string, EXIT_INPUT, EXIT_IO, path_len, BASIS_CPDI2, SCHEME_MUSL
-  use mpm_errors, only: fatal, warn
+  use mpm_errors, only: fatal, warn, halt
   use mpm_config, only: config_t, read_config, write_config, write_config_unit, default_config, &
                         scene_of
   use mpm_setup, only: setup_sim, sector_factor
@@ -133,7 +133,8 @@ program tubempm
   ! Ctrl-C or a TERM from here on is a flag (not the default kill): before the outputs exist
   ! the run stops at stop_if_signalled with nothing written, after it at the end of the step
   ! with a checkpoint
-  if (.not. sys_install_signals()) call warn('run', 'could not install signal handlers')
+  if (.not. sys_install_signals()) call warn('run', 'no signal handlers: Ctrl-C will stop the '// &
+    'run without a checkpoint. Set &run checkpoint_every (docs/output.md#checkpoints-and-restart)')
 
   ! input, set-up, report
   call read_config(case_file, cfg, stat, errmsg, input_warnings)
@@ -178,8 +179,8 @@ contains
     integer :: st
     character(len=:), allocatable :: msg
     call sys_dir_creatable(dir, st, msg)
-    if (st /= 0) call warn('check', '&run output_dir = '''//dir//''' cannot be written here ('// &
-      msg//'): a run here would stop before its first step. Choose a writable &run output_dir')
+    if (st /= 0) call warn('check', 'output_dir '''//dir//''' cannot be written here ('//msg// &
+      '). Set &run output_dir to a writable folder (docs/input.md#run)')
   end subroutine warn_if_not_creatable
 
   !> A signal received before the outputs are opened: stop (exit 128 + signal, as shells
@@ -188,7 +189,7 @@ contains
     character(len=*), intent(in) :: stage  !! what was being done
     integer :: sig
     sig = sys_signal_received()
-    if (sig /= 0) call fatal('run', 'stopped by '//sys_signal_name(sig)//' during '//stage// &
+    if (sig /= 0) call halt('stopped by '//sys_signal_name(sig)//' during '//stage// &
       ': nothing written, nothing lost', 128 + sig)
   end subroutine stop_if_signalled
 
@@ -324,8 +325,8 @@ contains
       rtoa(r%rel%t_first)//' to '//rtoa(r%rel%t_last)//' s, none since (&run end_at_release)'
     ! 3. close the outputs, summary, end-of-run report
     call close_outputs(s, r, final_snapshot=sig == 0)
-    if (sig /= 0) call fatal('run', 'stopped by '//sys_signal_name(sig)//': checkpoint saved, continue with '// &
-      'tubempm --restart '//r%dir, 128 + sig)   ! exit status as shells report it
+    if (sig /= 0) call halt('stopped by '//sys_signal_name(sig)//': checkpoint saved, '// &
+      'continue with tubempm --restart '//r%dir, 128 + sig)   ! exit status as shells report it
   end subroutine run_case
 
   !> Open the outputs of a new run (folder, input.nml, history, particles.h5 with the first
@@ -402,8 +403,8 @@ contains
     if (st == -1) call fatal('output', 'another tubempm run is writing into '//dir// &
       ' (it holds the folder''s lock): wait until it ends, or choose another &run output_dir', &
       EXIT_IO)
-    if (st == -2) call warn('output', 'the file system of '//dir//' has no folder locks ('// &
-      msg//'): a second run started into this folder would not be noticed')
+    if (st == -2) call warn('output', 'no folder locks on the file system of '//dir//': a '// &
+      'second run into it would not be noticed. Start one run per folder (docs/output.md)')
     if (st > 0) call fatal('output', 'cannot lock the output folder '//msg, EXIT_IO)
   end subroutine lock_folder
 

@@ -13,8 +13,7 @@ module mpm_placement
   use mpm_config_types, only: config_t
   use mpm_bodies, only: body_low, body_overlap
   use mpm_config_text, only: itoa, fmt_short, fmt_vec
-  use mpm_config_lexer, only: reader_t, occurrence
-  use mpm_config_values, only: err_var, warn_var
+  use mpm_config_scan, only: reader_t, occurrence, err_var, warn_var
   implicit none
   private
   public :: placement_checks
@@ -58,8 +57,8 @@ contains
               1.0e-9_wp*cfg%grid%h .or. any(a%velocity /= b%velocity) .or. &
               a%ramp /= b%ramp .or. a%n_motion /= b%n_motion) cycle
           if (any(a%motion_t /= b%motion_t) .or. any(a%motion_f /= b%motion_f)) cycle
-          call warn_var(rd, io(k), 'point', 'the same plane, normal and motion as &wall #'// &
-            itoa(j)//': the two act together and share the contact force (give it once)')
+          call warn_var(rd, io(k), 'point', 'the plane and motion of &wall #'//itoa(j)// &
+            ': the two share the contact force. Delete one &wall')
           exit
         end associate
       end do

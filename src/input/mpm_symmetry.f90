@@ -23,8 +23,7 @@ module mpm_symmetry
   use mpm_constants, only: SHAPE_RING, SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER
   use mpm_config_types, only: config_t
   use mpm_config_text, only: itoa, fmt_short, fmt_vec
-  use mpm_config_lexer, only: reader_t, occurrence
-  use mpm_config_values, only: err_var
+  use mpm_config_scan, only: reader_t, occurrence, err_var
   use mpm_bodies, only: body_low, has_sector
   implicit none
   private

@@ -120,8 +120,8 @@ contains
   end subroutine advice_unit_issues
 
   !> The values in a likely wrong unit as lines ('&body #1: r_outer = 2.6000E+001 m is over
-  !! 1 m: ...'), appended to `text`: the warnings of a case with `check_units = .false.` and the
-  !! hints of a refused memory budget.
+  !! 1 m. Set r_outer in m (docs/input.md#checks)'), appended to `text`: the warnings of a case
+  !! with `check_units = .false.` and the hints of a refused memory budget.
   pure subroutine advice_units(cfg, text)
     type(config_t), intent(in) :: cfg      !! the case
     character(len=:), allocatable, intent(inout) :: text  !! lines so far (may be unallocated)
@@ -134,7 +134,9 @@ contains
       associate (u => issues(j))
         where = '&'//trim(u%group)
         if (u%k > 0) where = where//' #'//itoa(u%k)
-        call append_msg(text, where//': '//trim(u%var)//' = '//u%value//' is '//u%why)
+        call append_msg(text, where//': '//trim(u%var)//' = '//u%value//' is '// &
+          u%why(1:index(u%why//':', ':') - 1)//'. Set it in '// &
+          u%value(index(u%value, ' ') + 1:)//' (docs/input.md#checks)')
       end associate
     end do
   end subroutine advice_units

@@ -29,9 +29,10 @@ module mpm_material
   real(wp), parameter :: stretch_tol = 1.0e-14_wp   ! absolute tolerance on ln(F_zz)
   integer, parameter :: stretch_max_iter = 100
 
-  !> The parameters of a material as the input gives them: one component per row of the
-  !! &material group of the input table (mpm_config_table, which binds each row to its
-  !! component); the model reads them from material_t, which extends this type.
+  !> The parameters of a material as the input gives them: one component per variable of the
+  !! &material group, with its default (the reader reads the group into this type; the table
+  !! of mpm_config_table says what each accepts); the model reads them from material_t, which
+  !! extends this type.
   type, public :: material_cfg_t
     character(len=name_len) :: name = ''           !! label used by &body
     character(len=name_len) :: model = 'j2'        !! elastic | neohookean | j2 | foam

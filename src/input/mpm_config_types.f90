@@ -1,18 +1,21 @@
 !> The case description as read from a namelist file: one derived type per namelist group.
 ! SPDX-License-Identifier: MIT
 !
-! The components keep the type defaults below until the reader (mpm_config) or a scene builder
-! sets them; the table of input variables (mpm_config_table) says what each one accepts.
+! Each input variable is declared once: as a component of its group's type, with its default.
+! The reader reads a group's text into a record of this type with the compiler's namelist
+! read (mpm_config_record); the table of input variables (mpm_config_table) says what each
+! one accepts and means. Components that are not input variables (the codes *_id, counts,
+! flags) are set by the checks. A scene builder sets the components in code.
 module mpm_config_types
   use mpm_kinds, only: wp
   use mpm_constants, only: name_len, path_len, max_table, SHAPE_RING
   use mpm_material, only: material_cfg_t   ! &material: the model owns its parameters
-  use mpm_bodies, only: body_cfg_t         ! &body: the shapes own theirs
+  use mpm_bodies, only: body_cfg_t, body_in_t  ! &body: the shapes own theirs
   implicit none
   private
   public :: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, body_cfg_t, &
-            wall_cfg_t, probe_cfg_t, contact_cfg_t
-  public :: unset_real, iunset, scene_of
+            body_in_t, wall_cfg_t, probe_cfg_t, contact_cfg_t
+  public :: unset_real, scene_of
 
   type :: run_cfg_t
     character(len=name_len) :: title = ''          !! label of the case
@@ -77,7 +80,7 @@ module mpm_config_types
   !> &contact (repeatable): how two bodies meet
   type :: contact_cfg_t
     integer :: bodies(2) = 0                       !! the two bodies (0, 0: every other pair)
-    character(len=name_len) :: law = 'frictionless'  !! frictionless | coulomb | stick
+    character(len=name_len) :: law = 'frictionless'  !! frictionless | coulomb | stick | bonded
     integer :: law_id = 0                          !! code of mpm_constants (CONTACT_*)
     real(wp) :: friction = 0.0_wp                  !! Coulomb coefficient [-]
   end type contact_cfg_t
@@ -95,10 +98,10 @@ module mpm_config_types
     type(contact_cfg_t), allocatable :: contacts(:)
   end type config_t
 
-  !> Marks a required number that was not given (wall and probe points, normals in
-  !! default_config); the other required numbers keep their type defaults (-1, 0).
+  !> Marks a number that was not given: the points and normals of default_config, and the
+  !! entries of a table (a tube's vertices; the reader starts a wall's motion table and a
+  !! foam's curve from it) beyond the last one given.
   real(wp), parameter :: unset_real = huge(1.0_wp)
-  integer, parameter :: iunset = -huge(1)       !! integer "not given" sentinel of the reader
 
 contains
 

@@ -9,9 +9,8 @@ module mpm_config_text
   use mpm_strings, only: itoa            ! re-exported for the reader's modules
   implicit none
   private
-  public :: enum_text, join_list, suggestion, lower, is_blank, name_end, word_end, &
-            string_end, compact, itoa, quote, unquote, file_stem, fmt_real, fmt_short, &
-            fmt_vec, fmt_list, fmt_logical, finite
+  public :: join_list, suggestion, lower, is_blank, name_end, string_end, itoa, quote, &
+            unquote, file_stem, fmt_real, fmt_short, fmt_vec, fmt_list, fmt_logical, finite
 
 contains
 
@@ -23,19 +22,7 @@ contains
     finite = ieee_is_finite(x)
   end function finite
 
-
-  pure function enum_text(names, default) result(s)
-    character(len=*), intent(in) :: names(:), default
-    character(len=:), allocatable :: s
-    integer :: k
-    s = ''
-    do k = 1, size(names)
-      if (k > 1) s = s//', '
-      s = s//quote(trim(names(k)))
-    end do
-    s = s//' (default '//quote(default)//')'
-  end function enum_text
-
+  !> 'a, b, c' with each name after prefix ('&' for groups, a quote for values).
   pure function join_list(names, prefix) result(s)
     character(len=*), intent(in) :: names(:), prefix
     character(len=:), allocatable :: s
@@ -44,6 +31,7 @@ contains
     do k = 1, size(names)
       if (k > 1) s = s//', '
       s = s//prefix//trim(names(k))
+      if (prefix == '''') s = s//''''
     end do
   end function join_list
 
@@ -88,8 +76,6 @@ contains
     d = prev(len(b))
   end function edit_distance
 
-  ! ------------------------------------------------------------------------ text utilities
-
   pure function lower(s) result(t)
     character(len=*), intent(in) :: s
     character(len=len(s)) :: t
@@ -101,83 +87,38 @@ contains
     end do
   end function lower
 
-  pure logical function is_blank(c)
+  elemental logical function is_blank(c)
     character(len=1), intent(in) :: c
     is_blank = c == ' ' .or. c == achar(9) .or. c == achar(13) .or. c == achar(10)
   end function is_blank
 
-  pure logical function is_name_char(c)
-    character(len=1), intent(in) :: c
-    is_name_char = (c >= 'a' .and. c <= 'z') .or. (c >= 'A' .and. c <= 'Z') .or. &
-                   (c >= '0' .and. c <= '9') .or. c == '_'
-  end function is_name_char
-
-  !> Last index of the name starting at i (i - 1 when there is none).
+  !> Last index of the name (letters, digits, '_') starting at i (i - 1 when there is none).
   pure integer function name_end(s, i) result(j)
     character(len=*), intent(in) :: s
     integer, intent(in) :: i
     j = i - 1
     do while (j + 1 <= len(s))
-      if (.not. is_name_char(s(j+1:j+1))) exit
+      if (verify(s(j+1:j+1), 'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_') &
+          /= 0) exit
       j = j + 1
     end do
   end function name_end
-
-  !> Last index of the word starting at i; `name(...)` counts as one word.
-  pure integer function word_end(s, i) result(j)
-    character(len=*), intent(in) :: s
-    integer, intent(in) :: i
-    integer :: p
-    character(len=1) :: c
-    j = i
-    do while (j + 1 <= len(s))
-      c = s(j+1:j+1)
-      if (is_blank(c) .or. index(',=/!''"', c) > 0) exit
-      if (c == '(') then
-        p = index(s(j+1:), ')')
-        if (p == 0) then
-          j = len(s)
-          exit
-        end if
-        j = j + p
-        cycle
-      end if
-      j = j + 1
-    end do
-  end function word_end
 
   !> Index of the quote closing the text that opens at i ('' and "" inside), 0 if none.
   pure integer function string_end(s, i) result(j)
     character(len=*), intent(in) :: s
     integer, intent(in) :: i
-    character(len=1) :: q
-    q = s(i:i)
     j = i + 1
     do while (j <= len(s))
-      if (s(j:j) == q) then
-        if (j + 1 <= len(s)) then
-          if (s(j+1:j+1) == q) then
-            j = j + 2
-            cycle
-          end if
-        end if
-        return
+      if (s(j:j) == s(i:i)) then
+        if (j == len(s)) return
+        if (s(j+1:j+1) /= s(i:i)) return
+        j = j + 1
       end if
       j = j + 1
     end do
     j = 0
   end function string_end
-
-  !> s without blanks.
-  pure function compact(s) result(t)
-    character(len=*), intent(in) :: s
-    character(len=:), allocatable :: t
-    integer :: k
-    t = ''
-    do k = 1, len(s)
-      if (.not. is_blank(s(k:k))) t = t//s(k:k)
-    end do
-  end function compact
 
   !> Text in single quotes, inner quotes doubled (namelist syntax).
   pure function quote(s) result(t)
@@ -186,22 +127,32 @@ contains
     integer :: k
     t = ''''
     do k = 1, len(s)
-      if (s(k:k) == '''') then
-        t = t//''''''
-      else
-        t = t//s(k:k)
-      end if
+      t = t//s(k:k)
+      if (s(k:k) == '''') t = t//''''
     end do
     t = t//''''
   end function quote
+
+  !> The text of a quoted value without its quotes, doubled quotes made single.
+  pure function unquote(t) result(s)
+    character(len=*), intent(in) :: t
+    character(len=:), allocatable :: s
+    integer :: k
+    s = ''
+    k = 2
+    do while (k <= len(t) - 1)
+      s = s//t(k:k)
+      if (t(k:k) == t(1:1)) k = k + 1
+      k = k + 1
+    end do
+  end function unquote
 
   !> Name of the file without folder and extension.
   pure function file_stem(path) result(stem)
     character(len=*), intent(in) :: path
     character(len=:), allocatable :: stem
-    integer :: i, j
-    i = index(path, '/', back=.true.)
-    stem = trim(path(i+1:))
+    integer :: j
+    stem = trim(path(index(path, '/', back=.true.)+1:))
     j = index(stem, '.', back=.true.)
     if (j > 1) stem = stem(1:j-1)
     if (len(stem) == 0) stem = 'case'
@@ -217,15 +168,13 @@ contains
     character(len=:), allocatable :: b, digits
     integer :: d, ios, p, e
     real(wp) :: y
-    logical :: neg
     character(len=128) :: msg
     if (ieee_is_nan(x)) then
       s = 'NaN'
       return
     end if
     if (.not. ieee_is_finite(x)) then
-      s = 'Infinity'
-      if (x < 0.0_wp) s = '-Infinity'
+      s = trim(merge('-Infinity', 'Infinity ', x < 0.0_wp))
       return
     end if
     if (x == 0.0_wp) then
@@ -240,8 +189,7 @@ contains
       if (ios == 0 .and. y == x) exit
     end do
     b = trim(adjustl(buf))
-    neg = b(1:1) == '-'
-    if (neg) b = b(2:)
+    if (x < 0.0_wp) b = b(2:)
     p = index(b, 'E')
     read(b(p+1:), *, iostat=ios, iomsg=msg) e
     digits = b(1:1)//b(3:p-1)                         ! d.ddd -> dddd
@@ -257,14 +205,12 @@ contains
       end if
     else if (e < 0 .and. e >= -3) then
       s = '0.'//repeat('0', -e - 1)//digits
+    else if (len(digits) > 1) then
+      s = digits(1:1)//'.'//digits(2:)//'e'//itoa(e)
     else
-      if (len(digits) > 1) then
-        s = digits(1:1)//'.'//digits(2:)//'e'//itoa(e)
-      else
-        s = digits//'.0e'//itoa(e)
-      end if
+      s = digits//'.0e'//itoa(e)
     end if
-    if (neg) s = '-'//s
+    if (x < 0.0_wp) s = '-'//s
   end function fmt_real
 
   !> Six significant digits, for derived numbers in messages.
@@ -275,13 +221,10 @@ contains
     real(wp) :: y
     integer :: ios
     character(len=128) :: msg
-    if (.not. finite(x)) then
-      s = fmt_real(x)
-      return
-    end if
+    s = fmt_real(x)
+    if (.not. finite(x)) return
     write(buf, '(es13.5e3)', iostat=ios, iomsg=msg) x
     read(buf, *, iostat=ios, iomsg=msg) y
-    s = trim(adjustl(buf))
     if (ios == 0) s = fmt_real(y)
   end function fmt_short
 
@@ -289,16 +232,10 @@ contains
   function fmt_vec(v) result(s)
     real(wp), intent(in) :: v(2)
     character(len=:), allocatable :: s
-    s = fmt_given(v(1))//', '//fmt_given(v(2))
+    s = fmt_list(v)
   end function fmt_vec
 
-  function fmt_given(x) result(s)
-    real(wp), intent(in) :: x
-    character(len=:), allocatable :: s
-    s = fmt_real(x)
-    if (x == unset_real) s = '(none)'   ! (false for NaN and the infinities)
-  end function fmt_given
-
+  !> Numbers 'a, b, c'; an entry not given (unset_real) shows as (none).
   function fmt_list(v) result(s)
     real(wp), intent(in) :: v(:)
     character(len=:), allocatable :: s
@@ -306,7 +243,11 @@ contains
     s = ''
     do k = 1, size(v)
       if (k > 1) s = s//', '
-      s = s//fmt_given(v(k))
+      if (v(k) == unset_real .and. finite(v(k))) then
+        s = s//'(none)'
+      else
+        s = s//fmt_real(v(k))
+      end if
     end do
   end function fmt_list
 
@@ -315,21 +256,4 @@ contains
     character(len=:), allocatable :: s
     s = trim(merge('.true. ', '.false.', l))
   end function fmt_logical
-
-  !> The text of a quoted value without its quotes, doubled quotes made single.
-  pure function unquote(t) result(s)
-    character(len=*), intent(in) :: t
-    character(len=:), allocatable :: s
-    integer :: k
-    character(len=1) :: q
-    s = ''
-    if (len(t) < 2) return
-    q = t(1:1)
-    k = 2
-    do while (k <= len(t) - 1)
-      s = s//t(k:k)
-      if (t(k:k) == q) k = k + 1
-      k = k + 1
-    end do
-  end function unquote
 end module mpm_config_text
