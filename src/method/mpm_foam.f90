@@ -135,6 +135,7 @@ contains
     g = E/(2.0_wp*(1.0_wp + nu))
     k = E/(3.0_wp*(1.0_wp - 2.0_wp*nu))
     b = 3.0_wp*g
+    dev = 0.0_wp                               ! set for plane strain only
     if (plane == PLANE_STRAIN) then
       sm = (s(1) + s(2) + s(4))/3.0_wp
       dev = [s(1) - sm, s(2) - sm, s(3), s(4) - sm]
