@@ -224,8 +224,8 @@ module mpm_config_table
       only='honeycomb', unset='neg', allowed='a real number > 0 [m] (required for shape '// &
       '= ''honeycomb'')', comment='vertical wall length [m]'), &
     var_spec_t('body', 'cell_angle', lo=-80.0_wp, hi=80.0_wp, only='honeycomb', &
-      allowed='a real number from -80 to 80 [degrees], not 0, with cell_h/2 + cell_l '// &
-      'sin(angle) > thickness (default 30)', comment='inclined wall angle to x [deg]'), &
+      allowed='a real number from -80 to 80 [degrees], |angle| >= 1, with cell_h + '// &
+      '2 cell_l sin(angle) > thickness (default 30)', comment='inclined wall angle to x [deg]'), &
     var_spec_t('body', 'walls_file', required=.true., unset='emp', &
       only='walls', allowed='a CSV file (relative to the input file''s folder), one wall '// &
       'per line: x1, y1, x2, y2, thickness [m] (required for shape = ''walls'')', &
