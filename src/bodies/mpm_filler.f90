@@ -3,7 +3,8 @@
 ! SPDX-License-Identifier: MIT
 module mpm_filler
   use mpm_kinds, only: wp
-  use mpm_sections, only: section_t, section_tube, push_quad, merge_points
+  use mpm_sections, only: section_t, section_tube, push_quad
+  use mpm_point_merge, only: merge_points
   implicit none
   private
   public :: filler_mesh

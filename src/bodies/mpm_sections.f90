@@ -29,6 +29,7 @@
 module mpm_sections
   use mpm_kinds, only: wp
   use mpm_constants, only: pi
+  use mpm_point_merge, only: merge_points
   implicit none
   private
   public :: section_t, section_tube, section_honeycomb, section_walls, section_mesh, push_quad, &
@@ -816,72 +817,6 @@ contains
       a = a + quad_area(xc(:, quad(:, k)))
     end do
   end function section_area
-
-  !> Merge points closer than tol (in both coordinates): unique points xu and the id of
-  !! each input point. Sorted by x, each point is compared with those before it within tol.
-  pure subroutine merge_points(pts, tol, xu, ids)
-    real(wp), intent(in) :: pts(:,:), tol
-    real(wp), allocatable, intent(out) :: xu(:,:)
-    integer, allocatable, intent(out) :: ids(:)
-    integer, allocatable :: ord(:)
-    integer :: n, a, b, k, nu
-    n = size(pts, 2)
-    allocate(ids(n), xu(2, n))
-    ord = sort_index(pts(1, :))
-    nu = 0
-    do a = 1, n
-      k = ord(a)
-      ids(k) = 0
-      do b = a - 1, 1, -1
-        if (pts(1, k) - pts(1, ord(b)) > tol) exit
-        if (abs(pts(2, k) - pts(2, ord(b))) <= tol) then
-          ids(k) = ids(ord(b))
-          exit
-        end if
-      end do
-      if (ids(k) == 0) then
-        nu = nu + 1
-        xu(:, nu) = pts(:, k)
-        ids(k) = nu
-      end if
-    end do
-    xu = xu(:, 1:nu)
-  end subroutine merge_points
-
-  !> The permutation that sorts x ascending (merge sort; stable).
-  pure function sort_index(x) result(ord)
-    real(wp), intent(in) :: x(:)
-    integer :: ord(size(x))
-    integer :: tmp(size(x)), n, w, lo, mid, hi, i, j, k
-    n = size(x)
-    ord = [(i, i = 1, n)]
-    w = 1
-    do while (w < n)
-      lo = 1
-      do while (lo <= n)
-        mid = min(lo + w - 1, n)
-        hi = min(lo + 2*w - 1, n)
-        i = lo
-        j = mid + 1
-        k = lo
-        do while (k <= hi)
-          if (j > hi) then
-            tmp(k) = ord(i); i = i + 1
-          else if (i > mid) then
-            tmp(k) = ord(j); j = j + 1
-          else if (x(ord(j)) < x(ord(i))) then
-            tmp(k) = ord(j); j = j + 1
-          else
-            tmp(k) = ord(i); i = i + 1
-          end if
-          k = k + 1
-        end do
-        lo = lo + 2*w
-      end do
-      ord = tmp
-      w = 2*w
-    end do
-  end function sort_index
 
   ! ---------------------------------------------------------------------------- text
 

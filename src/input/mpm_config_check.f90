@@ -307,7 +307,7 @@ contains
     integer :: stat
     character(len=:), allocatable :: msg
     real(wp) :: np, nc, ext
-    real(wp), parameter :: mesh_check_max = 2.0e7_wp  ! particles the check meshes at most
+    real(wp), parameter :: mesh_check_max = 2.0e6_wp  ! particles the check meshes at most (set-up meshes larger bodies)
     if (.not. (is_section(b%shape_id) .or. b%shape_id == SHAPE_DISC)) return
     if (b%shape_id == SHAPE_TUBE .and. (b%n_vertices < 3 .or. b%thickness <= 0.0_wp)) return
     if (b%shape_id == SHAPE_HONEYCOMB .and. (any(b%n_cells < 1) .or. b%thickness <= 0.0_wp &

@@ -18,6 +18,7 @@ module mpm_units
   real(wp), parameter :: e_min = 1.0e6_wp, e_max = 1.0e13_wp  !! plausible E [Pa]
   real(wp), parameter :: rho_min = 10.0_wp, rho_max = 30000.0_wp  !! plausible rho [kg/m^3]
   real(wp), parameter :: yield_strain_max = 1.0_wp/50.0_wp  !! sigma_y / E above this is suspect
+  real(wp), parameter :: yield_strain_min = 1.0e-5_wp  !! sigma_y / E below this is suspect
   real(wp), parameter :: foam_strain_max = 1.0_wp/10.0_wp  !! foam sigma_p / E above this [-]
   real(wp), parameter :: foam_sigma_min = 1.0e3_wp   !! foam sigma_p below this is suspect [Pa]
 
@@ -93,6 +94,8 @@ contains
       if (cfg%walls(k)%mirror) cycle
       if (maxval(abs(cfg%walls(k)%point)) > length_max) call push(issues, 'wall', k, 'point', &
         rtoa(maxval(abs(cfg%walls(k)%point)))//' m', mm, metres)
+      if (cfg%walls(k)%stroke > length_max) call push(issues, 'wall', k, 'stroke', &
+        rtoa(cfg%walls(k)%stroke)//' m', mm, metres)
     end do
     do k = 1, size(cfg%materials)
       associate (m => cfg%materials(k))
@@ -103,6 +106,10 @@ contains
           'material', k, 'sigma_y', rtoa(m%sigma_y)//' Pa', 'above E/50 = '// &
           rtoa(yield_strain_max*m%E)//' Pa: both are in Pa (steel sigma_y about 2e8 to 1e9 '// &
           'against E = 2.1e11)', 'a real number of at most E/50 [Pa]')
+        if (m%model_id == MODEL_J2 .and. m%sigma_y > 0.0_wp .and. m%sigma_y < yield_strain_min*m%E) &
+          call push(issues, 'material', k, 'sigma_y', rtoa(m%sigma_y)//' Pa', 'below E/1e5 = '// &
+          rtoa(yield_strain_min*m%E)//' Pa: sigma_y is in Pa (MPa typed as Pa?)', &
+          'a real number from E/1e5 to E/50 [Pa], or 0 for an elastic material')
         if (m%model_id == MODEL_FOAM .and. m%sigma_p > 0.0_wp) then
           if (m%sigma_p > foam_strain_max*m%E) call push(issues, 'material', k, 'sigma_p', &
             rtoa(m%sigma_p)//' Pa', 'above E/10 = '//rtoa(foam_strain_max*m%E)//' Pa: both '// &
