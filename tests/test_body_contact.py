@@ -35,7 +35,9 @@ binary under test; every oracle is outside the contact code:
    with mu = 0.1, below the rolling limit tan(30) k / (1 + k), k = I / (m r_o^2) = (r_i^2 +
    r_o^2) / (2 r_o^2), it slides with a = g (sin(30) - mu cos(30)); with mu = 0.5, above it,
    it rolls with a = g sin(30) / (1 + k); each within 2 % (velocity of its centre of mass
-   fitted linearly after 0.15 ms).
+   fitted linearly after 0.15 ms). The block is 40 mm long (60 mm before: the ring rolls less
+   than half a millimetre); measured 1.000, 1.002 and 0.995 of the closed forms, and with the
+   contact normal of before 5d89a16 0.974, 0.998 and 0.899 (0.974, 0.997, 0.894 on 60 mm).
 
 5. a stack of two identical steel tubes (r 10/12 mm, h = t/2, half model) crushed between
    platens at 5 m/s against one tube at 2.5 m/s (the same rate per tube, quasi-static): by
@@ -283,7 +285,7 @@ def incline(scratch: Path) -> None:
                 f"gravity = {g * math.sin(theta)!r}, {-g * math.cos(theta)!r} /\n"
                 "&grid h = 1.25e-3 /\n" + STEEL +
                 f"&body center = -0.03, {ro!r}, r_inner = {ri!r}, r_outer = {ro!r}, n_thick = 8 /\n"
-                "&body shape = 'rect', center = -0.03, -0.0025, size = 0.06, 0.005, n_x = 96, "
+                "&body shape = 'rect', center = -0.02, -0.0025, size = 0.04, 0.005, n_x = 64, "
                 "n_y = 8 /\n"
                 "&wall point = 0.0, -0.005, normal = 0.0, 1.0 /\n"
                 "&wall point = 0.0, 0.0, normal = -1.0, 0.0 /\n"
