@@ -31,8 +31,8 @@ NML
 refused=0; ran=0
 for basis in linear ugimp cpdi1 cpdi2; do
   for d in 0.0 0.00025 0.0005 0.001 0.0015 0.002; do
-    lo=$(python3 -c "print('%.6g, %.6g' % (-0.026 - $d, 0.0005 - $d))")
-    up=$(python3 -c "print('%.6g, %.6g' % (0.026 + $d, 0.0525 + $d))")
+    lo=$(awk -v d="$d" 'BEGIN { printf "%.6g, %.6g\n", -0.026 - d, 0.0005 - d }')
+    up=$(awk -v d="$d" 'BEGIN { printf "%.6g, %.6g\n", 0.026 + d, 0.0525 + d }')
     name="g_${basis}_$d"
     case_file "$name" "$basis" "$lo" "$up"
     "$bin" --check "$scratch/$name.nml" > "$scratch/$name.check" 2>&1

@@ -49,7 +49,6 @@ def crossing(corners: np.ndarray, quads: np.ndarray, x0: np.ndarray | None = Non
     """The deepest a domain corner lies inside a particle that is not its own or a
     neighbour's (no shared corner), nor one whose centroid at t = 0 (x0) was within `near` of
     its own particle's [m]; 0 when none does."""
-    nq = len(quads)
     owner = [[] for _ in range(len(corners))]
     for q, row in enumerate(quads):
         for c in row:
@@ -61,22 +60,31 @@ def crossing(corners: np.ndarray, quads: np.ndarray, x0: np.ndarray | None = Non
     length = np.linalg.norm(edge, axis=2)
     lo = a.min(axis=1)
     hi = a.max(axis=1)
-    for c, p in enumerate(corners):
+    # the (corner, particle) pairs with the corner in the particle's bounding box: the corners
+    # sorted by x, each particle's x range a slice of them, then its y range
+    order = np.argsort(corners[:, 0], kind="stable")
+    xs = corners[order, 0]
+    first = np.searchsorted(xs, lo[:, 0], side="left")
+    count = np.searchsorted(xs, hi[:, 0], side="right") - first
+    qi = np.repeat(np.arange(len(quads)), count)
+    ci = order[np.repeat(first - np.cumsum(count) + count, count) + np.arange(count.sum())]
+    keep = np.all(corners[ci] >= lo[qi], axis=1) & np.all(corners[ci] <= hi[qi], axis=1)
+    ci, qi = ci[keep], qi[keep]
+    p = corners[ci]
+    # signed distance inside each edge (counter-clockwise: inside on the left)
+    cross = (edge[qi, :, 0] * (p[:, None, 1] - a[qi, :, 1])
+             - edge[qi, :, 1] * (p[:, None, 0] - a[qi, :, 0]))
+    d = cross / length[qi]
+    inside = np.all(d > 0.0, axis=1)
+    for c, q, depth in zip(ci[inside], qi[inside], d[inside].min(axis=1)):
         nbr = set()
-        for q in owner[c]:
-            for c2 in quads[q]:
+        for o in owner[c]:
+            for c2 in quads[o]:
                 nbr.update(owner[c2])
-        cand = np.nonzero(np.all(p >= lo, axis=1) & np.all(p <= hi, axis=1))[0]
-        for q in cand:
-            if q in nbr or (x0 is not None and min(np.linalg.norm(x0[q] - x0[o])
-                                                   for o in owner[c]) < near):
-                continue
-            # signed distance inside each edge (counter-clockwise: inside on the left)
-            cross = edge[q, :, 0] * (p[1] - a[q, :, 1]) - edge[q, :, 1] * (p[0] - a[q, :, 0])
-            d = cross / length[q]
-            if np.all(d > 0.0):
-                deepest = max(deepest, float(d.min()))
-    del nq
+        if q in nbr or (x0 is not None and min(np.linalg.norm(x0[q] - x0[o])
+                                               for o in owner[c]) < near):
+            continue
+        deepest = max(deepest, float(depth))
     return deepest
 
 
