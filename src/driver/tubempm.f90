@@ -54,6 +54,8 @@ program tubempm
     integer(i8) :: step_good = 0_i8        !! their step
     integer(i8) :: c0 = 0_i8, crate = 1_i8 !! clock at the start, clock rate
     real(wp) :: seconds0 = 0.0_wp          !! wall-clock time used before a restart [s]
+    integer(i8) :: step0 = 0_i8            !! step at the start of this run (a restart's) [-]
+    real(wp) :: t0 = 0.0_wp                !! time at the start of this run [s]
     real(wp) :: elapsed = 0.0_wp           !! wall-clock time of this run so far [s]
     real(wp) :: last_progress = 0.0_wp     !! elapsed at the last progress line [s]
     real(wp) :: last_ckpt = 0.0_wp         !! elapsed at the last checkpoint [s]
@@ -298,6 +300,8 @@ contains
     r%sm%scene = scene_of(cfg)             ! the scene rule --check advises by
     call keep_good_state(s, r)
     call system_clock(r%c0, r%crate)
+    r%step0 = s%step                       ! a restart's speed and ETA count from here
+    r%t0 = s%t
     ! 2. the time loop
     sig = 0
     r%done = s%t >= s%prm%t_end
@@ -541,7 +545,7 @@ contains
     call system_clock(c1)
     r%elapsed = real(c1 - r%c0, wp)/real(r%crate, wp)
     if (.not. r%quiet .and. (r%elapsed - r%last_progress > merge(0.5_wp, 10.0_wp, r%tty))) then
-      call progress(s, r%elapsed, r%tty)
+      call progress(s, r, r%tty)
       r%last_progress = r%elapsed
     end if
   end subroutine show_progress
@@ -653,16 +657,17 @@ contains
   end subroutine history_truncate
 
   !> One progress line: in place on a terminal, a new line otherwise.
-  subroutine progress(s, elapsed, tty)
+  !! The speed and the ETA count from this run's start (a restart's checkpoint), not from t = 0.
+  subroutine progress(s, r, tty)
     type(sim_t), intent(in) :: s
-    real(wp), intent(in) :: elapsed
+    type(run_t), intent(in) :: r           !! this run's start and elapsed time
     logical, intent(in) :: tty
     real(wp) :: frac, eta
     character(len=160) :: line
     frac = s%t/s%prm%t_end
-    eta = elapsed*(1.0_wp - frac)/max(frac, 1.0e-12_wp)
+    eta = r%elapsed*(s%prm%t_end - s%t)/max(s%t - r%t0, 1.0e-12_wp*s%prm%t_end)
     write(line, '(f6.2,a,es10.3,a,i0,a,f9.1,2a)') 100.0_wp*frac, ' %  t = ', s%t, &
-      ' s  step ', s%step, '  ', real(s%step, wp)/max(elapsed, 1.0e-9_wp), &
+      ' s  step ', s%step, '  ', real(s%step - r%step0, wp)/max(r%elapsed, 1.0e-9_wp), &
       ' steps/s  ETA ', hms(eta)
     if (tty) then
       write(output_unit, '(2a)', advance='no') achar(13), trim(line)
