@@ -20,6 +20,8 @@ program test_filler
   use mpm_sections, only: section_t, section_tube, section_mesh, section_area
   use mpm_filler, only: filler_mesh
   use testing, only: begin_test, check, check_close, finish_tests
+  use testing_sim, only: inside_count
+  use mpm_strings, only: itoa
   implicit none
   real(wp), parameter :: a = 0.048_wp, t = 1.5e-3_wp, rc = 3.0e-3_wp
   real(wp) :: sq(2, 4), hex(2, 6), gap, area_full, d
@@ -278,25 +280,6 @@ contains
     end do
   end function in_polygon
 
-  integer function inside_count(xc, quad, p) result(nin)
-    real(wp), intent(in) :: xc(:,:), p(2)
-    integer, intent(in) :: quad(:,:)
-    integer :: k, j
-    real(wp) :: pa(2), pb(2)
-    logical :: inside
-    nin = 0
-    do k = 1, size(quad, 2)
-      inside = .true.
-      do j = 1, 4                        ! convex, counter-clockwise: left of every edge
-        pa = xc(:, quad(j, k))
-        pb = xc(:, quad(1 + mod(j, 4), k))
-        if ((pb(1) - pa(1))*(p(2) - pa(2)) - (pb(2) - pa(2))*(p(1) - pa(1)) < 0.0_wp) &
-          inside = .false.
-      end do
-      if (inside) nin = nin + 1
-    end do
-  end function inside_count
-
   function quad_areas(xc, quad) result(ar)
     real(wp), intent(in) :: xc(:,:)
     integer, intent(in) :: quad(:,:)
@@ -313,14 +296,7 @@ contains
     uniform = real(seed, wp)/2147483647.0_wp
   end function uniform
 
-  function itoa(i) result(s)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: s
-    character(len=16) :: b
-    write(b, '(i0)') i
-    s = trim(b)
-  end function itoa
-
+  !> A length as the filler's messages write it (es10.3).
   function rtoa(x) result(s)
     real(wp), intent(in) :: x
     character(len=:), allocatable :: s

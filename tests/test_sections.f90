@@ -23,6 +23,8 @@ program test_sections
                           section_clip, section_mesh, section_area, section_length, disc_mesh
   use mpm_section_colours, only: section_colours
   use testing, only: begin_test, check, check_close, finish_tests
+  use testing_sim, only: inside_count
+  use mpm_strings, only: itoa, rtoa
   implicit none
   type(section_t) :: s
   real(wp), allocatable :: xc(:,:), seg(:,:)
@@ -361,31 +363,4 @@ contains
           abs(ac) <= 0.5_wp*s%et(e)*1.0001_wp) inside = .true.
     end do
   end function in_any_wall
-
-  integer function inside_count(xc, quad, p) result(nin)
-    real(wp), intent(in) :: xc(:,:), p(2)
-    integer, intent(in) :: quad(:,:)
-    integer :: k, j
-    real(wp) :: a(2), b(2), cr
-    logical :: inside
-    nin = 0
-    do k = 1, size(quad, 2)
-      inside = .true.
-      do j = 1, 4                        ! convex, counter-clockwise: left of every edge
-        a = xc(:, quad(j, k))
-        b = xc(:, quad(1 + mod(j, 4), k))
-        cr = (b(1) - a(1))*(p(2) - a(2)) - (b(2) - a(2))*(p(1) - a(1))
-        if (cr < 0.0_wp) inside = .false.
-      end do
-      if (inside) nin = nin + 1
-    end do
-  end function inside_count
-
-  function itoa(i) result(s)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: s
-    character(len=16) :: b
-    write(b, '(i0)') i
-    s = trim(b)
-  end function itoa
 end program test_sections
