@@ -3,8 +3,9 @@
 ! SPDX-License-Identifier: MIT
 module mpm_filler
   use mpm_kinds, only: wp
-  use mpm_sections, only: section_t, section_tube, push_quad
+  use mpm_sections, only: section_t, section_tube, push_quad, quad_area
   use mpm_point_merge, only: merge_points
+  use mpm_strings, only: sci
   implicit none
   private
   public :: filler_mesh
@@ -73,7 +74,7 @@ contains
     end do
     nq = keep
     do i = 1, nq
-      if (.not. area4(q(:, :, i)) > 0.0_wp) then
+      if (.not. quad_area(q(:, :, i)) > 0.0_wp) then
         stat = 1
         msg = 'a particle of the filler turns inside out (internal: report it)'
         return
@@ -117,7 +118,7 @@ contains
       a = cross2(poly(:, 1 + mod(k, nv)) - poly(:, k), o - poly(:, k))
       if (.not. a > 1.0e-9_wp*size_*norm2(poly(:, 1 + mod(k, nv)) - poly(:, k))) then
         stat = 1
-        msg = 'the centre ('//trim(rtoa(o(1)))//', '//trim(rtoa(o(2)))//') m of its '// &
+        msg = 'the centre ('//sci(o(1), 3)//', '//sci(o(2), 3)//') m of its '// &
           'mesh is not inside the inner face (a half or quarter filler is centred on the '// &
           'tube''s mirror planes)'
         return
@@ -193,7 +194,7 @@ contains
           p(:, 2) = out_point(i + 1, j)
           p(:, 3) = out_point(i + 1, j + 1)
           p(:, 4) = out_point(i, j + 1)
-          if (area4(p) < 0.0_wp) p = p(:, [4, 3, 2, 1])
+          if (quad_area(p) < 0.0_wp) p = p(:, [4, 3, 2, 1])
           call push_quad(q, qw, nq, p, 0)
         end do
       end do
@@ -445,8 +446,8 @@ contains
       turn(k) = atan2(cross2(u1, u2), dot_product(u1, u2))
       if (cross2(u1, u2) < -1.0e-12_wp) then
         stat = 1
-        msg = 'the tube turns inwards at ('//trim(rtoa(poly(1, k)))//', '// &
-          trim(rtoa(poly(2, k)))//') m (its centreline): a filler needs a convex inner face'
+        msg = 'the tube turns inwards at ('//sci(poly(1, k), 3)//', '// &
+          sci(poly(2, k), 3)//') m (its centreline): a filler needs a convex inner face'
         return
       end if
       n1 = [-u1(2), u1(1)]
@@ -464,7 +465,7 @@ contains
     if (.not. gap < gmax - 1.0e-9_wp*size_) then
       stat = 1
       msg = 'the gap closes an edge of the tube''s inner face (fill_gap must be below '// &
-        trim(rtoa(gmax - half_t))//' m)'
+        sci(gmax - half_t, 3)//' m)'
       return
     end if
     poly = out
@@ -487,23 +488,9 @@ contains
     c = c/(3.0_wp*a)
   end function polygon_centroid
 
-  !> The signed area of a quadrilateral, (p3 - p1) x (p4 - p2) / 2 [m^2].
-  pure real(wp) function area4(p)
-    real(wp), intent(in) :: p(2, 4)
-    area4 = 0.5_wp*cross2(p(:, 3) - p(:, 1), p(:, 4) - p(:, 2))
-  end function area4
-
   !> The z component of a x b.
   pure real(wp) function cross2(a, b)
     real(wp), intent(in) :: a(2), b(2)
     cross2 = a(1)*b(2) - a(2)*b(1)
   end function cross2
-
-
-  pure function rtoa(x) result(s)
-    real(wp), intent(in) :: x
-    character(len=16) :: s
-    write(s, '(es10.3)') x
-    s = adjustl(s)
-  end function rtoa
 end module mpm_filler

@@ -30,9 +30,11 @@ module mpm_sections
   use mpm_kinds, only: wp
   use mpm_constants, only: pi
   use mpm_point_merge, only: merge_points
+  use mpm_strings, only: itoa, sci
   implicit none
   private
   public :: section_t, section_tube, section_honeycomb, section_walls, section_mesh, push_quad, &
+            quad_area, &
             section_area, section_length, disc_mesh, section_clip, incident, max_deg, merge_points
 
   integer, parameter :: max_deg = 16       !! walls at one joint, at most
@@ -419,7 +421,7 @@ contains
       if (deg == 0) cycle
       if (deg > max_deg) then
         stat = 1
-        msg = 'more than '//trim(itoa_(max_deg))//' walls meet at one joint'
+        msg = 'more than '//itoa(max_deg)//' walls meet at one joint'
         return
       end if
       if (deg == 1) cycle                   ! a free end: square cut at the node
@@ -430,8 +432,8 @@ contains
         gap = modulo(ang(j) - ang(i), 2.0_wp*pi)
         if (gap < 1.0e-6_wp .or. gap > 2.0_wp*pi - 1.0e-6_wp) then
           stat = 1
-          msg = 'two walls leave the joint at ('//trim(rtoa_(s%xn(1, nd)))//', '// &
-            trim(rtoa_(s%xn(2, nd)))//') m in the same direction (they overlap)'
+          msg = 'two walls leave the joint at ('//sci(s%xn(1, nd), 3)//', '// &
+            sci(s%xn(2, nd), 3)//') m in the same direction (they overlap)'
           return
         end if
         d1 = out_dir(s, e1, ends(i))
@@ -458,7 +460,7 @@ contains
       len_e = norm2(s%xn(:, s%en(2, k)) - s%xn(:, s%en(1, k)))
       if (any(cut(:, 2, k) - cut(:, 1, k) <= 0.05_wp*s%et(k))) then
         stat = 1
-        msg = 'wall '//trim(itoa_(k))//' (length '//trim(rtoa_(len_e))//' m) is too short '// &
+        msg = 'wall '//itoa(k)//' (length '//sci(len_e, 3)//' m) is too short '// &
           'for the joints at its ends: its faces end before they begin (walls meeting at too '// &
           'sharp an angle, or thicker than the wall is long)'
         return
@@ -638,8 +640,8 @@ contains
       else
         if (mod(n_thick, 2) /= 0) then
           stat = 1
-          msg = trim(itoa_(deg))//' walls meet at ('//trim(rtoa_(s%xn(1, nd)))//', '// &
-            trim(rtoa_(s%xn(2, nd)))//') m: such a joint needs an even n_thick'
+          msg = itoa(deg)//' walls meet at ('//sci(s%xn(1, nd), 3)//', '// &
+            sci(s%xn(2, nd), 3)//') m: such a joint needs an even n_thick'
           return
         end if
         nh = n_thick/2
@@ -818,18 +820,4 @@ contains
     end do
   end function section_area
 
-  ! ---------------------------------------------------------------------------- text
-
-  pure function itoa_(i) result(s)
-    integer, intent(in) :: i
-    character(len=16) :: s
-    write(s, '(i0)') i
-  end function itoa_
-
-  pure function rtoa_(x) result(s)
-    real(wp), intent(in) :: x
-    character(len=16) :: s
-    write(s, '(es10.3)') x
-    s = adjustl(s)
-  end function rtoa_
 end module mpm_sections
