@@ -51,15 +51,18 @@ H = 0.74e-3                     # t/2
 CY = 25.43e-3                   # the ring's centre (its outer radius above the bottom platen)
 R_IN, R_OUT = 23.95e-3, 25.43e-3
 
+#: the tube's steel and foam_block.nml's Alporas-like foam (test_filled_square uses them too)
+MATERIALS = """&material name = 'steel', model = 'j2', E = 210.0e9, nu = 0.3, rho = 7800.0,
+  sigma_y = 310.0e6, hardening = 10.0e6 /
+&material name = 'alporas', model = 'foam', E = 1.0e9, nu = 0.3, rho = 230.0, sigma_p = 1.6e6,
+  nu_plastic = 0.0, foam_gamma = 2.0e6, foam_alpha2 = 4.0e6, foam_beta = 4.0, eps_d = 2.46 /
+"""
+
 SCENE = f"""&run title = 'filled', cfl = 0.875, history_every = 1.0e-5, snapshot_every = 2.0e-4,
   output_dir = 'OUT' /
 &solver basis = 'cpdi2', scheme = 'musl', plane = 'strain', mass_scale = 4.0 /
 &grid h = {H} /
-&material name = 'steel', model = 'j2', E = 210.0e9, nu = 0.3, rho = 7800.0,
-  sigma_y = 310.0e6, hardening = 10.0e6 /
-&material name = 'alporas', model = 'foam', E = 1.0e9, nu = 0.3, rho = 230.0, sigma_p = 1.6e6,
-  nu_plastic = 0.0, foam_gamma = 2.0e6, foam_alpha2 = 4.0e6, foam_beta = 4.0, eps_d = 2.46 /
-&body shape = 'ring', material = 'steel', center = 0.0, {CY}, r_inner = {R_IN},
+{MATERIALS}&body shape = 'ring', material = 'steel', center = 0.0, {CY}, r_inner = {R_IN},
   r_outer = {R_OUT}, n_thick = 4, sector = 'quarter' /
 &body shape = 'disc', material = 'alporas', center = 0.0, {CY}, r_outer = {R_IN},
   n_thick = 24, sector = 'quarter' /

@@ -41,7 +41,7 @@ import numpy as np
 
 from tests.pycheck import Checks
 from tests.pyscene import run_scene
-from tests.test_filled_ring import between, snapshot
+from tests.test_filled_ring import MATERIALS, between, snapshot
 
 T = Checks("test_filled_square")
 check = T.check
@@ -51,11 +51,7 @@ SCENE = f"""&run title = 'sq', cfl = 0.875, history_every = 1.0e-5, snapshot_eve
   output_dir = 'OUT' /
 &solver basis = 'cpdi2', scheme = 'musl', plane = 'strain', mass_scale = 4.0 /
 &grid h = {H} /
-&material name = 'steel', model = 'j2', E = 210.0e9, nu = 0.3, rho = 7800.0,
-  sigma_y = 310.0e6, hardening = 10.0e6 /
-&material name = 'alporas', model = 'foam', E = 1.0e9, nu = 0.3, rho = 230.0, sigma_p = 1.6e6,
-  nu_plastic = 0.0, foam_gamma = 2.0e6, foam_alpha2 = 4.0e6, foam_beta = 4.0, eps_d = 2.46 /
-&body shape = 'tube', material = 'steel', vertices = -12.0e-3, -12.0e-3, 12.0e-3, -12.0e-3,
+{MATERIALS}&body shape = 'tube', material = 'steel', vertices = -12.0e-3, -12.0e-3, 12.0e-3, -12.0e-3,
   12.0e-3, 12.0e-3, -12.0e-3, 12.0e-3, thickness = 1.5e-3, corner_radius = 3.0e-3,
   n_thick = 4, sector = 'quarter' /
 &body shape = 'filler', material = 'alporas', fills = 1, n_thick = 16 /
