@@ -32,7 +32,8 @@ module mpm_body_tie
   use mpm_grid, only: grid_t
   implicit none
   private
-  public :: body_tie_t, body_tie_make, body_tie_forces, body_tie_energy, body_tie_nodes
+  public :: body_tie_t, body_tie_make, body_tie_forces, body_tie_energy, body_tie_nodes, &
+            body_tie_step_energy
 
   !> The ties of a case (made at t = 0, never changed by a step).
   type :: body_tie_t
@@ -212,8 +213,8 @@ contains
   !! field (field_of(c); nodes with mass above the cut-off), with kf = alpha (c / h)^2; the
   !! energy stored in them [J/m]; each pair's impulse over dt: its normal part (along the
   !! anchor edge's outward normal, > 0 pressing) and the impulse on its first body (imp(3,
-  !! npair)).
-  pure subroutine body_tie_forces(tie, xc, field_of, g, kf, dt, energy, imp)
+  !! npair)); each tie's stretch d (2, n), for body_tie_step_energy.
+  pure subroutine body_tie_forces(tie, xc, field_of, g, kf, dt, energy, imp, d_start)
     type(body_tie_t), intent(in) :: tie    !! the ties
     real(wp), intent(in) :: xc(:,:)        !! corner positions (2, nc) [m]
     integer, intent(in) :: field_of(:)     !! field of each corner (nc)
@@ -223,12 +224,13 @@ contains
     real(wp), intent(out) :: energy        !! energy in the ties [J/m]
     real(wp), intent(inout) :: imp(:,:)    !! per pair: normal impulse, impulse on the first
                                            !! body (3, npair) [kg/s per m]
+    real(wp), intent(out) :: d_start(:,:)  !! each tie's stretch (2, n) [m]
     integer :: k
-    real(wp) :: f(2), d(2), xb(2), e(2), nout(2), k_t
+    real(wp) :: f(2), d(2), e(2), nout(2), k_t
     energy = 0.0_wp
     do k = 1, tie%n
-      xb = (1.0_wp - tie%s(k))*xc(:, tie%e(1, k)) + tie%s(k)*xc(:, tie%e(2, k))
-      d = xc(:, tie%c(k)) - xb - tie%d0(:, k)
+      d = tie_stretch(tie, xc, k)
+      d_start(:, k) = d
       k_t = kf*tie%m(k)
       f = -k_t*d
       energy = energy + 0.5_wp*k_t*dot_product(d, d)
@@ -290,7 +292,7 @@ contains
     end do
   end subroutine body_tie_nodes
 
-  !> The energy stored in the ties with the corners at xc [J/m].
+  !> The energy stored in the ties with the corners at xc, 1/2 k |d|^2 [J/m].
   pure function body_tie_energy(tie, xc, kf) result(energy)
     type(body_tie_t), intent(in) :: tie    !! the ties
     real(wp), intent(in) :: xc(:,:)        !! corner positions (2, nc) [m]
@@ -299,9 +301,35 @@ contains
     integer :: k
     energy = 0.0_wp
     do k = 1, tie%n
-      d = xc(:, tie%c(k)) - (1.0_wp - tie%s(k))*xc(:, tie%e(1, k)) - tie%s(k)*xc(:, tie%e(2, k)) &
-          - tie%d0(:, k)
+      d = tie_stretch(tie, xc, k)
       energy = energy + 0.5_wp*kf*tie%m(k)*dot_product(d, d)
     end do
   end function body_tie_energy
+
+  !> The ties' energy as the explicit step conserves it, as for the walls' CPDI2 points
+  !! (mpm_surface_contact): 1/2 k d . d', the stretch d at the step's start (that of its
+  !! force, body_tie_forces) and d' at its end, with the corners at xc [J/m].
+  pure function body_tie_step_energy(tie, xc, kf, d_start) result(energy)
+    type(body_tie_t), intent(in) :: tie    !! the ties
+    real(wp), intent(in) :: xc(:,:)        !! corner positions at the step's end (2, nc) [m]
+    real(wp), intent(in) :: kf             !! stiffness per unit mass [1/s^2]
+    real(wp), intent(in) :: d_start(:,:)   !! each tie's stretch at the step's start (2, n) [m]
+    real(wp) :: energy
+    integer :: k
+    energy = 0.0_wp
+    do k = 1, tie%n
+      energy = energy + 0.5_wp*kf*tie%m(k)*dot_product(d_start(:, k), tie_stretch(tie, xc, k))
+    end do
+  end function body_tie_step_energy
+
+  !> Tie k's stretch: its corner from its anchor point on the other body's edge, less the
+  !! offset at t = 0 [m].
+  pure function tie_stretch(tie, xc, k) result(d)
+    type(body_tie_t), intent(in) :: tie    !! the ties
+    real(wp), intent(in) :: xc(:,:)        !! corner positions (2, nc) [m]
+    integer, intent(in) :: k               !! the tie
+    real(wp) :: d(2)
+    d = xc(:, tie%c(k)) - (1.0_wp - tie%s(k))*xc(:, tie%e(1, k)) - tie%s(k)*xc(:, tie%e(2, k)) &
+        - tie%d0(:, k)
+  end function tie_stretch
 end module mpm_body_tie

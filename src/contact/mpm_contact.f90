@@ -21,7 +21,7 @@ module mpm_contact
                                  surface_slip_loss, contact_alpha, surface_tie, &
                                  surface_step_energy
   use mpm_surface_curve, only: surface_curve_points
-  use mpm_body_tie, only: body_tie_forces, body_tie_energy
+  use mpm_body_tie, only: body_tie_forces, body_tie_energy, body_tie_step_energy
   use mpm_constants, only: BASIS_CPDI2
   use mpm_state, only: params_t, state_t, work_t
   use mpm_strings, only: itoa, rtoa
@@ -95,12 +95,12 @@ contains
                         prm%field, prm%corner_field)
       st%walls(iw)%impulse = st%walls(iw)%impulse + imp
     end do
-    if (prm%ties%n == 0) return              ! 'bonded' bodies: their ties (mpm_body_tie), with
-    if (.not. allocated(wk%tie_imp)) allocate(wk%tie_imp(3, prm%npair))   ! the same lag
+    if (prm%ties%n == 0) return              ! 'bonded' bodies: their ties (mpm_body_tie)
+    if (.not. allocated(wk%tie_imp)) allocate(wk%tie_imp(3, prm%npair))
+    if (.not. allocated(wk%tie_d)) allocate(wk%tie_d(2, prm%ties%n))
     wk%tie_imp = 0.0_wp
     call body_tie_forces(prm%ties, st%p%xc, prm%corner_field, g, stiffness(prm, g), dt, e_tie, &
-                         wk%tie_imp)
-    st%e_contact = st%e_contact + e_tie
+                         wk%tie_imp, wk%tie_d)
   end subroutine surface_forces
 
   !> Friction of the walls with 'coulomb' or 'stick' on the points they push (velocities after
@@ -152,20 +152,24 @@ contains
   !! A point behind a wall only at the end has no energy yet: its force, and the wall's work
   !! through it, come in the next step (counted with the end's gap alone, a wall meeting a
   !! body at rest would show energy before any work, which the growth check of a body with E0
-  !! = 0 takes for an instability). vel: the node velocity the points moved with.
-  subroutine contact_step_energy(st, g, wk, dt)
+  !! = 0 takes for an instability). vel: the node velocity the points moved with. The ties of
+  !! 'bonded' bodies likewise: 1/2 k d . d' (mpm_body_tie, body_tie_step_energy).
+  subroutine contact_step_energy(prm, st, g, wk, dt)
+    type(params_t), intent(in) :: prm      !! parameters (ties, stiffness)
     type(state_t), intent(inout) :: st     !! state: e_contact
     type(grid_t), intent(in) :: g          !! grid: node velocities of the step
     type(work_t), intent(in) :: wk         !! surface points and walls of the step
     real(wp), intent(in) :: dt             !! the step just taken [s]
     integer :: iw
     st%e_contact = 0.0_wp
-    if (.not. allocated(wk%surf)) return
     do iw = 1, st%nwall
+      if (.not. allocated(wk%surf)) exit
       if (st%walls(iw)%contact == CONTACT_SLIP) cycle
       st%e_contact = st%e_contact + surface_step_energy(wk%surf(iw), wk%wall_work(5:6, iw), &
                                                         wk%wall_work(1:2, iw), g%vel, dt)
     end do
+    if (prm%ties%n > 0 .and. allocated(wk%tie_d)) st%e_contact = st%e_contact + &
+      body_tie_step_energy(prm%ties, st%p%xc, stiffness(prm, g), wk%tie_d)
   end subroutine contact_step_energy
 
   !> The energy stored in the walls' contact now (time st%t, particles at the end of the

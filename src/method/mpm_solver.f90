@@ -200,7 +200,7 @@ contains
     ! 7. time, wall forces and work, energy balance
     s%t = s%t + dt
     s%step = s%step + 1_i8
-    call contact_step_energy(s%state_t, s%g, s%wk, dt)
+    call contact_step_energy(s%prm, s%state_t, s%g, s%wk, dt)
     call contact_reactions(s%state_t, dt, s%prm%gravity)
     call body_contact_reactions(s%prm, s%state_t, s%wk, dt)
     call body_contact_loss(s%prm, s%state_t, s%g, s%wk, dt)

@@ -139,6 +139,7 @@ module mpm_state
     type(field_contact_t) :: fc            !! contact between fields: nodes, pairs, gaps
     type(self_weld_t) :: sw                !! self-contact: the nodes where a ring's halves weld
     real(wp), allocatable :: tie_imp(:,:)  !! 'bonded' bodies: the ties' impulses of the step
+    real(wp), allocatable :: tie_d(:,:)    !! 'bonded' bodies: each tie's stretch at the step's start [m]
                                            !! per pair (3, npair) [kg/s per m]
   end type work_t
 
