@@ -328,8 +328,8 @@ contains
     type(body_tie_t), intent(in) :: tie    !! the ties
     real(wp), intent(in) :: xc(:,:)        !! corner positions (2, nc) [m]
     integer, intent(in) :: k               !! the tie
-    real(wp) :: d(2)
-    d = xc(:, tie%c(k)) - (1.0_wp - tie%s(k))*xc(:, tie%e(1, k)) - tie%s(k)*xc(:, tie%e(2, k)) &
-        - tie%d0(:, k)
+    real(wp) :: d(2), xb(2)
+    xb = (1.0_wp - tie%s(k))*xc(:, tie%e(1, k)) + tie%s(k)*xc(:, tie%e(2, k))
+    d = xc(:, tie%c(k)) - xb - tie%d0(:, k)
   end function tie_stretch
 end module mpm_body_tie
