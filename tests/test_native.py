@@ -3,7 +3,8 @@
 """How much the `make BUILD=native` profile (-march=native: AVX2, FMA contraction) changes
 results against the portable release build (docs/performance.md, "Build profiles").
 
-Builds both binaries (make BUILD=release and BUILD=native; incremental), runs three scenes that
+Builds both binaries (make BUILD=release and BUILD=native; incremental; -j1, as it runs beside
+another test in make test), runs three scenes that
 are not chaotic over the time run (tests/scenes/elastic_quarter.nml and impact_half.nml,
 namelists/wave.nml, each to a quarter of its t_end, one thread) with both, and compares
 history.csv: the energies (kinetic, strain, plastic, external) relative to the largest energy of
@@ -69,7 +70,7 @@ def main() -> int:
     scratch.mkdir(parents=True, exist_ok=True)
     bins = {}
     for profile in ("release", "native"):
-        rc = subprocess.call(["make", "--no-print-directory", "-C", str(ROOT), "-j2",
+        rc = subprocess.call(["make", "--no-print-directory", "-C", str(ROOT), "-j1",
                               f"BUILD={profile}", f"build/{profile}/tubempm"],
                              stdout=subprocess.DEVNULL, stderr=subprocess.STDOUT)
         if not check(rc == 0, f"make BUILD={profile} failed"):

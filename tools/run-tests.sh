@@ -24,10 +24,11 @@ scratch=$(mktemp -d "${TMPDIR:-/tmp}/tubempm-tests.XXXXXX")
 trap 'rm -rf "$scratch"' EXIT
 total_pass=0; total_fail=0; t0=$(date +%s)
 # Tests run two at a time (TEST_JOBS, default the core count up to 2), each on one thread;
-# those that time themselves, use threads or build binaries run alone, after the others.
+# those that time themselves or use threads run alone, after the others. The slowest start
+# first (longest first: the two queues end together).
 jobs=${TEST_JOBS:-$(nproc 2>/dev/null || echo 1)}
 [ "$jobs" -gt 2 ] && jobs=2
-alone=" test_threads test_native test_memory test_reliability test_batch_slurm test_good_state "
+alone=" test_threads test_memory test_reliability test_batch_slurm test_good_state "
 run_one() {  # name, command... : writes $scratch/name.result (the summary lines)
   local name=$1; shift
   local out="$scratch/$name.log" start=$(date +%s.%N) rc
@@ -70,8 +71,12 @@ report() {  # print a finished test's result and add its counts
   set -- $(grep '^#counts ' "$r")
   total_pass=$((total_pass + $2)); total_fail=$((total_fail + $3))
 }
+first=" test_native test_scene_matrix test_body_contact test_sections_crush test_filled_square test_honeycomb "
+order=()
+for i in "${!names[@]}"; do case "$first" in *" ${names[$i]} "*) order+=("$i") ;; esac; done
+for i in "${!names[@]}"; do case "$first" in *" ${names[$i]} "*) ;; *) order+=("$i") ;; esac; done
 running=()
-for i in "${!names[@]}"; do
+for i in "${order[@]}"; do
   n=${names[$i]}
   case "$alone" in *" $n "*) continue ;; esac
   while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do wait -n; done
