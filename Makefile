@@ -139,7 +139,7 @@ bench: deps
 $(BLD)/bench: tools/bench.f90 $(LIBOBJ) | $(BLD) $(BLD)/tmod_bench
 	$(FC_ALL) $(HDF5_FFLAGS) -I$(BLD) -J$(BLD)/tmod_bench -o $@ $< $(LIBOBJ) $(HDF5_LIBS)
 
-## study: the refinement study (LEVEL=quick: under 10 min on 2 cores; LEVEL=full: 211 runs,
+## study: the refinement study (LEVEL=quick: under 10 min on 2 cores; LEVEL=full: 223 runs,
 ##        2.8 CPU h, about 85 min on 2 free cores; LEVEL=all: more); runs in out/study/ (resumable),
 ##        table and figures in docs/study/ (quick: out/study-quick/); BACKEND=slurm runs them
 ##        as a Slurm job array, BATCH_FLAGS="--partition P --time T --account A" (docs/batch.md)

@@ -65,6 +65,12 @@ def volumetric(r: dict[str, Any]) -> str:
     return v if isinstance(v, str) and v else "standard"
 
 
+def penalty(r: dict[str, Any]) -> float:
+    """The run's &wall penalty (1 in tables from before that factor)."""
+    v = r.get("penalty", math.nan)
+    return v if isinstance(v, float) and math.isfinite(v) else 1.0
+
+
 def cfl_used(r: dict[str, Any]) -> float:
     """The cfl the run used: the table's cfl_used (its input's, or the automatic value for
     cfl = 0), or its cfl in tables from before that column."""
@@ -108,7 +114,8 @@ def eligible(r: dict[str, Any], rows: list[dict[str, Any]]) -> bool:
 def centre(r: dict[str, Any], **changes: Any) -> bool:
     """Is r the centre point of the sweeps (CPDI2, MUSL, the scene's centre cfl, aspect 1,
     30 m/s, standard volumetric treatment, h as designed) with ``changes`` applied?"""
-    if volumetric(r) != changes.pop("volumetric", "standard") or not nominal(r):
+    if volumetric(r) != changes.pop("volumetric", "standard") or not nominal(r) or \
+            penalty(r) != changes.pop("penalty", 1.0):
         return False
     want = {"basis": "cpdi2", "scheme": "musl", "cfl": CENTRE_CFL.get(r["scene"], 0.2),
             "aspect": 1.0}
@@ -166,7 +173,8 @@ def advice(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
                         **({k: best[k] for k in ("name", "basis", "scheme", "h_over_t", "n_t",
                                                  "n_c", "aspect", "cfl", "particles", "cpu_s",
                                                  "runtime_ratio", "error")}
-                           | {"volumetric": volumetric(best), "cfl_used": cfl_used(best),
+                           | {"volumetric": volumetric(best), "penalty": penalty(best),
+                              "cfl_used": cfl_used(best),
                               "robust_error": robust_error(best, rows)}
                            if best else {"name": "none within the study"})})
     return out
@@ -183,6 +191,8 @@ def settings(r: dict[str, Any]) -> str:
         text += f", cfl {r['cfl']:g}"
     if volumetric(r) != "standard":
         text += f", {volumetric(r)}"
+    if penalty(r) != 1.0:
+        text += f", penalty {penalty(r):g}"
     return text
 
 
@@ -198,7 +208,8 @@ def fig_accuracy_runtime(rows, adv, out: Path) -> None:
                     alpha=0.5, solid_capstyle="butt",
                     label="the same on other grids (h x 0.96 to 1.04)" if k == 0 else None)
         for b, (col, mk) in BASIS_STYLE.items():
-            sel = [r for r in rs if r["basis"] == b and volumetric(r) == "standard"]
+            sel = [r for r in rs if r["basis"] == b and volumetric(r) == "standard"
+                   and penalty(r) == 1.0]
             if sel:
                 ax.loglog([r["cpu_s"] for r in sel], [100 * r["error"] for r in sel], mk,
                           color=col, mfc="none" if b != "cpdi2" else col, ms=6, label=b)
@@ -208,6 +219,10 @@ def fig_accuracy_runtime(rows, adv, out: Path) -> None:
             if sel:
                 ax.loglog([r["cpu_s"] for r in sel], [100 * r["error"] for r in sel], mk,
                           color=col, ms=6, label=label)
+        sel = [r for r in rs if penalty(r) != 1.0]
+        if sel:
+            ax.loglog([r["cpu_s"] for r in sel], [100 * r["error"] for r in sel], "*",
+                      color="C6", ms=9, label="stiffer wall penalty (&wall penalty 2, 4)")
         # the front and the advice: the settings measured at three alignments, by the worst
         front = pareto([(r["cpu_s"], robust_error(r, rows)) for r in rs
                         if eligible(r, rows) and np.isfinite(robust_error(r, rows))])
@@ -526,7 +541,8 @@ def main(argv: list[str] | None = None) -> int:
     adv = advice(rows)
     with open(out / f"advice_{args.level}.csv", "w", newline="") as fh:
         keys = ["scene", "target", "name", "basis", "scheme", "h_over_t", "n_t", "n_c", "aspect",
-                "cfl", "cfl_used", "volumetric", "particles", "cpu_s", "runtime_ratio", "error",
+                "cfl", "cfl_used", "volumetric", "penalty", "particles", "cpu_s", "runtime_ratio",
+                "error",
                 "robust_error"]
         w = csv.DictWriter(fh, fieldnames=keys, extrasaction="ignore")
         w.writeheader()

@@ -59,7 +59,8 @@ def study_include(rows: list[dict[str, Any]], adv: list[dict[str, Any]], source:
     """The study's runs (centre-point settings and errors) and the scenes and targets of the
     advice, as Fortran parameters (tubempm --check picks the run per target: the cheapest within
     it that its own warnings do not condemn)."""
-    from plots.plot_study import SCENES, cfl_used, nominal, robust_error, variants, volumetric
+    from plots.plot_study import (SCENES, cfl_used, nominal, penalty, robust_error, variants,
+                                  volumetric)
     # the references are left out: their error (0 by definition) was not measured; the
     # alignment variants are not settings of their own: a run's error is the worst of its
     # variants' (robust_error), and --check quotes and picks by that
@@ -82,6 +83,7 @@ def study_include(rows: list[dict[str, Any]], adv: list[dict[str, Any]], source:
     lines.append(arr("study_cfl", "real(wp)", [real(cfl_used(r)) for r in runs]))
     lines.append(arr("study_volumetric", "character(len=8)",
                      [f"'{volumetric(r):8s}'" for r in runs]))
+    lines.append(arr("study_penalty", "real(wp)", [real(penalty(r)) for r in runs]))
     # (a variant that failed makes the setting's error unknown: written as 999 %, never picked)
     var = {r["name"]: variants(r, rows) for r in runs}
     errs = [robust_error(r, rows) for r in runs]

@@ -171,6 +171,7 @@ class Point:
     cfl: float = 0.2
     speed: float = 30.0          # impact only [m/s]
     volumetric: str = "standard"  # &solver volumetric: 'standard', 'fbar', 'fbarwall'
+    penalty: float = 1.0         # &wall penalty of the scene's (first) wall
     #: the grid spacing is h_over_t * t * h_scale: h_scale 0.97 and 1.03 move the grid's rows
     #: by about a cell where the platen and the hinges are (r_outer / h changes by 1-2), the
     #: alignment variants of a setting (ALIGNED); 1 for every other run
@@ -192,6 +193,8 @@ class Point:
             n += f"_v{self.speed:g}"
         if self.volumetric != "standard":
             n += f"_{self.volumetric}"
+        if self.penalty != 1.0:
+            n += f"_p{self.penalty:g}"
         if self.h_scale != 1.0:
             n += f"_hs{self.h_scale:g}"
         return n
@@ -235,6 +238,8 @@ class Point:
             o["body.velocity"] = (0.0, -float(self.speed))
         if self.volumetric != "standard":       # (standard runs keep their inputs and names)
             o["solver.volumetric"] = self.volumetric
+        if self.penalty != 1.0:
+            o["wall.penalty"] = self.penalty
         return batch.Case(self.name, sc["base"], o, labels=self.labels())
 
     def labels(self) -> dict[str, Any]:
@@ -244,7 +249,8 @@ class Point:
                 # impact speed; the crush's relative platen approach
                 "speed": self.speed if self.scene == "impact" else
                 CRUSH_APPROACH if self.scene in CRUSH_SCENES else "",
-                "volumetric": self.volumetric, "h_scale": self.h_scale}
+                "volumetric": self.volumetric, "penalty": self.penalty,
+                "h_scale": self.h_scale}
 
 
 _RINGS: dict[str, dict[str, Any]] = {}
@@ -328,6 +334,10 @@ def design(level: str) -> dict[str, list[Point]]:
         if scene == "impact":
             pts += [P(scene, h_over_t=0.25, n_t=8, speed=v)
                     for v in (1.0, 2.0, 5.0, 16.5, 30.0, 60.0, 125.0)]
+        # a stiffer wall penalty (&wall penalty): the struck wave's force without the default
+        # penalty's lag of about 4 h / c_d (docs/method.md, Rigid walls and contact)
+        if scene == "wave":
+            pts += [P(scene, **kw) for kw in WAVE_PENALTY]
         # issue 17's targets: the crush at h = t/4, n_t = 8, aspect 2 at cfl 1.2 and 1.6 (below
         # the stability study's limit, 1.75) and at the automatic cfl, the impact at its advised
         # setting (h = t/4, n_t = 8) at the automatic cfl
@@ -362,6 +372,10 @@ def design(level: str) -> dict[str, list[Point]]:
     return out
 
 
+#: the wave's runs with a stiffer wall penalty (design, ALIGNED)
+WAVE_PENALTY: list[dict[str, Any]] = [dict(h_over_t=0.25, n_t=8, penalty=p) for p in (2.0, 4.0)] \
+    + [dict(h_over_t=0.25, n_t=8, cfl=0.8, penalty=4.0),
+       dict(h_over_t=0.125, n_t=16, penalty=2.0)]
 #: the alignment variants' h scales
 H_SCALES = (0.97, 1.03)
 #: the further h scales of the scanned settings (SCANNED), and those settings: the crush's
@@ -402,7 +416,7 @@ ALIGNED: dict[str, list[dict[str, Any]]] = {
                dict(h_over_t=0.5, n_t=2),
                dict(h_over_t=0.5, n_t=4),
                dict(h_over_t=0.5, n_t=4, volumetric="fbarwall"),
-               dict(h_over_t=0.125, n_t=16)],
+               dict(h_over_t=0.125, n_t=16)] + WAVE_PENALTY,
 }
 
 
@@ -647,7 +661,8 @@ def richardson(f1: float, f2: float, f3: float, ratio: float = 2.0) -> dict[str,
 # ----------------------------------------------------------------------------------------------
 
 COLUMNS = ["scene", "name", "reference", "self_reference", "basis", "scheme", "h_over_t", "n_t",
-           "n_c", "aspect", "cfl", "cfl_used", "speed", "volumetric", "h_scale", "particles",
+           "n_c", "aspect", "cfl", "cfl_used", "speed", "volumetric", "penalty", "h_scale",
+           "particles",
            "steps",
            "status", "exit_code", "wall_s", "cpu_s", "runtime_ratio", "mps", "energy_error",
            "error", "err_self", "err_F_L2", "err_F_smooth", "noise", "err_energy_50", "force_mean",
@@ -655,6 +670,40 @@ COLUMNS = ["scene", "name", "reference", "self_reference", "basis", "scheme", "h
            "energy_50", "energy_50_dh", "err_duration", "err_cor", "err_peak", "duration", "cor",
            "peak_10us", "v_impact", "impulse", "err_arrival", "err_speed", "wave_speed",
            "speed_bar", "speed_plate"]
+
+
+def point_row(level: str, scene: str, p: Point) -> tuple[dict[str, Any], dict[str, Any] | None]:
+    """The table's row of run p from its folder (before the errors), with its metrics (None
+    when it did not finish); its curve written to the level's curves/."""
+    curves = out_dir(level) / "curves"
+    folder = RUNS / p.name
+    res = batch.result_of(folder)
+    if res is not None and res.get("input_hash") != batch.input_hash(p.case()):
+        res = {"exit_code": None, "stale": True}   # an older design's run: not scored
+    summ = batch.read_summary(folder) if res is not None and not res.get("stale") else {}
+    row: dict[str, Any] = {"scene": scene, "name": p.name, **p.labels()}
+    row["particles"] = summ.get("particles", p.particles())
+    row["steps"] = summ.get("steps", "")
+    row["status"] = summ.get("status", "not run" if res is None else
+                             "stale input" if res.get("stale") else "no summary")
+    row["exit_code"] = "" if res is None else res.get("exit_code")
+    if res is not None and summ and res.get("cpu_s") is not None:
+        cpu = float(res["cpu_s"])
+        row["wall_s"] = round(float(res["wall_s"]), 2)
+        row["cpu_s"] = round(cpu, 2)
+        row["runtime_ratio"] = float(summ["sim_time"]) / cpu if cpu > 0 else math.nan
+        row["mps"] = float(summ["particles"]) * float(summ["steps"]) / cpu / 1e6
+        row["energy_error"] = summ.get("energy_error", "")
+    m = None
+    if res is not None and res.get("exit_code") == 0:
+        inputs = namelist.read_namelist(folder / "case.nml")
+        m = METRICS[scene](folder, inputs)
+        row.update({k: v for k, v in m.items() if np.isscalar(v)})
+        np.savetxt(curves / f"{p.name}.csv", np.column_stack([m["curve_x"], m["curve_y"]]),
+                   delimiter=",", header="x,y", comments="", fmt="%.7g")
+    else:
+        (curves / f"{p.name}.csv").unlink(missing_ok=True)   # an older run's curve
+    return row, m
 
 
 def collect(level: str, points: dict[str, list[Point]]) -> tuple[list[dict[str, Any]],
@@ -674,34 +723,9 @@ def collect(level: str, points: dict[str, list[Point]]) -> tuple[list[dict[str, 
         metrics: dict[str, dict[str, Any]] = {}
         base_rows: dict[str, dict[str, Any]] = {}
         for p in pts:
-            folder = RUNS / p.name
-            res = batch.result_of(folder)
-            if res is not None and res.get("input_hash") != batch.input_hash(p.case()):
-                res = {"exit_code": None, "stale": True}   # an older design's run: not scored
-            summ = batch.read_summary(folder) if res is not None and not res.get("stale") else {}
-            row: dict[str, Any] = {"scene": scene, "name": p.name, **p.labels()}
-            row["particles"] = summ.get("particles", p.particles())
-            row["steps"] = summ.get("steps", "")
-            row["status"] = summ.get("status", "not run" if res is None else
-                                     "stale input" if res.get("stale") else "no summary")
-            row["exit_code"] = "" if res is None else res.get("exit_code")
-            if res is not None and summ and res.get("cpu_s") is not None:
-                cpu = float(res["cpu_s"])
-                row["wall_s"] = round(float(res["wall_s"]), 2)
-                row["cpu_s"] = round(cpu, 2)
-                row["runtime_ratio"] = float(summ["sim_time"]) / cpu if cpu > 0 else math.nan
-                row["mps"] = float(summ["particles"]) * float(summ["steps"]) / cpu / 1e6
-                row["energy_error"] = summ.get("energy_error", "")
-            if res is not None and res.get("exit_code") == 0:
-                inputs = namelist.read_namelist(folder / "case.nml")
-                m = METRICS[scene](folder, inputs)
+            row, m = point_row(level, scene, p)
+            if m is not None:
                 metrics[p.name] = m
-                row.update({k: v for k, v in m.items() if np.isscalar(v)})
-                np.savetxt(curves / f"{p.name}.csv", np.column_stack([m["curve_x"],
-                                                                      m["curve_y"]]),
-                           delimiter=",", header="x,y", comments="", fmt="%.7g")
-            else:
-                (curves / f"{p.name}.csv").unlink(missing_ok=True)   # an older run's curve
             base_rows[p.name] = row
             rows.append(row)
         ref = pts[0]
@@ -779,6 +803,29 @@ def remeasure(level: str, rows: list[dict[str, str]], scenes: list[str]) -> int:
     return n
 
 
+def add_rows(level: str, rows: list[dict[str, str]], scenes: list[str]) -> int:
+    """The design's runs of `scenes` that the table has no row for (a setting added to the
+    design), from their finished runs in out/study (point_row), each after its scene's last
+    row; their errors follow in rejudge. Returns how many."""
+    have = {r["name"] for r in rows}
+    n = 0
+    for scene, pts in design(level).items():
+        if scene not in scenes:
+            continue
+        for p in pts:
+            if p.name in have:
+                continue
+            row, m = point_row(level, scene, p)
+            if m is None:
+                continue
+            row["self_reference"] = pts[0].name
+            last = max(i for i, r in enumerate(rows) if r["scene"] == scene)
+            rows.insert(last + 1, {k: (f"{v:.6g}" if isinstance(v, float) else str(v))
+                                   for k, v in row.items()})
+            n += 1
+    return n
+
+
 def rejudge(level: str, scenes: list[str] | None = None) -> Path:
     """Score the impact and wave rows of the committed table again against the dynamic FE
     reference (fe_dynamic), from the table's metrics and the wave's arrival curves alone: no
@@ -790,6 +837,7 @@ def rejudge(level: str, scenes: list[str] | None = None) -> Path:
         rows = list(csv.DictReader(fh))
     if scenes:
         print(f"measured again from their runs: {remeasure(level, rows, scenes)} rows")
+        print(f"added from their runs: {add_rows(level, rows, scenes)} rows")
     curves = out_dir(level) / "curves"
     byname = {r["name"]: r for r in rows}
 

@@ -181,6 +181,9 @@ contains
         cfl_text(cfl_tried_min)//', the smallest cfl the stability study tried; it found '// &
         method//' stable at no cfl '//trim(density)//' (docs/stability.md)'
     end if
+    write(c_ppc, '(f5.2)') maxval([1.0_wp, cfg%walls%penalty])
+    if (maxval([1.0_wp, cfg%walls%penalty]) > 1.0_wp) why = why//', divided by the largest '// &
+      '&wall penalty, '//trim(adjustl(c_ppc))
   end function cfl_why
 
   !> Append a warning line; 'body 1: ' is left out when the case has a single body.
@@ -688,9 +691,10 @@ contains
     character(len=6) :: scene, basis
     character(len=8) :: volumetric
     character(len=400) :: line
-    real(wp) :: t, hot, aspect, d, dbest, v
+    real(wp) :: t, hot, aspect, d, dbest, v, pin
     integer :: ib, k, i, j, best, nt
     text = ''
+    pin = maxval([1.0_wp, cfg%walls%penalty])   ! the stiffest wall's penalty
     scene = scene_of(cfg)
     if (len_trim(scene) == 0 .or. n_study == 0) return
     ib = 0                        ! the coarsest ring: largest h/t, then fewest particles through
@@ -744,7 +748,8 @@ contains
         write(line, '(a,f4.1,a,g0.3,a,i0,a,f4.2,a,a,a,f4.2,a,i0,a)') &
           '  error <= ', 100*advice_target(k), ' %: h/t ', study_h_over_t(i), ', n_thick ', &
           study_n_t(i), ', aspect ', study_aspect(i), ', ', trim(study_basis(i)), ', cfl ', &
-          study_cfl(i), vol_text(study_volumetric(i))//': ', study_particles(i), &
+          study_cfl(i), vol_text(study_volumetric(i))//pen_text(study_penalty(i))//': ', &
+          study_particles(i), &
           ' particles, '//cpu_text(study_cpu_s(i))//' CPU s ('//error_text(i)//')'
       end if
       call append_msg(text, trim(line))
@@ -758,6 +763,7 @@ contains
           abs(log(study_aspect(i)/aspect)) + abs(log(study_cfl(i)/cfl))
       if (study_basis(i) /= basis) d = d + 10.0_wp
       if (study_volumetric(i) /= volumetric) d = d + 10.0_wp
+      d = d + abs(log(study_penalty(i)/pin))
       if (d < dbest) then
         dbest = d
         best = i
@@ -767,13 +773,15 @@ contains
     if (count(cfg%bodies%shape_id == SHAPE_RING) > 1) line = '  this input (body '//itoa(ib)// &
       ', its coarsest ring)'
     write(line, '(a,a,g0.3,a,i0,a,f4.2,a,a,a,f4.2,a)') trim(line), ': h/t ', hot, ', n_thick ', &
-      nt, ', aspect ', aspect, ', ', trim(basis), ', cfl ', cfl, vol_text(volumetric)
+      nt, ', aspect ', aspect, ', ', trim(basis), ', cfl ', cfl, vol_text(volumetric)// &
+      pen_text(pin)
     call append_msg(text, trim(line))
     if (best > 0) then
       write(line, '(a,g0.3,a,i0,a,f4.2,a,a,a,f4.2,a)') '  nearest study run: h/t ', &
         study_h_over_t(best), ', n_thick ', study_n_t(best), ', aspect ', study_aspect(best), &
         ', ', trim(study_basis(best)), ', cfl ', study_cfl(best), &
-        vol_text(study_volumetric(best))//': '//error_text(best)
+        vol_text(study_volumetric(best))//pen_text(study_penalty(best))//': '// &
+        error_text(best)
       if (dbest > 0.2_wp) line = trim(line)//' (not a close match: treat as a rough guide)'
       call append_msg(text, trim(line))
     end if
@@ -825,5 +833,16 @@ contains
     s = ''
     if (trim(volumetric) /= 'standard') s = ', '//trim(volumetric)
   end function vol_text
+
+  !> ', penalty 4' for a wall penalty other than 1, else ''.
+  pure function pen_text(penalty) result(s)
+    real(wp), intent(in) :: penalty        !! &wall penalty [-]
+    character(len=:), allocatable :: s
+    character(len=8) :: buf
+    s = ''
+    if (penalty == 1.0_wp) return
+    write(buf, '(g0.3)') penalty
+    s = ', penalty '//trim(buf)
+  end function pen_text
 
 end module mpm_advice

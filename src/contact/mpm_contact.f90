@@ -85,10 +85,11 @@ contains
       if (prm%basis == BASIS_CPDI2 .and. prm%surface_curve) then
         call mirror_planes(st, mirror, nm)
         call surface_curve_points(st%p, wk%wall_work(3:4, iw), wk%wall_work(5:6, iw), &
-                                  stiffness(prm, g), mirror(:, 1:nm), 1.0e-6_wp*g%h, wk%surf(iw))
+                                  st%walls(iw)%penalty*stiffness(prm, g), mirror(:, 1:nm), &
+                                  1.0e-6_wp*g%h, wk%surf(iw))
       else
         call surface_points(st%p, prm%basis, wk%wall_work(3:4, iw), wk%wall_work(5:6, iw), &
-                            stiffness(prm, g), wk%par, wk%surf(iw))
+                            st%walls(iw)%penalty*stiffness(prm, g), wk%par, wk%surf(iw))
       end if
       call surface_push(wk%surf(iw), g%origin, g%h, g%nx, g%ny, g%mass, g%mass_cut, wk%nb, &
                         wk%blk, wk%w, wk%gw, wk%wall_work(5:6, iw), dt, g%force, imp, g%nf, &
@@ -189,11 +190,12 @@ contains
       wk%surf(iw)%shift = wall_shift(st%walls(iw), st%t)
       if (prm%basis == BASIS_CPDI2 .and. prm%surface_curve) then
         call mirror_planes(st, mirror, nm)
-        call surface_curve_points(st%p, xw, st%walls(iw)%normal, stiffness(prm, g), &
-                                  mirror(:, 1:nm), 1.0e-6_wp*g%h, wk%surf(iw))
+        call surface_curve_points(st%p, xw, st%walls(iw)%normal, &
+                                  st%walls(iw)%penalty*stiffness(prm, g), mirror(:, 1:nm), &
+                                  1.0e-6_wp*g%h, wk%surf(iw))
       else
-        call surface_points(st%p, prm%basis, xw, st%walls(iw)%normal, stiffness(prm, g), &
-                            wk%par, wk%surf(iw))
+        call surface_points(st%p, prm%basis, xw, st%walls(iw)%normal, &
+                            st%walls(iw)%penalty*stiffness(prm, g), wk%par, wk%surf(iw))
       end if
       st%e_contact = st%e_contact + surface_energy(wk%surf(iw))
     end do

@@ -36,6 +36,7 @@ module mpm_walls
     real(wp) :: mass = 0.0_wp             !! > 0: free along the normal; the modelled part's
                                           !! mass per unit depth [kg/m]
     real(wp) :: stroke = 0.0_wp           !! > 0: the motion eases to rest at this travel [m]
+    real(wp) :: penalty = 1.0_wp          !! penalty stiffness over the default alpha [-]
     real(wp) :: t_stroke = huge(1.0_wp)   !! time the easing starts [s] (wall_stroke_setup)
     real(wp) :: f_stroke = 0.0_wp         !! the velocity factor then [-]
     ! state, updated every step

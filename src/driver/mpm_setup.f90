@@ -164,7 +164,8 @@ contains
     s%prm%deterministic = cfg%solver%deterministic
     s%prm%cfl = cfg%run%cfl                ! the input's, or the automatic value (cfl = 0)
     if (.not. s%prm%cfl > 0.0_wp) s%prm%cfl = cfl_auto(cfg%solver%basis_id, &
-      cfg%solver%scheme_id, bodies_wall_ppc(cfg%bodies, cfg%grid%h), scene_of(cfg) == 'crush')
+      cfg%solver%scheme_id, bodies_wall_ppc(cfg%bodies, cfg%grid%h), scene_of(cfg) == 'crush', &
+      maxval([1.0_wp, cfg%walls%penalty]))
     s%prm%dt_fixed = cfg%run%dt
     s%prm%t_end = cfg%run%t_end
     s%prm%gravity = cfg%run%gravity
@@ -366,6 +367,7 @@ contains
         walls(k)%motion_f = wc%motion_f
         walls(k)%mirror = wc%mirror
         walls(k)%stroke = wc%stroke
+        walls(k)%penalty = wc%penalty
         call wall_stroke_setup(walls(k), ok)   ! (the reader has checked that it is reached)
         if (wc%mass > 0.0_wp) then
           walls(k)%mass = wc%mass/cfg%run%depth

@@ -349,6 +349,9 @@ contains
       end if
     end if
     call check_friction(rd, io, 'contact', w%contact, w%contact_id, w%friction)
+    if (w%contact_id == CONTACT_SLIP .and. w%penalty /= 1.0_wp) call err_var(rd, io, &
+      'penalty', fmt_real(w%penalty), 'has no effect with contact = ''slip'' (a mirror plane '// &
+      'has no penalty)', '1 with contact = ''slip''')
     call read_pair(rd, io, 'motion_t', 'motion_f', .false., w%motion_t, w%motion_f, nt, ok)
     if (ok) w%n_motion = nt
     if (ok .and. nt > 0 .and. w%ramp > 0.0_wp) call warn_var(rd, io, 'ramp', &

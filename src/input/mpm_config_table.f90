@@ -258,6 +258,9 @@ module mpm_config_table
       comment='> 0: drop weight of this mass [kg]'), &
     var_spec_t('wall', 'stroke', lo=0.0_wp, allowed='a real number >= 0 [m] (0: none; '// &
       'default 0)', comment='> 0: eases to rest at this travel [m]'), &
+    var_spec_t('wall', 'penalty', lo=1.0_wp, hi=4.0_wp, quiet=.true., allowed='a real '// &
+      'number from 1 to 4, and above 1 only with a contact law other than ''slip'' '// &
+      '(default 1)', comment='penalty stiffness over the default [-]'), &
     ! ---------------------------------------------------------------------------- &probe
     var_spec_t('probe', 'point', required=.true., unset='huge', &
       allowed='2 finite real numbers [m] (required)', &

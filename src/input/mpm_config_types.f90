@@ -69,6 +69,7 @@ module mpm_config_types
     real(wp) :: motion_f(max_table) = 0.0_wp       !! table factors on velocity [-]
     real(wp) :: mass = 0.0_wp                      !! > 0: a free rigid body of this mass [kg]
     real(wp) :: stroke = 0.0_wp                    !! > 0: eases to rest at this travel [m]
+    real(wp) :: penalty = 1.0_wp                   !! penalty stiffness over the default [-]
     logical :: mirror = .false.                    !! added by a body sector (not in the input)
   end type wall_cfg_t
 
