@@ -513,14 +513,10 @@ contains
       end if
       if (len(names_txt) > 0) names_txt = names_txt//', '
       names_txt = names_txt//quote(trim(cfg%materials(k)%name))
-      do j = 1, k - 1
-        if (lower(trim(cfg%materials(j)%name)) == lower(trim(cfg%materials(k)%name))) then
-          call err_var(rd, occ_mat(k), 'name', quote(trim(cfg%materials(k)%name)), &
-            'already used by &material #'//itoa(j)//' (line '// &
-            itoa(rd%occ(occ_mat(j))%line)//')', 'a name that no other &material uses')
-          exit
-        end if
-      end do
+      j = findloc(lower(cfg%materials(1:k-1)%name), lower(cfg%materials(k)%name), 1)
+      if (j > 0) call err_var(rd, occ_mat(k), 'name', quote(trim(cfg%materials(k)%name)), &
+        'already used by &material #'//itoa(j)//' (line '//itoa(rd%occ(occ_mat(j))%line)// &
+        ')', 'a name that no other &material uses')
     end do
 
     ! 'fbar', 'fbarwall' (mpm_fbar): the rate models elastic and j2, plane strain; 'fbarwall': rings
@@ -549,13 +545,7 @@ contains
         cfg%bodies(k)%material = cfg%materials(1)%name
         cycle
       end if
-      id = 0
-      do j = 1, size(cfg%materials)
-        if (lower(want) == lower(trim(cfg%materials(j)%name))) then
-          id = j
-          exit
-        end if
-      end do
+      id = findloc(lower(cfg%materials%name), lower(want), 1)
       if (id > 0) then
         cfg%bodies(k)%material_id = id
         cfg%bodies(k)%material = cfg%materials(id)%name
@@ -576,14 +566,9 @@ contains
     ! a fixed time step must not exceed the stable limit at cfl = 1
     all_ok = io_run > 0 .and. io_grid > 0 .and. size(cfg%materials) > 0 .and. &
              size(cfg%bodies) > 0
-    if (all_ok) all_ok = rd%occ(io_run)%ok .and. rd%occ(io_grid)%ok
+    if (all_ok) all_ok = rd%occ(io_run)%ok .and. rd%occ(io_grid)%ok .and. &
+                         all(rd%occ(occ_mat)%ok) .and. all(rd%occ(occ_body)%ok)
     if (all_ok .and. io_solver > 0) all_ok = rd%occ(io_solver)%ok
-    do k = 1, size(cfg%materials)
-      if (all_ok) all_ok = rd%occ(occ_mat(k))%ok
-    end do
-    do k = 1, size(cfg%bodies)
-      if (all_ok) all_ok = rd%occ(occ_body(k))%ok
-    end do
     if (all_ok) call check_fixed_dt(rd, cfg, io_run)
 
     ! a half or quarter model: nothing may move across its mirror planes (mpm_symmetry)

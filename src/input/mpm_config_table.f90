@@ -282,10 +282,7 @@ contains
   !> Row of variable `name` (case-insensitive) of a group, 0 if none.
   pure integer function spec_index(group, name) result(k)
     character(len=*), intent(in) :: group, name
-    do k = 1, size(specs)
-      if (specs(k)%group == group .and. lower(specs(k)%name) == lower(name)) return
-    end do
-    k = 0
+    k = findloc(specs%group == group .and. lower(specs%name) == lower(name), .true., 1)
   end function spec_index
 
   !> The rows of a group, in table order.

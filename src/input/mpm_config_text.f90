@@ -76,7 +76,8 @@ contains
     d = prev(len(b))
   end function edit_distance
 
-  pure function lower(s) result(t)
+  !> The text in lower case (ASCII letters).
+  elemental function lower(s) result(t)
     character(len=*), intent(in) :: s
     character(len=len(s)) :: t
     integer :: k, c
