@@ -1,14 +1,8 @@
-!> The case read from one namelist file: the pre-scan, the compiler's namelist read of every
-!! assignment, the checks of each variable against its row of the table, the group rules and
-!! those across groups; and the public face of the input (types, echo, defaults).
+!> The case read from one namelist file: the pre-scan (mpm_config_scan), the compiler's namelist
+!! read of every assignment (mpm_config_record), the checks of each variable against its row of
+!! the table (mpm_config_table), the group rules and those across groups (mpm_config_check),
+!! every problem reported at once; and the public face of the input (types, echo, defaults).
 ! SPDX-License-Identifier: MIT
-!
-! read_config scans the file (mpm_config_scan: groups, assignments, lines), reads each
-! assignment into its group's record with the compiler's namelist read (mpm_config_record),
-! checks every variable against its row (mpm_config_table: given when required, finite, in
-! range, one of its list, not another shape's), then the rules of mpm_config_check, and
-! reports every problem at once. config_resolve checks a config_t built in code (tests, bench)
-! by writing it as the echo and reading that back, so it meets the same rules and messages.
 module mpm_config
   use, intrinsic :: ieee_exceptions, only: ieee_overflow, ieee_get_halting_mode, &
                                            ieee_set_halting_mode, ieee_get_flag, ieee_set_flag

@@ -296,7 +296,8 @@ contains
     integer :: stat
     character(len=:), allocatable :: msg
     real(wp) :: np, nc, ext
-    real(wp), parameter :: mesh_check_max = 2.0e6_wp  ! particles the check meshes at most (set-up meshes larger bodies)
+    ! the particles the check meshes at most (the set-up meshes larger bodies)
+    real(wp), parameter :: mesh_check_max = 2.0e6_wp
     if (.not. (is_section(b%shape_id) .or. b%shape_id == SHAPE_DISC)) return
     if (b%shape_id == SHAPE_TUBE .and. (b%n_vertices < 3 .or. b%thickness <= 0.0_wp)) return
     if (b%shape_id == SHAPE_HONEYCOMB .and. (any(b%n_cells < 1) .or. b%thickness <= 0.0_wp &
@@ -354,6 +355,7 @@ contains
     integer, intent(in) :: io
     type(wall_cfg_t), intent(inout) :: w
     real(wp) :: vt(2)
+    character(len=:), allocatable :: with_mass
     character(len=*), parameter :: free = 'only with mass = 0 (a wall with mass moves freely '// &
       'under the material''s reaction and gravity)'
     if (w%stroke > 0.0_wp .and. all(w%velocity == 0.0_wp) .and. .not. w%mass > 0.0_wp) &
@@ -366,12 +368,11 @@ contains
       'given for a ''bonded'' wall (a free body strikes the material and rebounds; a tie '// &
       'would hold it)', 'mass = 0 with contact = ''bonded'', or contact = ''coulomb'' '// &
       'or ''stick'' with mass > 0')
-    if (w%stroke > 0.0_wp) call err_var(rd, io, 'stroke', fmt_real(w%stroke), &
-      'given with mass = '//fmt_real(w%mass), free)
-    if (w%ramp > 0.0_wp) call err_var(rd, io, 'ramp', fmt_real(w%ramp), &
-      'given with mass = '//fmt_real(w%mass), free)
+    with_mass = 'given with mass = '//fmt_real(w%mass)
+    if (w%stroke > 0.0_wp) call err_var(rd, io, 'stroke', fmt_real(w%stroke), with_mass, free)
+    if (w%ramp > 0.0_wp) call err_var(rd, io, 'ramp', fmt_real(w%ramp), with_mass, free)
     if (w%n_motion > 0) call err_var(rd, io, 'motion_t', fmt_list(w%motion_t(1:w%n_motion)), &
-      'given with mass = '//fmt_real(w%mass), free)
+      with_mass, free)
     vt = w%velocity - dot_product(w%velocity, w%normal)*w%normal
     if (norm2(vt) > 1.0e-9_wp*max(norm2(w%velocity), tiny(1.0_wp))) call err_var(rd, io, &
       'velocity', fmt_list(w%velocity), 'has a part along the wall ('//fmt_list(vt)// &
