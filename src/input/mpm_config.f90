@@ -1,14 +1,8 @@
-!> The case read from one namelist file: the pre-scan, the compiler's namelist read of every
-!! assignment, the checks of each variable against its row of the table, the group rules and
-!! those across groups; and the public face of the input (types, echo, defaults).
+!> The case read from one namelist file: the pre-scan (mpm_config_scan), the compiler's namelist
+!! read of every assignment (mpm_config_record), the checks of each variable against its row of
+!! the table (mpm_config_table), the group rules and those across groups (mpm_config_check),
+!! every problem reported at once; and the public face of the input (types, echo, defaults).
 ! SPDX-License-Identifier: MIT
-!
-! read_config scans the file (mpm_config_scan: groups, assignments, lines), reads each
-! assignment into its group's record with the compiler's namelist read (mpm_config_record),
-! checks every variable against its row (mpm_config_table: given when required, finite, in
-! range, one of its list, not another shape's), then the rules of mpm_config_check, and
-! reports every problem at once. config_resolve checks a config_t built in code (tests, bench)
-! by writing it as the echo and reading that back, so it meets the same rules and messages.
 module mpm_config
   use, intrinsic :: ieee_exceptions, only: ieee_overflow, ieee_get_halting_mode, &
                                            ieee_set_halting_mode, ieee_get_flag, ieee_set_flag
@@ -20,7 +14,7 @@ module mpm_config
                               body_cfg_t, wall_cfg_t, probe_cfg_t, contact_cfg_t, unset_real, &
                               scene_of
   use mpm_config_text, only: lower, itoa, quote, unquote, suggestion, join_list, fmt_real, &
-                             fmt_vec, finite
+                             fmt_list, finite
   use mpm_config_table, only: specs, n_groups, group_names, group_id, spec_index, group_specs, &
                               var_names, enum_names
   use mpm_config_record, only: rec_t, field_t, record_read, record_fields, field_index
@@ -194,7 +188,7 @@ contains
     type(field_t), allocatable :: f(:)
     integer :: ia, ib, k, r, ios, n0, i1, i2
     character(len=256) :: msg
-    character(len=:), allocatable :: head, t, sub
+    character(len=:), allocatable :: head, t, sub, allow
     character(len=tok_len), allocatable :: tok(:)
     rec = record_start(ig)
     allocate(f, source=record_fields(ig, rec))
@@ -212,6 +206,7 @@ contains
           cycle
         end if
         head = label(rd, io)//': '//trim(specs(r)%name)//sub//' = '//a%value//': '
+        allow = allowed_text(rd%occ(io)%group, a%name)
         k = field_index(f, a%name)
         i1 = 1
         i2 = f(k)%n
@@ -224,11 +219,11 @@ contains
               i2 > f(k)%n) then
             if (f(k)%n == 1) then
               call add_err(rd, a%line, head//'subscript on a single value; allowed: '// &
-                trim(specs(r)%name)//' = <value>, '//allowed_text(rd%occ(io)%group, a%name))
+                trim(specs(r)%name)//' = <value>, '//allow)
             else
               call add_err(rd, a%line, head//'subscript out of range; allowed: '// &
                 trim(specs(r)%name)//'(1) to '//trim(specs(r)%name)//'('//itoa(f(k)%n)//'), '// &
-                allowed_text(rd%occ(io)%group, a%name))
+                allow)
             end if
             cycle
           end if
@@ -241,12 +236,12 @@ contains
           t = t(:len(t) - 1)
           if (len(unquote(t)) > f(k)%length) then
             call add_err(rd, a%line, head//'too long ('//itoa(len(unquote(t)))// &
-              ' characters); allowed: '//allowed_text(rd%occ(io)%group, a%name))
+              ' characters); allowed: '//allow)
             cycle
           end if
         end if
         call record_read(ig, rec, a%name//sub//' = '//a%value, ios, msg)
-        if (ios /= 0) call bad_value(rd, io, ia, f(k), i2 - i1 + 1)
+        if (ios /= 0) call bad_value(rd, io, ia, f(k), i2 - i1 + 1, head)
         do ib = 1, ia - 1                   ! a variable given twice: the last value is used
           if (len(a%sub) > 0 .or. len(rd%occ(io)%asg(ib)%sub) > 0) cycle
           if (lower(rd%occ(io)%asg(ib)%name) /= lower(a%name)) cycle
@@ -261,21 +256,21 @@ contains
   end subroutine read_occurrence
 
   !> The compiler could not read assignment ia into field f (cap values from its subscript):
-  !! say which value is wrong and why, at its line.
-  subroutine bad_value(rd, io, ia, f, cap)
+  !! say which value is wrong and why, at its line, after head (`&group: var = value: `).
+  subroutine bad_value(rd, io, ia, f, cap, head)
     type(reader_t), intent(inout) :: rd
     integer, intent(in) :: io, ia, cap
     type(field_t), intent(in) :: f
+    character(len=*), intent(in) :: head
+    character(len=*), parameter :: kinds(4) = [character(len=29) :: 'a real number', &
+      'an integer (or is too large)', 'a logical (.true. or .false.)', 'text in quotes']
     character(len=tok_len), allocatable :: tok(:)
     character(len=:), allocatable :: what, t, kind
     integer :: j, r, n, ios, ln
     real(wp) :: x
     logical :: l
     associate (a => rd%occ(io)%asg(ia), o => rd%occ(io))
-      kind = trim(merge('a real number                  ', 'an integer (or is too large)   ', &
-                        f%kind == 'r'))
-      if (f%kind == 'l') kind = 'a logical (.true. or .false.)'
-      if (f%kind == 'c') kind = 'text in quotes'
+      kind = trim(kinds(index('rilc', f%kind)))
       allocate(tok, source=value_tokens(a%value))
       what = ''
       ln = a%line
@@ -316,24 +311,9 @@ contains
       if (len(what) == 0 .and. n > cap) what = 'too many values ('//itoa(n)//' given, '// &
         itoa(cap)//' allowed)'
       if (len(what) == 0) what = 'not '//kind
-      call err_var_at(rd, io, ia, ln, what)
+      call add_err(rd, ln, head//what//'; allowed: '//allowed_text(o%group, a%name))
     end associate
   end subroutine bad_value
-
-  !> A value of assignment ia that cannot be read, at line ln.
-  subroutine err_var_at(rd, io, ia, ln, what)
-    type(reader_t), intent(inout) :: rd
-    integer, intent(in) :: io, ia, ln
-    character(len=*), intent(in) :: what
-    character(len=:), allocatable :: sub
-    associate (a => rd%occ(io)%asg(ia))
-      sub = ''
-      if (len(a%sub) > 0) sub = '('//a%sub//')'
-      call add_err(rd, ln, label(rd, io)//': '//trim(specs(spec_index(rd%occ(io)%group, &
-        a%name))%name)//sub//' = '//a%value//': '//what//'; allowed: '// &
-        allowed_text(rd%occ(io)%group, a%name))
-    end associate
-  end subroutine err_var_at
 
   !> Every variable of occurrence io against its row: the variables of another body shape or
   !! material model are reset to their defaults (and those given are warned of); then a
@@ -378,7 +358,7 @@ contains
         call err_var(rd, io, name, fmt_list_of(f(k)), trim(merge('not a finite number', &
           'not finite numbers ', f(k)%n == 1)))
       else if (f(k)%n == 2 .and. f(k)%kind == 'r' .and. count_values(rd, io, name) == 1) then
-        call err_var(rd, io, name, fmt_vec(f(k)%x), 'needs 2 values, only one was given')
+        call err_var(rd, io, name, fmt_list(f(k)%x), 'needs 2 values, only one was given')
       else if ((f(k)%kind == 'r' .or. f(k)%kind == 'i') .and. .not. specs(r)%own) then
         if (any(.not. (f(k)%x >= specs(r)%lo .and. f(k)%x <= specs(r)%hi)) .or. &
             (specs(r)%lo_open .and. any(.not. f(k)%x > specs(r)%lo)) .or. &

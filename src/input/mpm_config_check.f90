@@ -16,8 +16,8 @@ module mpm_config_check
   use mpm_config_types, only: config_t, grid_cfg_t, material_cfg_t, body_cfg_t, wall_cfg_t, &
                               contact_cfg_t, unset_real
   use mpm_bodies, only: body_box, body_mesh, is_section, body_estimate
-  use mpm_config_text, only: lower, itoa, quote, file_stem, fmt_short, fmt_vec, fmt_real, &
-                             fmt_list, finite
+  use mpm_config_text, only: lower, itoa, quote, file_stem, fmt_short, fmt_list, fmt_real, &
+                             finite
   use mpm_config_table, only: n_groups
   use mpm_config_scan, only: reader_t, occurrence, err_var, warn_var, err_missing, warn_group, &
                              given
@@ -39,16 +39,11 @@ contains
     integer, intent(in) :: io, ig, k
     type(config_t), intent(inout) :: cfg
     select case (ig)
-    case (3)
-      call check_grid(rd, io, cfg%grid)
-    case (4)
-      call check_material(rd, io, cfg%materials(k))
-    case (5)
-      call check_body(rd, io, cfg%bodies(k))
-    case (6)
-      call check_wall(rd, io, cfg%walls(k))
-    case (8)
-      call check_contact(rd, io, cfg%contacts(k))
+    case (3); call check_grid(rd, io, cfg%grid)
+    case (4); call check_material(rd, io, cfg%materials(k))
+    case (5); call check_body(rd, io, cfg%bodies(k))
+    case (6); call check_wall(rd, io, cfg%walls(k))
+    case (8); call check_contact(rd, io, cfg%contacts(k))
     end select
   end subroutine check_group
 
@@ -64,12 +59,12 @@ contains
     nu = given(rd, io, 'upper') .and. all(finite(g%upper))
     g%fitted = .not. (nl .and. nu)
     if (nl .and. nu) then
-      if (.not. all(g%lower < g%upper)) call err_var(rd, io, 'upper', fmt_vec(g%upper), &
-        'not above lower = '//fmt_vec(g%lower)//' in both components')
+      if (.not. all(g%lower < g%upper)) call err_var(rd, io, 'upper', fmt_list(g%upper), &
+        'not above lower = '//fmt_list(g%lower)//' in both components')
     else if (nl .and. .not. given(rd, io, 'upper')) then
-      call err_var(rd, io, 'lower', fmt_vec(g%lower), 'given without upper')
+      call err_var(rd, io, 'lower', fmt_list(g%lower), 'given without upper')
     else if (nu .and. .not. given(rd, io, 'lower')) then
-      call err_var(rd, io, 'upper', fmt_vec(g%upper), 'given without lower')
+      call err_var(rd, io, 'upper', fmt_list(g%upper), 'given without lower')
     end if
     if (g%fitted) g%lower = 0.0_wp
     if (g%fitted) g%upper = 0.0_wp
@@ -245,7 +240,7 @@ contains
     type(reader_t), intent(inout) :: rd
     integer, intent(in) :: io
     type(body_cfg_t), intent(inout) :: b
-    character(len=:), allocatable :: path, line
+    character(len=:), allocatable :: path, line, what
     character(len=1024) :: buf, msg
     real(wp) :: r(5)
     real(wp), allocatable :: seg(:,:)
@@ -261,7 +256,8 @@ contains
     end if
     allocate(seg(5, 0))
     ln = 0
-    do
+    what = ''
+    do while (len(what) == 0)
       read(u, '(a)', iostat=ios) buf
       if (ios /= 0) exit
       ln = ln + 1
@@ -271,27 +267,20 @@ contains
       if (ln == 1 .and. verify(line(1:1), '0123456789+-.') /= 0) cycle    ! a header
       read(line, *, iostat=ios) r
       if (ios /= 0 .or. .not. all(abs(r) <= huge(1.0_wp))) then
-        call err_var(rd, io, 'walls_file', ''''//trim(b%walls_file)//'''', path//':'// &
-          itoa(ln)//': '''//line//''' is not 5 finite numbers x1, y1, x2, y2, thickness')
-        close(u)
-        return
+        what = path//':'//itoa(ln)//': '''//line//''' is not 5 finite numbers x1, y1, x2, '// &
+          'y2, thickness'
+      else if (r(5) <= 0.0_wp .or. norm2(r(3:4) - r(1:2)) <= 0.0_wp) then
+        what = path//':'//itoa(ln)//': a wall of zero length or thickness'
+      else if (size(seg, 2) >= 4096) then
+        what = 'more than 4096 walls'
+      else
+        seg = reshape([seg, r], [5, size(seg, 2) + 1])
       end if
-      if (r(5) <= 0.0_wp .or. norm2(r(3:4) - r(1:2)) <= 0.0_wp) then
-        call err_var(rd, io, 'walls_file', ''''//trim(b%walls_file)//'''', path//':'// &
-          itoa(ln)//': a wall of zero length or thickness')
-        close(u)
-        return
-      end if
-      if (size(seg, 2) >= 4096) then
-        call err_var(rd, io, 'walls_file', ''''//trim(b%walls_file)//'''', 'more than 4096 walls')
-        close(u)
-        return
-      end if
-      seg = reshape([seg, r], [5, size(seg, 2) + 1])
     end do
     close(u)
-    if (size(seg, 2) == 0) then
-      call err_var(rd, io, 'walls_file', ''''//trim(b%walls_file)//'''', 'has no walls')
+    if (len(what) == 0 .and. size(seg, 2) == 0) what = 'has no walls'
+    if (len(what) > 0) then
+      call err_var(rd, io, 'walls_file', ''''//trim(b%walls_file)//'''', what)
       return
     end if
     call move_alloc(seg, b%seg)
@@ -307,7 +296,8 @@ contains
     integer :: stat
     character(len=:), allocatable :: msg
     real(wp) :: np, nc, ext
-    real(wp), parameter :: mesh_check_max = 2.0e6_wp  ! particles the check meshes at most (set-up meshes larger bodies)
+    ! the particles the check meshes at most (the set-up meshes larger bodies)
+    real(wp), parameter :: mesh_check_max = 2.0e6_wp
     if (.not. (is_section(b%shape_id) .or. b%shape_id == SHAPE_DISC)) return
     if (b%shape_id == SHAPE_TUBE .and. (b%n_vertices < 3 .or. b%thickness <= 0.0_wp)) return
     if (b%shape_id == SHAPE_HONEYCOMB .and. (any(b%n_cells < 1) .or. b%thickness <= 0.0_wp &
@@ -318,7 +308,7 @@ contains
     if (np > mesh_check_max) return
     call body_mesh(b, xc, quad, pwall, stat, msg)
     if (stat == 2) call err_var(rd, io, 'sector', ''''//trim(b%sector)//'''', msg// &
-      ' through center = '//fmt_vec(b%center), '''full'', or a section that is its own mirror'// &
+      ' through center = '//fmt_list(b%center), '''full'', or a section that is its own mirror'// &
       ' image about the planes x = center(1) (and y = center(2) for a quarter), every wall'// &
       ' that reaches them square to them')
     if (stat == 3 .and. b%shape_id == SHAPE_TUBE) call err_var(rd, io, 'vertices', &
@@ -342,10 +332,10 @@ contains
     if (given(rd, io, 'normal') .and. all(finite(w%normal))) then
       length = sqrt(w%normal(1)**2 + w%normal(2)**2)
       if (length == 0.0_wp) then
-        call err_var(rd, io, 'normal', fmt_vec(w%normal), 'zero vector')
+        call err_var(rd, io, 'normal', fmt_list(w%normal), 'zero vector')
       else if (abs(length - 1.0_wp) > 1.0e-6_wp) then
-        call err_var(rd, io, 'normal', fmt_vec(w%normal), 'not of unit length (|normal| = '// &
-          fmt_short(length)//'); use normal = '//fmt_vec(w%normal/length))
+        call err_var(rd, io, 'normal', fmt_list(w%normal), 'not of unit length (|normal| = '// &
+          fmt_short(length)//'); use normal = '//fmt_list(w%normal/length))
       end if
     end if
     call check_friction(rd, io, 'contact', w%contact, w%contact_id, w%friction)
@@ -368,6 +358,7 @@ contains
     integer, intent(in) :: io
     type(wall_cfg_t), intent(inout) :: w
     real(wp) :: vt(2)
+    character(len=:), allocatable :: with_mass
     character(len=*), parameter :: free = 'only with mass = 0 (a wall with mass moves freely '// &
       'under the material''s reaction and gravity)'
     if (w%stroke > 0.0_wp .and. all(w%velocity == 0.0_wp) .and. .not. w%mass > 0.0_wp) &
@@ -380,17 +371,16 @@ contains
       'given for a ''bonded'' wall (a free body strikes the material and rebounds; a tie '// &
       'would hold it)', 'mass = 0 with contact = ''bonded'', or contact = ''coulomb'' '// &
       'or ''stick'' with mass > 0')
-    if (w%stroke > 0.0_wp) call err_var(rd, io, 'stroke', fmt_real(w%stroke), &
-      'given with mass = '//fmt_real(w%mass), free)
-    if (w%ramp > 0.0_wp) call err_var(rd, io, 'ramp', fmt_real(w%ramp), &
-      'given with mass = '//fmt_real(w%mass), free)
+    with_mass = 'given with mass = '//fmt_real(w%mass)
+    if (w%stroke > 0.0_wp) call err_var(rd, io, 'stroke', fmt_real(w%stroke), with_mass, free)
+    if (w%ramp > 0.0_wp) call err_var(rd, io, 'ramp', fmt_real(w%ramp), with_mass, free)
     if (w%n_motion > 0) call err_var(rd, io, 'motion_t', fmt_list(w%motion_t(1:w%n_motion)), &
-      'given with mass = '//fmt_real(w%mass), free)
+      with_mass, free)
     vt = w%velocity - dot_product(w%velocity, w%normal)*w%normal
     if (norm2(vt) > 1.0e-9_wp*max(norm2(w%velocity), tiny(1.0_wp))) call err_var(rd, io, &
-      'velocity', fmt_vec(w%velocity), 'has a part along the wall ('//fmt_vec(vt)// &
+      'velocity', fmt_list(w%velocity), 'has a part along the wall ('//fmt_list(vt)// &
       ' m/s): a wall with mass moves along its normal only', 'a multiple of normal = '// &
-      fmt_vec(w%normal))
+      fmt_list(w%normal))
   end subroutine check_free_wall
 
   !> Friction > 0 only with the Coulomb law or 'bonded' (for what is not tied; else reported,
@@ -527,14 +517,10 @@ contains
       end if
       if (len(names_txt) > 0) names_txt = names_txt//', '
       names_txt = names_txt//quote(trim(cfg%materials(k)%name))
-      do j = 1, k - 1
-        if (lower(trim(cfg%materials(j)%name)) == lower(trim(cfg%materials(k)%name))) then
-          call err_var(rd, occ_mat(k), 'name', quote(trim(cfg%materials(k)%name)), &
-            'already used by &material #'//itoa(j)//' (line '// &
-            itoa(rd%occ(occ_mat(j))%line)//')', 'a name that no other &material uses')
-          exit
-        end if
-      end do
+      j = findloc(lower(cfg%materials(1:k-1)%name), lower(cfg%materials(k)%name), 1)
+      if (j > 0) call err_var(rd, occ_mat(k), 'name', quote(trim(cfg%materials(k)%name)), &
+        'already used by &material #'//itoa(j)//' (line '//itoa(rd%occ(occ_mat(j))%line)// &
+        ')', 'a name that no other &material uses')
     end do
 
     ! 'fbar', 'fbarwall' (mpm_fbar): the rate models elastic and j2, plane strain; 'fbarwall': rings
@@ -563,13 +549,7 @@ contains
         cfg%bodies(k)%material = cfg%materials(1)%name
         cycle
       end if
-      id = 0
-      do j = 1, size(cfg%materials)
-        if (lower(want) == lower(trim(cfg%materials(j)%name))) then
-          id = j
-          exit
-        end if
-      end do
+      id = findloc(lower(cfg%materials%name), lower(want), 1)
       if (id > 0) then
         cfg%bodies(k)%material_id = id
         cfg%bodies(k)%material = cfg%materials(id)%name
@@ -590,14 +570,9 @@ contains
     ! a fixed time step must not exceed the stable limit at cfl = 1
     all_ok = io_run > 0 .and. io_grid > 0 .and. size(cfg%materials) > 0 .and. &
              size(cfg%bodies) > 0
-    if (all_ok) all_ok = rd%occ(io_run)%ok .and. rd%occ(io_grid)%ok
+    if (all_ok) all_ok = rd%occ(io_run)%ok .and. rd%occ(io_grid)%ok .and. &
+                         all(rd%occ(occ_mat)%ok) .and. all(rd%occ(occ_body)%ok)
     if (all_ok .and. io_solver > 0) all_ok = rd%occ(io_solver)%ok
-    do k = 1, size(cfg%materials)
-      if (all_ok) all_ok = rd%occ(occ_mat(k))%ok
-    end do
-    do k = 1, size(cfg%bodies)
-      if (all_ok) all_ok = rd%occ(occ_body(k))%ok
-    end do
     if (all_ok) call check_fixed_dt(rd, cfg, io_run)
 
     ! a half or quarter model: nothing may move across its mirror planes (mpm_symmetry)
@@ -642,8 +617,8 @@ contains
           cycle
         end if
         if (any(b%center /= 0.0_wp) .and. any(b%center /= cfg%bodies(j)%center)) then
-          call err_var(rd, io, 'center', fmt_vec(b%center), 'not the centre of the tube it '// &
-            'fills, &body #'//itoa(j)//' ('//fmt_vec(cfg%bodies(j)%center)//')', &
+          call err_var(rd, io, 'center', fmt_list(b%center), 'not the centre of the tube it '// &
+            'fills, &body #'//itoa(j)//' ('//fmt_list(cfg%bodies(j)%center)//')', &
             'not given (a filler takes its tube''s), or the tube''s')
           cycle
         end if
@@ -762,12 +737,12 @@ contains
         if (.not. rd%occ(occ_body(k))%ok) cycle
         call body_box(cfg%bodies(k), lo, hi)
         if (any(lo < cfg%grid%lower)) call err_var(rd, io_grid, 'lower', &
-          fmt_vec(cfg%grid%lower), 'does not contain &body #'//itoa(k)// &
+          fmt_list(cfg%grid%lower), 'does not contain &body #'//itoa(k)// &
           ' (it reaches down to x = '//fmt_short(lo(1))//', y = '//fmt_short(lo(2))//')', &
           'lower <= '//fmt_short(lo(1))//', '//fmt_short(lo(2))//' for this body, '// &
           'or lower and upper not given (fitted)')
         if (any(hi > cfg%grid%upper)) call err_var(rd, io_grid, 'upper', &
-          fmt_vec(cfg%grid%upper), 'does not contain &body #'//itoa(k)// &
+          fmt_list(cfg%grid%upper), 'does not contain &body #'//itoa(k)// &
           ' (it reaches up to x = '//fmt_short(hi(1))//', y = '//fmt_short(hi(2))//')', &
           'upper >= '//fmt_short(hi(1))//', '//fmt_short(hi(2))//' for this body, '// &
           'or lower and upper not given (fitted)')

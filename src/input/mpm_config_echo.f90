@@ -11,7 +11,7 @@ module mpm_config_echo
   use mpm_constants, only: EXIT_IO, max_table, shape_names, shape_plural, FLOW_JOHNSON_COOK, &
                            VOLUMETRIC_FBAR, MODEL_FOAM
   use mpm_config_types, only: config_t, unset_real
-  use mpm_config_text, only: itoa, quote, fmt_real, fmt_vec, fmt_logical, finite
+  use mpm_config_text, only: itoa, quote, fmt_real, fmt_list, finite
   use mpm_config_table, only: specs, n_groups, group_names, group_specs, echo_comment, &
                               unset_note, enum_names
   use mpm_config_record, only: rec_t, field_t, record_fields, field_index
@@ -261,10 +261,10 @@ contains
       s = itoa(nint(x%x(1)))
       if (x%n == 2) s = s//', '//itoa(nint(x%x(2)))
     case ('l')
-      s = fmt_logical(x%x(1) > 0.5_wp)
+      s = trim(merge('.true. ', '.false.', x%x(1) > 0.5_wp))
     case default
       if (x%n == 2) then
-        s = fmt_vec(x%x)
+        s = fmt_list(x%x)
       else
         s = fmt_real(x%x(1))
       end if

@@ -14,6 +14,7 @@ module mpm_config_record
   use mpm_config_types, only: run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, body_in_t, &
                               wall_cfg_t, probe_cfg_t, contact_cfg_t
   use mpm_config_text, only: lower, string_end, unquote
+  use mpm_config_table, only: group_names
   implicit none
   private
   public :: rec_t, field_t, record_read, record_fields, field_index
@@ -89,8 +90,6 @@ contains
     character(len=:), allocatable, intent(out) :: buf
     integer, intent(out) :: ios
     character(len=*), intent(out) :: msg
-    character(len=8), parameter :: g(8) = [character(len=8) :: 'run', 'solver', 'grid', &
-      'material', 'body', 'wall', 'probe', 'contact']
     character(len=len(text) + 24) :: lines(3)
     type(run_cfg_t) :: v_run
     type(solver_cfg_t) :: v_solver
@@ -109,7 +108,8 @@ contains
     namelist /probe/ v_probe
     namelist /contact/ v_contact
     msg = ''
-    lines = [character(len=len(lines)) :: '&'//trim(g(ig)), 'v_'//trim(g(ig))//'%'//text, '/']
+    lines = [character(len=len(lines)) :: '&'//trim(group_names(ig)), &
+             'v_'//trim(group_names(ig))//'%'//text, '/']
     allocate(character(len=32768) :: buf)
     v_run = rec%run
     v_solver = rec%solver
@@ -171,7 +171,7 @@ contains
       else
         j = p + scan(s(p:), ' ,=') - 2
         if (s(j+1:j+1) == '=') then                  ! a component's name
-          if (n > 0) call add(f, one)
+          if (n > 0) f = [f, one]
           n = n + 1
           one = field_t(name=lower(s(index(s(p:j), '%') + p:j)), raw='')
           allocate(one%x(0))
@@ -202,7 +202,7 @@ contains
         one%x = [one%x, spread(to_real(v), 1, r)]
       end if
     end do
-    if (n > 0) call add(f, one)
+    if (n > 0) f = [f, one]
   end function parse_fields
 
   !> A number of the namelist output.
@@ -211,10 +211,4 @@ contains
     integer :: ios
     read(v, *, iostat=ios) to_real
   end function to_real
-
-  subroutine add(f, one)
-    type(field_t), allocatable, intent(inout) :: f(:)
-    type(field_t), intent(in) :: one
-    f = [f, one]
-  end subroutine add
 end module mpm_config_record

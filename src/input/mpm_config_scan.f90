@@ -431,7 +431,7 @@ contains
     character(len=*), intent(in) :: var, value, what
     character(len=*), intent(in), optional :: allowed
     integer :: ia, ln
-    character(len=:), allocatable :: v, shown
+    character(len=:), allocatable :: v, shown, allow
     ln = rd%occ(io)%line
     v = value
     shown = var
@@ -443,13 +443,9 @@ contains
       if (len(value) > 0 .and. (shown /= var .or. index(', '//v, ', ,') > 0)) &
         v = v//' (so '//var//' = '//value//')'
     end if
-    if (present(allowed)) then
-      call add_err(rd, ln, label(rd, io)//': '//shown//' = '//v//': '//what//'; allowed: '// &
-        allowed)
-    else
-      call add_err(rd, ln, label(rd, io)//': '//shown//' = '//v//': '//what//'; allowed: '// &
-        allowed_text(rd%occ(io)%group, var))
-    end if
+    allow = allowed_text(rd%occ(io)%group, var)
+    if (present(allowed)) allow = allowed
+    call add_err(rd, ln, label(rd, io)//': '//shown//' = '//v//': '//what//'; allowed: '//allow)
     rd%occ(io)%ok = .false.
   end subroutine err_var
 

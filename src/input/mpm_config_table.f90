@@ -4,14 +4,6 @@
 !! messages, the comment of the resolved echo (input.nml), and which body shapes or material
 !! model it belongs to. tests/test_docs_input.py compares the rows with docs/input.md.
 ! SPDX-License-Identifier: MIT
-!
-! A row gives: group, name, whether it is required, its admissible range (lo/hi, open or
-! closed), which shapes or model it is for (`only`, names separated by blanks; '' = all), how
-! the echo recognises a required value that is not set (`unset`: neg (-1), huge, emp (empty
-! text), zero) and its comment then, the "allowed:" text (units in brackets, default in
-! parentheses; for a list of names it is made from the list), the echo's comment (meaning and
-! unit; % stands for the list of names), whether the group's own rules check it (`own`), and
-! whether the echo leaves it out at its default (`quiet`).
 module mpm_config_table
   use mpm_kinds, only: wp
   use mpm_constants, only: name_len, basis_names, scheme_names, plane_names, model_names, &
@@ -36,12 +28,16 @@ module mpm_config_table
     character(len=8) :: group = ''
     character(len=16) :: name = ''
     logical :: required = .false.
-    real(wp) :: lo = -big, hi = big                  !! range
+    real(wp) :: lo = -big, hi = big                  !! admissible range
     logical :: lo_open = .false., hi_open = .false.  !! lo < x (not <=), x < hi (not <=)
     character(len=40) :: only = ''          !! body shapes, or the &material model, it is for
-    character(len=4) :: unset = ''          !! echo: not set when neg (-1), huge, emp, zero
+                                            !! (names separated by blanks; '' = all)
+    character(len=4) :: unset = ''          !! echo: a required value is not set when neg (-1),
+                                            !! huge (unset_real), emp (empty text), zero
     character(len=56) :: unset_note = ''    !! echo comment when not set
-    character(len=160) :: allowed = ''      !! "allowed:" text of messages ('' for a list)
+    character(len=160) :: allowed = ''      !! "allowed:" text of messages, units in brackets,
+                                            !! default in parentheses ('' for a list of names:
+                                            !! made from the list)
     character(len=48) :: comment = ''       !! echo comment: meaning [unit]; % = the names
     logical :: own = .false.                !! checked by the group's own rules
     logical :: quiet = .false.              !! left out of the echo while at its default
@@ -285,10 +281,7 @@ contains
   !> Row of variable `name` (case-insensitive) of a group, 0 if none.
   pure integer function spec_index(group, name) result(k)
     character(len=*), intent(in) :: group, name
-    do k = 1, size(specs)
-      if (specs(k)%group == group .and. lower(specs(k)%name) == lower(name)) return
-    end do
-    k = 0
+    k = findloc(specs%group == group .and. lower(specs%name) == lower(name), .true., 1)
   end function spec_index
 
   !> The rows of a group, in table order.

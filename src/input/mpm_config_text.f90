@@ -10,7 +10,7 @@ module mpm_config_text
   implicit none
   private
   public :: join_list, suggestion, lower, is_blank, name_end, string_end, itoa, quote, &
-            unquote, file_stem, fmt_real, fmt_short, fmt_vec, fmt_list, fmt_logical, finite
+            unquote, file_stem, fmt_real, fmt_short, fmt_list, finite
 
 contains
 
@@ -76,7 +76,8 @@ contains
     d = prev(len(b))
   end function edit_distance
 
-  pure function lower(s) result(t)
+  !> The text in lower case (ASCII letters).
+  elemental function lower(s) result(t)
     character(len=*), intent(in) :: s
     character(len=len(s)) :: t
     integer :: k, c
@@ -228,13 +229,6 @@ contains
     if (ios == 0) s = fmt_real(y)
   end function fmt_short
 
-  !> Two numbers; a component not given shows as (none).
-  function fmt_vec(v) result(s)
-    real(wp), intent(in) :: v(2)
-    character(len=:), allocatable :: s
-    s = fmt_list(v)
-  end function fmt_vec
-
   !> Numbers 'a, b, c'; an entry not given (unset_real) shows as (none).
   function fmt_list(v) result(s)
     real(wp), intent(in) :: v(:)
@@ -250,10 +244,4 @@ contains
       end if
     end do
   end function fmt_list
-
-  pure function fmt_logical(l) result(s)
-    logical, intent(in) :: l
-    character(len=:), allocatable :: s
-    s = trim(merge('.true. ', '.false.', l))
-  end function fmt_logical
 end module mpm_config_text

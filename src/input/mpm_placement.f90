@@ -12,7 +12,7 @@ module mpm_placement
   use mpm_constants, only: CONTACT_SLIP
   use mpm_config_types, only: config_t
   use mpm_bodies, only: body_low, body_overlap
-  use mpm_config_text, only: itoa, fmt_short, fmt_vec
+  use mpm_config_text, only: itoa, fmt_short, fmt_list
   use mpm_config_scan, only: reader_t, occurrence, err_var, warn_var
   implicit none
   private
@@ -78,7 +78,7 @@ contains
         if (.not. rd%occ(occ_body(i))%ok) cycle
         depth = body_overlap(cfg%bodies(i), cfg%bodies(j))
         if (depth <= 0.5_wp*cfg%grid%h) cycle
-        call err_var(rd, occ_body(j), 'center', fmt_vec(cfg%bodies(j)%center), &
+        call err_var(rd, occ_body(j), 'center', fmt_list(cfg%bodies(j)%center), &
           'overlaps &body #'//itoa(i)//' by up to '//fmt_short(depth)//' m at t = 0 (more '// &
           'than h/2): the two would fill the same space, and contact acts only where '// &
           'surfaces meet', 'a centre (or size) that leaves the bodies apart or touching')
@@ -115,9 +115,9 @@ contains
                                                     dot_product(cfg%walls(k)%point, n))
         end do
         fix = any_fix
-        if (flipped >= -0.5_wp*cfg%grid%h) fix = 'normal = '//fmt_vec(-n)//' (the material '// &
+        if (flipped >= -0.5_wp*cfg%grid%h) fix = 'normal = '//fmt_list(-n)//' (the material '// &
           'is on that side of the wall), or '//any_fix
-        call err_var(rd, io, 'normal', fmt_vec(n), '&body #'//itoa(j)//' lies up to '// &
+        call err_var(rd, io, 'normal', fmt_list(n), '&body #'//itoa(j)//' lies up to '// &
           fmt_short(-gap)//' m behind the wall at t = 0 (more than h/2): its contact would '// &
           'push the material through the wall at the first step', trim(fix))
         exit

@@ -22,7 +22,7 @@ module mpm_symmetry
   use mpm_kinds, only: wp
   use mpm_constants, only: SHAPE_RING, SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER
   use mpm_config_types, only: config_t
-  use mpm_config_text, only: itoa, fmt_short, fmt_vec
+  use mpm_config_text, only: itoa, fmt_short, fmt_list
   use mpm_config_scan, only: reader_t, occurrence, err_var
   use mpm_bodies, only: body_low, has_sector
   implicit none
@@ -73,7 +73,7 @@ contains
       associate (b => cfg%bodies(k))
         do m = 1, nm
           if (normal_part(b%velocity, normals(:, m))) call err_var(rd, io, 'velocity', &
-            fmt_vec(b%velocity), 'moves across the mirror plane '//trim(plane(m))//' of '// &
+            fmt_list(b%velocity), 'moves across the mirror plane '//trim(plane(m))//' of '// &
             model//': the mirror holds the body there, and its mirror image would move the '// &
             'other way', 'velocity('//itoa(m)//') = 0 (motion along the mirror '// &
             trim(merge('planes', 'plane ', nm == 2))//'), or sector = ''full'' for the '// &
@@ -81,10 +81,10 @@ contains
         end do
         if (k /= first .and. has_sector(b%shape_id) .and. b%sector_id /= SECTOR_FULL) then
           if (b%center(1) /= center(1) .or. (nm == 2 .and. b%center(2) /= center(2))) &
-            call err_var(rd, io, 'center', fmt_vec(b%center), 'not on the mirror '// &
+            call err_var(rd, io, 'center', fmt_list(b%center), 'not on the mirror '// &
               trim(merge('planes', 'plane ', nm == 2))//' of '//model, &
               'the centre of &body #'//itoa(first)// &
-              ' ('//fmt_vec(center)//'), or sector = ''full''')
+              ' ('//fmt_list(center)//'), or sector = ''full''')
         end if
         if (.not. has_sector(b%shape_id) .or. b%sector_id == SECTOR_FULL) then
           do m = 1, nm                     ! a whole body: on the modelled side
@@ -96,7 +96,7 @@ contains
               if (body_low(b, -normals(:, m)) >= -center(m) - 0.5_wp*cfg%grid%h) why = &
                 'lies behind the mirror plane '//trim(plane(m))//' of '//model// &
                 ', outside the part it computes'
-              call err_var(rd, io, 'center', fmt_vec(b%center), why, 'a centre with the '// &
+              call err_var(rd, io, 'center', fmt_list(b%center), why, 'a centre with the '// &
                 'whole body on the modelled side of the plane, or sector = ''full'' for '// &
                 'every body (the whole structure)')
               exit
@@ -111,7 +111,7 @@ contains
       if (rd%occ(io)%ok) then
         do m = 1, nm
           if (normal_part(cfg%run%gravity, normals(:, m))) call err_var(rd, io, 'gravity', &
-            fmt_vec(cfg%run%gravity), 'pulls across the mirror plane '//trim(plane(m))// &
+            fmt_list(cfg%run%gravity), 'pulls across the mirror plane '//trim(plane(m))// &
             ' of '//model//': the mirror image would be pulled the other way', &
             'gravity('//itoa(m)//') = 0, or sector = ''full'' for the whole structure')
         end do
@@ -127,7 +127,7 @@ contains
         do m = 1, nm
           if (abs(dot_product(w%normal, normals(:, m))) > 1.0e-9_wp*norm2(w%normal)) cycle
           if (normal_part(w%velocity, normals(:, m))) call err_var(rd, io, 'velocity', &
-            fmt_vec(w%velocity), 'the wall crosses the mirror plane '//trim(plane(m))// &
+            fmt_list(w%velocity), 'the wall crosses the mirror plane '//trim(plane(m))// &
             ' of '//model//' and moves across it: its mirrored half would move the other '// &
             'way', 'velocity('//itoa(m)//') = 0 for a wall across the mirror plane, or '// &
             'sector = ''full'' for the whole structure')
