@@ -15,7 +15,7 @@ CASE ?= namelists/default.nml
 FFLAGS_common  := -std=f2008 -fimplicit-none -Wall -Wextra -Wimplicit-interface \
                   -Wno-compare-reals -fopenmp
 FFLAGS_release := -O2 -g
-# native: this machine's instruction set (AVX2, FMA); results differ at round-off (tests/test_native.py)
+# native: this machine's instruction set (AVX2, FMA); results differ at round-off (tests/check_native.py, run by make bench)
 FFLAGS_native  := -O2 -g -march=native
 # debug (make test): every run-time check and the floating-point traps, at -O2: the checks and
 # traps make it the debug build, and the suite runs 1.5 times faster than at -Og (the same
@@ -54,8 +54,10 @@ FC_ALL  := $(FC) $(FFLAGS_common) $(FFLAGS_$(BUILD))
 
 # HDF5 flags come from pkg-config when make reads this file, so everything that compiles runs
 # in a sub-make started after `deps` has installed what was missing (a fresh machine).
+# the builds use both cores of the machine (or fewer): -j$(JOBS)
+JOBS ?= $(shell n=$$(nproc 2>/dev/null || echo 1); [ $$n -gt 2 ] && n=2; echo $$n)
 all: deps
-	@$(MAKE) --no-print-directory $(if $(filter release,$(BUILD)),bin/tubempm,$(BLD)/tubempm)
+	@$(MAKE) --no-print-directory -j$(JOBS) $(if $(filter release,$(BUILD)),bin/tubempm,$(BLD)/tubempm)
 
 ## deps: install what is missing (Debian packages, Python packages); silent when all is there
 deps:
@@ -109,7 +111,8 @@ endif
 ##       BUILD=asan: the same with the sanitizer build (-fsanitize=address,undefined)
 TEST_BUILD := $(if $(filter asan,$(BUILD)),asan,debug)
 test: deps
-	@$(MAKE) --no-print-directory BUILD=$(TEST_BUILD) build/$(TEST_BUILD)/tubempm test-programs
+	@$(MAKE) --no-print-directory -j$(JOBS) BUILD=$(TEST_BUILD) build/$(TEST_BUILD)/tubempm \
+	  test-programs
 	@bash tools/run-tests.sh build/$(TEST_BUILD)
 
 test-programs: $(TESTS)
@@ -127,11 +130,13 @@ run: all
 	bin/tubempm $(CASE)
 	$(PYTHON) -m plots.plot_case --case $(CASE)
 
-## bench: release build, then the fixed benchmark scenes (4-6 min, run it on an idle machine);
+## bench: the native build's results against the release build's (tests/check_native.py), the
+##        release build, then the fixed benchmark scenes (4-6 min, run it on an idle machine);
 ##        table and plot in docs/bench/ (BENCH_FLAGS=--quick: up to 1e5 particles only), and
 ##        --check's throughput (tools/advice_tables.py writes src/advice/mpm_bench_table.inc)
 BENCH_BLD := $(if $(filter command line,$(origin BLD)),$(BLD),build/release)
 bench: deps
+	$(PYTHON) -m tests.check_native out/bench/check_native
 	@$(MAKE) --no-print-directory BUILD=release BLD=$(BENCH_BLD) $(BENCH_BLD)/bench
 	$(PYTHON) -m tools.bench --exe $(BENCH_BLD)/bench --out docs/bench $(BENCH_FLAGS)
 	$(PYTHON) -m tools.advice_tables --bench    # --check's wall-time estimate

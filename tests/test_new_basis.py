@@ -10,7 +10,7 @@ its table as committed; a small program then checks that
   (0.5 x 0.125 = 0.0625), and that cfl_study says the studies have not run it;
 - 'cpdi2' with 'musl' keeps its own value at its new code: 0.5 x 1.75 = 0.875 for a crush at
   2 particles per cell, the accurate 0.875 for another scene, 0.96875 at 1 particle per cell
-  (docs/stability.md, "The automatic cfl");
+  (docs/stability.md, "The automatic cfl"), and a quarter of 0.875 with a wall penalty of 4;
 - the time step is cfl h / (c_d + v_max).
 
 A table read by the basis's position would give the new basis 'linear''s value and 'cpdi2'
@@ -44,9 +44,12 @@ PROGRAM = """program new_basis
   cpdi2 = findloc(basis_names, 'cpdi2', 1)
   call cfl_study(1, SCHEME_MUSL, 2.0_wp, stable, accurate, known)
   write(*, '(a, l1, 2es25.17)') 'new known ', known, stable, accurate
-  write(*, '(a, es25.17)') 'new auto ', cfl_auto(1, SCHEME_MUSL, 2.0_wp, .true.)
-  write(*, '(a, i0, 3es25.17)') 'cpdi2 ', cpdi2, cfl_auto(cpdi2, SCHEME_MUSL, 2.0_wp, .true.), &
-    cfl_auto(cpdi2, SCHEME_MUSL, 2.0_wp, .false.), cfl_auto(cpdi2, SCHEME_MUSL, 1.0_wp, .false.)
+  write(*, '(a, es25.17)') 'new auto ', cfl_auto(1, SCHEME_MUSL, 2.0_wp, .true., 1.0_wp)
+  write(*, '(a, i0, 4es25.17)') 'cpdi2 ', cpdi2, &
+    cfl_auto(cpdi2, SCHEME_MUSL, 2.0_wp, .true., 1.0_wp), &
+    cfl_auto(cpdi2, SCHEME_MUSL, 2.0_wp, .false., 1.0_wp), &
+    cfl_auto(cpdi2, SCHEME_MUSL, 1.0_wp, .false., 1.0_wp), &
+    cfl_auto(cpdi2, SCHEME_MUSL, 2.0_wp, .true., 4.0_wp)
   write(*, '(a, es25.17)') 'dt ', time_step_dt(0.5_wp, 1.0e-3_wp, 5.0e3_wp, 0.0_wp)
 end program new_basis
 """
@@ -82,8 +85,9 @@ def main() -> int:
     check(auto == [0.0625], f"the new basis's automatic cfl: {auto}, expected [0.0625]")
     c = got.get("cpdi2", [])
     check(c[:1] == ["5"], f"cpdi2 moved to code 5: {c[:1]}")
-    check([float(x) for x in c[1:]] == [0.875, 0.875, 0.96875],
-          f"cpdi2 + musl keeps its values by name (crush, impact, 1 per cell): {c[1:]}")
+    check([float(x) for x in c[1:]] == [0.875, 0.875, 0.96875, 0.875 / 4],
+          f"cpdi2 + musl keeps its values by name (crush, impact, 1 per cell; crush with "
+          f"&wall penalty 4: divided by 4): {c[1:]}")
     dt = [float(x) for x in got.get("dt", [])]
     check(dt == [0.5 * 1.0e-3 / 5.0e3], f"dt = cfl h / (c_d + v_max): {dt}")
     return T.summary()

@@ -71,7 +71,7 @@ report() {  # print a finished test's result and add its counts
   set -- $(grep '^#counts ' "$r")
   total_pass=$((total_pass + $2)); total_fail=$((total_fail + $3))
 }
-first=" test_native test_scene_matrix test_body_contact test_sections_crush test_filled_square test_honeycomb "
+first=" test_scene_matrix test_body_contact test_sections_crush test_filled_square test_honeycomb "
 order=()
 for i in "${!names[@]}"; do case "$first" in *" ${names[$i]} "*) order+=("$i") ;; esac; done
 for i in "${!names[@]}"; do case "$first" in *" ${names[$i]} "*) ;; *) order+=("$i") ;; esac; done

@@ -3,8 +3,7 @@
 """How much the `make BUILD=native` profile (-march=native: AVX2, FMA contraction) changes
 results against the portable release build (docs/performance.md, "Build profiles").
 
-Builds both binaries (make BUILD=release and BUILD=native; incremental; -j1, as it runs beside
-another test in make test), runs three scenes that
+Builds both binaries (make BUILD=release and BUILD=native; incremental), runs three scenes that
 are not chaotic over the time run (tests/scenes/elastic_quarter.nml and impact_half.nml,
 namelists/wave.nml, each to a quarter of its t_end, one thread) with both, and compares
 history.csv: the energies (kinetic, strain, plastic, external) relative to the largest energy of
@@ -14,7 +13,7 @@ difference is printed. The chaotic scenes (namelists/impact.nml and crush.nml: c
 amplifies any round-off change) differ by more, as they do for any change of the rounding
 (docs/performance.md).
 
-    usage: python3 -m tests.test_native SCRATCH
+    usage: python3 -m tests.check_native SCRATCH   (make bench runs it first; not in make test)
 """
 from __future__ import annotations
 
@@ -29,7 +28,7 @@ from tests.pycheck import Checks
 
 ROOT = Path(__file__).resolve().parent.parent
 
-T = Checks("test_native")
+T = Checks("check_native")
 check = T.check
 TOL = 1.0e-8
 CASES = ["tests/scenes/elastic_quarter.nml", "tests/scenes/impact_half.nml",
@@ -66,11 +65,11 @@ def largest_difference(a: Path, b: Path) -> tuple[float, str]:
 
 
 def main() -> int:
-    scratch = Path(sys.argv[1] if len(sys.argv) > 1 else "/tmp/test_native").resolve()
+    scratch = Path(sys.argv[1] if len(sys.argv) > 1 else "/tmp/check_native").resolve()
     scratch.mkdir(parents=True, exist_ok=True)
     bins = {}
     for profile in ("release", "native"):
-        rc = subprocess.call(["make", "--no-print-directory", "-C", str(ROOT), "-j1",
+        rc = subprocess.call(["make", "--no-print-directory", "-C", str(ROOT), "-j2",
                               f"BUILD={profile}", f"build/{profile}/tubempm"],
                              stdout=subprocess.DEVNULL, stderr=subprocess.STDOUT)
         if not check(rc == 0, f"make BUILD={profile} failed"):
