@@ -32,7 +32,7 @@ T = Checks("test_advice")
 check = T.check
 
 ADVICE = re.compile(r"error <=\s*([\d.]+) %: h/t ([\d.eE+-]+), n_thick (\d+), aspect ([\d.]+), "
-                    r"(\w+), cfl ([\d.]+)(?:, (fbar|fbarwall))?:")
+                    r"(\w+), cfl ([\d.]+)(?:, (fbar|fbarwall))?(?:, penalty ([\d.]+))?:")
 
 
 def check_case(path: Path) -> tuple[int, str, str]:
@@ -57,10 +57,12 @@ def advised(text: str, line: re.Match) -> str:
     # particles round the whole ring so that the arc per particle / (t / n_t) is the aspect,
     # a multiple of 4 (as tools/study.py makes them)
     n_circ = max(4, 4 * round(2.0 * math.pi * 0.5 * (r_in + r_out) * nt / (aspect * t) / 4.0))
-    return apply(text, {"grid.h": hot * t, "body.n_thick": nt, "body.n_circ": n_circ,
-                        "solver.basis": line.group(5), "solver.scheme": "musl",
-                        "solver.flip": 1.0, "run.cfl": float(line.group(6)),
-                        "solver.volumetric": line.group(7) or "standard"})
+    values = {"grid.h": hot * t, "body.n_thick": nt, "body.n_circ": n_circ,
+              "solver.basis": line.group(5), "solver.scheme": "musl", "solver.flip": 1.0,
+              "run.cfl": float(line.group(6)), "solver.volumetric": line.group(7) or "standard"}
+    if line.group(8):                          # the wall penalty (the scene's first wall)
+        values["wall.penalty"] = float(line.group(8))
+    return apply(text, values)
 
 
 @functools.lru_cache(maxsize=1)
