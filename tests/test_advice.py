@@ -32,7 +32,7 @@ T = Checks("test_advice")
 check = T.check
 
 ADVICE = re.compile(r"error <=\s*([\d.]+) %: h/t ([\d.eE+-]+), n_thick (\d+), aspect ([\d.]+), "
-                    r"(\w+), cfl ([\d.]+)(?:, (fbar|fbarwall))?(?:, penalty ([\d.]+))?:")
+                    r"(\w+), cfl ([\d.]+)(?:, (fbar|fbarwall))?(?:, &wall penalty ([\d.]+))?:")
 
 
 def check_case(path: Path) -> tuple[int, str, str]:

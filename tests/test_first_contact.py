@@ -100,7 +100,7 @@ def ring(scratch: Path) -> None:
     ts = np.linspace(0.0, 5.0e-6, 26)
     values = {"run.title": "ring", "run.output_dir": "OUT", "run.t_end": 5.0e-7, "run.cfl": 0.0,
               "run.history_every": 1.0e-10, "run.snapshot_every": 1.0, "grid.h": 0.25e-3,
-              "wall.velocity": [0.0, 1.0],
+              "wall.velocity": [0.0, 1.0], "wall.penalty": 1.0,
               "wall.motion_t": [float(f"{x:.6g}") for x in ts],
               "wall.motion_f": [float(f"{x:.6g}") for x in np.abs(np.sin(np.pi * ts / 5.0e-6))]}
     text = namelist.set_values((ROOT / "namelists" / "wave.nml").read_text(), values)

@@ -33,10 +33,11 @@ LAYERS = [
     ("io", ["io"]),
     ("driver", ["driver"]),
 ]
-#: The only units that use mpm_advice: the report of the set-up (--check, a run's banner) and
-#: the driver (the end-of-run warning, --check's study advice). Nothing on the way from the
-#: input to the results does (issue 32: a basis that no study has run compiles and runs).
-ADVICE_USERS = {"mpm_report", "tubempm"}
+#: The only units that use mpm_advice: the report of the set-up (--check, a run's banner),
+#: the driver (the end-of-run warning) and the study's advice (mpm_study_advice, --check's, in
+#: the advice layer). Nothing on the way from the input to the results does (issue 32: a basis
+#: that no study has run compiles and runs).
+ADVICE_USERS = {"mpm_report", "tubempm", "mpm_study_advice"}
 
 UNIT = re.compile(r"^\s*(module|program)\s+(\w+)\s*(!.*)?$", re.IGNORECASE)
 USE = re.compile(r"^\s*use\s*(?:,\s*\w+\s*::)?\s*(\w+)", re.IGNORECASE)

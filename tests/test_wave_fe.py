@@ -41,8 +41,7 @@ def case(scale: float, penalty: float) -> str:
     values = dict(study.SCENES["wave"]["set"])
     values.update({"grid.h": 0.25 * WALL_T * scale, "body.n_thick": 8, "run.cfl": 0.2,
                    "run.output_dir": "OUT", "run.snapshot_every": 1.0})
-    if penalty != 1.0:
-        values["wall.penalty"] = penalty
+    values["wall.penalty"] = penalty
     return namelist.set_values(study.SCENES["wave"]["base"].read_text(), values)
 
 

@@ -238,7 +238,7 @@ class Point:
             o["body.velocity"] = (0.0, -float(self.speed))
         if self.volumetric != "standard":       # (standard runs keep their inputs and names)
             o["solver.volumetric"] = self.volumetric
-        if self.penalty != 1.0:
+        if self.penalty != 1.0 or self.scene == "wave":   # (the wave's base has penalty 4)
             o["wall.penalty"] = self.penalty
         return batch.Case(self.name, sc["base"], o, labels=self.labels())
 

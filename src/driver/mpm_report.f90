@@ -218,7 +218,7 @@ contains
     if (sector_factor(cfg) > 1.0_wp) then
       call append_msg(report, 'outputs: energies and masses x '// &
         itoa(nint(sector_factor(cfg)))//' and wall forces summed over mirror images (the '// &
-        'full ring; docs/output.md)')
+        'whole structure; docs/output.md)')
     end if
 
     call advice_check(cfg, s%g%h, s%prm%c_max, s%vmax, dt, s%walls(1:s%nwall), warnings)

@@ -15,7 +15,8 @@ program tubempm
                         scene_of
   use mpm_setup, only: setup_sim, sector_factor
   use mpm_report, only: setup_report
-  use mpm_advice, only: study_advice, advice_end_of_run
+  use mpm_advice, only: advice_end_of_run
+  use mpm_study_advice, only: study_advice
   use mpm_solver, only: sim_t, solver_step
   use mpm_particles, only: particles_t, particles_copy
   use mpm_basis, only: cpdi2_first_folded

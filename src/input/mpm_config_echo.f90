@@ -219,8 +219,10 @@ contains
       why = 'no motion table'
     end select
     do j = 1, size(idx)          ! quiet rows: left out while at their default
-      if (specs(idx(j))%quiet .and. f(field_index(f, trim(name(j))))%raw == &
-          d(field_index(d, trim(name(j))))%raw) hide(j) = .true.
+      if (.not. (specs(idx(j))%quiet .and. f(field_index(f, trim(name(j))))%raw == &
+          d(field_index(d, trim(name(j))))%raw)) cycle
+      hide(j) = .true.
+      why(j) = '-'                         ! (not named in the comment of those left out)
     end do
   end subroutine hidden
 

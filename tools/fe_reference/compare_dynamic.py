@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
-"""tubempm's impact and wave against the dynamic finite element references (issue 31).
+"""tubempm's impact and wave against the dynamic finite element references.
 
 Runs tubempm (bin/tubempm, one thread, one run at a time; finished runs in
 out/fe_dynamic/mpm/ are reused while their input is unchanged) at:
@@ -20,6 +20,7 @@ arrival curves docs/study/curves/wave_*.csv) against the FE reference:
 docs/fe_reference/dynamic_errors_study.csv.
 
     python3 -m tools.fe_reference.compare_dynamic [--study] [--only default wave]
+    python3 -m tools.fe_reference.compare_dynamic --wave out/wave   # your own wave run
 """
 from __future__ import annotations
 
@@ -157,10 +158,21 @@ def study_rows(fe: dict) -> list[dict]:
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--only", nargs="+", default=list(cases()))
-    ap.add_argument("--study", action="store_true")
+    ap.add_argument("--only", nargs="+", default=list(cases()),
+                    help=f"the settings to run and compare (default all: {', '.join(cases())})")
+    ap.add_argument("--study", action="store_true",
+                    help="also every impact and wave run of the committed refinement study")
+    ap.add_argument("--wave", metavar="OUTDIR",
+                    help="time a wave run of your own (OUTDIR with its history.csv and "
+                         "input.nml; the probes of namelists/wave.nml) at the FE reference's "
+                         "levels, print its arrival errors and stop (runs nothing)")
     args = ap.parse_args(argv)
     fe = fe_reference()
+    if args.wave:
+        out = Path(args.wave)
+        rows = wave_rows(out.name, wave_of(out, out / "input.nml"), fe)
+        print_rows(rows)
+        return 0
     cs = cases()
     todo = [cs[k] for k in args.only]
     batch.run_batch(todo, WORK, jobs=1, threads=1)
