@@ -191,7 +191,8 @@ validate-honeycomb: all
 ##               then the comparison with the study's crush curves (docs/fe_reference/crush_fe.png);
 ##               then the square tube crushed laterally (about 15 CPU min more: decks, curves,
 ##               convergence, tubempm's namelists/sections/square_tube.nml against them,
-##               docs/fe_reference/square_*; runs in out/fe_reference/square/);
+##               docs/fe_reference/square_*; runs in out/fe_reference/square/; and at four
+##               platen speeds, square_speed.csv, about 5 CPU min);
 ##               then the sheared ring, bonded and loose (about 6 CPU min more: decks, curves and
 ##               tubempm's runs against them, docs/fe_reference/shear_*; runs in out/fe_reference/shear/);
 ##               then fe-dynamic
@@ -205,6 +206,7 @@ fe-reference: deps
 	OMP_NUM_THREADS=1 bin/tubempm --quiet namelists/sections/square_tube.nml
 	$(PYTHON) -m tools.fe_reference.square_reference --compare out/square_tube/history.csv --write
 	$(PYTHON) -m plots.plot_fe_square
+	$(PYTHON) -m tools.fe_reference.square_speed
 	$(PYTHON) -m tools.fe_reference.shear_reference
 	$(PYTHON) -m plots.plot_fe_shear
 	@$(MAKE) --no-print-directory fe-dynamic

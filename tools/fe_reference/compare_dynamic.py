@@ -184,7 +184,15 @@ def main(argv: list[str] | None = None) -> int:
         else:
             rows += impact_rows(c.name, impact_of(folder, c.base), fe)
     print_rows(rows)
-    write_rows(DOCS / "dynamic_errors.csv", rows)
+    path = DOCS / "dynamic_errors.csv"
+    if path.is_file():          # the settings not run this time keep their committed rows
+        with open(path, newline="") as fh:
+            kept = [r for r in csv.DictReader(fh) if r["setting"] not in args.only]
+        rows = kept + [{k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items()}
+                       for r in rows]
+        order = list(cases())
+        rows.sort(key=lambda r: order.index(r["setting"]) if r["setting"] in order else 99)
+    write_rows(path, rows)
     print(f"wrote {DOCS / 'dynamic_errors.csv'}")
     if args.study:
         srows = study_rows(fe)
