@@ -17,7 +17,8 @@ deterministically here; `--list` prints it):
   'bonded' as a fourth value the greedy array re-forms, and its row of 'stick' + drop weight +
   half + linear + usf + fbarwall + mass_scale 4 ends at 2.65 % energy error, bit for bit as
   before 'bonded' existed: a limit of that combination the array of three laws never ran);
-* penalty: the first row of each scene, and the first with a 'bonded' wall, again with every
+* penalty: the first row of each scene, the first with a drop weight and the first with a
+  'bonded' wall, again with every
   wall's `penalty = 4` (outside the pairwise array, as 'bonded'; so too the first section row,
   and a filler row with 'bonded' walls and a 'bonded' filler);
 * law between the bodies (two rings only): 'frictionless', 'coulomb' (0.3), 'stick'; and
@@ -184,9 +185,10 @@ def bonded_rows(rows: list[dict]) -> list[dict]:
 def penalty_rows(rows: list[dict]) -> list[dict]:
     """The first row of each scene with every wall's penalty 4 times the default (&wall
     penalty; at the automatic cfl, which it divides by 4), outside the pairwise array as
-    'bonded'; a fourth: the first row of a 'bonded' wall with it."""
+    'bonded'; and so the first row with a drop weight and the first with a 'bonded' wall."""
     out = [dict(r, penalty=4.0) for s in FACTORS["scene"]
            for r in [r for r in rows if r["scene"] == s][:1]]
+    out += [dict(r, penalty=4.0) for r in [r for r in rows if r["loading"] == "mass"][:1]]
     return out + [dict(r, penalty=4.0) for r in bonded_rows(rows)[:1]]
 
 
