@@ -18,9 +18,8 @@ FFLAGS_release := -O2 -g
 # native: this machine's instruction set (AVX2, FMA); results differ at round-off (tests/check_native.py, run by make bench)
 FFLAGS_native  := -O2 -g -march=native
 # debug (make test): every run-time check and the floating-point traps, at -O2: the checks and
-# traps make it the debug build, and the suite runs 1.5 times faster than at -Og (the same
-# arithmetic as release: no -ffast-math, no FMA contraction); for a debugger, FFLAGS_debug with
-# -Og. -Wno-maybe-uninitialized because gfortran flags every deferred-length string built by
+# traps make it the debug build, and the suite runs faster than at -Og (the same arithmetic as
+# release: no -ffast-math, no FMA contraction); for a debugger, FFLAGS_debug with -Og. -Wno-maybe-uninitialized because gfortran flags every deferred-length string built by
 # concatenation as "may be used uninitialized" (about 40 false positives); a real uninitialised
 # real is caught at run time instead (-finit-real=snan with the invalid trap)
 FFLAGS_debug   := -O2 -g -fcheck=all -fbacktrace -ffpe-trap=invalid,zero,overflow \
@@ -54,10 +53,11 @@ FC_ALL  := $(FC) $(FFLAGS_common) $(FFLAGS_$(BUILD))
 
 # HDF5 flags come from pkg-config when make reads this file, so everything that compiles runs
 # in a sub-make started after `deps` has installed what was missing (a fresh machine).
-# the builds use both cores of the machine (or fewer): -j$(JOBS)
+# the builds use both cores of the machine (or fewer): -j$(JOBS), unless make is given its own -j
 JOBS ?= $(shell n=$$(nproc 2>/dev/null || echo 1); [ $$n -gt 2 ] && n=2; echo $$n)
+JFLAG = $(if $(filter -j%,$(MAKEFLAGS)),,-j$(JOBS))
 all: deps
-	@$(MAKE) --no-print-directory -j$(JOBS) $(if $(filter release,$(BUILD)),bin/tubempm,$(BLD)/tubempm)
+	@$(MAKE) --no-print-directory $(JFLAG) $(if $(filter release,$(BUILD)),bin/tubempm,$(BLD)/tubempm)
 
 ## deps: install what is missing (Debian packages, Python packages); silent when all is there
 deps:
@@ -111,7 +111,7 @@ endif
 ##       BUILD=asan: the same with the sanitizer build (-fsanitize=address,undefined)
 TEST_BUILD := $(if $(filter asan,$(BUILD)),asan,debug)
 test: deps
-	@$(MAKE) --no-print-directory -j$(JOBS) BUILD=$(TEST_BUILD) build/$(TEST_BUILD)/tubempm \
+	@$(MAKE) --no-print-directory $(JFLAG) BUILD=$(TEST_BUILD) build/$(TEST_BUILD)/tubempm \
 	  test-programs
 	@bash tools/run-tests.sh build/$(TEST_BUILD)
 
@@ -271,5 +271,5 @@ clean:
 help:
 	@echo "tubempm make targets:"
 	@grep -E '^## ' Makefile | sed 's/^## /  /'
-	@echo "variables: BUILD=release|debug|asan|native  CASE=file.nml  FC=compiler  PYTHON=python3"
+	@echo "variables: BUILD=release|debug|asan|native  CASE=file.nml  FC=compiler  PYTHON=python3  JOBS=n (builds; default: up to 2 cores)"
 	@echo "           LEVEL=quick|full|all  BACKEND=local|slurm  BATCH_FLAGS=... (study, stability)"

@@ -60,8 +60,7 @@ def advised(text: str, line: re.Match) -> str:
     values = {"grid.h": hot * t, "body.n_thick": nt, "body.n_circ": n_circ,
               "solver.basis": line.group(5), "solver.scheme": "musl", "solver.flip": 1.0,
               "run.cfl": float(line.group(6)), "solver.volumetric": line.group(7) or "standard"}
-    if line.group(8):                          # the wall penalty (the scene's first wall)
-        values["wall.penalty"] = float(line.group(8))
+    values["wall.penalty"] = float(line.group(8) or 1.0)   # the scene's first wall's
     return apply(text, values)
 
 

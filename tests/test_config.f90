@@ -942,6 +942,9 @@ contains
         call cmp(d, all(x%motion_t == y%motion_t), 'walls%motion_t')
         call cmp(d, all(x%motion_f == y%motion_f), 'walls%motion_f')
         call cmp(d, x%mirror .eqv. y%mirror, 'walls%mirror')
+        call cmp(d, x%mass == y%mass, 'walls%mass')
+        call cmp(d, x%stroke == y%stroke, 'walls%stroke')
+        call cmp(d, x%penalty == y%penalty, 'walls%penalty')
       end associate
     end do
     do k = 1, size(a%probes)

@@ -76,6 +76,8 @@ CASES = [
     ("units", dict(run=", check_units = .false.", mat=", rho = 7.8", h="0.5e-3", nt=4),
      ["rho = 7.8"]),
     ("long", dict(run=", t_end = 10.0", h="0.5e-3", nt=8), ["will take about"]),
+    ("penalty", dict(run=", cfl = 0.5", h="0.5e-3", nt=8, wall=", penalty = 4.0"),
+     ["over &wall penalty"]),
     ("filler", dict(text=FILLER), ["filler touching its tube with 'ugimp'",
                                    "sector is ignored for shape = 'filler'"]),
 ]

@@ -180,8 +180,8 @@ class Point:
     @property
     def cfl_used(self) -> float:
         """The cfl the run uses: its input's, or the automatic value for cfl = 0."""
-        return self.cfl if self.cfl > 0.0 else automatic_cfl(self.basis, self.scheme,
-                                                             self.n_t * self.h_over_t)
+        return self.cfl if self.cfl > 0.0 else automatic_cfl(
+            self.basis, self.scheme, self.n_t * self.h_over_t) / max(1.0, self.penalty)
 
     @property
     def name(self) -> str:

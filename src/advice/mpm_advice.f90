@@ -14,8 +14,9 @@
 !! particle aspect ratio), not a guarantee.
 module mpm_advice
   use mpm_kinds, only: wp
-  use mpm_constants, only: SHAPE_RING, SHAPE_TUBE, SECTOR_FULL, SECTOR_QUARTER, basis_names, scheme_names, &
-                           PLANE_STRESS, SCHEME_USL, SCHEME_MUSL, BASIS_LINEAR, BASIS_UGIMP, &
+  use mpm_constants, only: SHAPE_RING, SHAPE_TUBE, SECTOR_FULL, SECTOR_QUARTER, basis_names, &
+                           scheme_names, PLANE_STRESS, SCHEME_USL, SCHEME_MUSL, BASIS_LINEAR, &
+                           BASIS_UGIMP, &
                            BASIS_CPDI2, MODEL_NEOHOOKEAN, &
                            VOLUMETRIC_FBAR, VOLUMETRIC_STANDARD, VOLUMETRIC_FBARWALL, &
                            volumetric_names, pi, CONTACT_STICK, CONTACT_BONDED, SHAPE_FILLER
@@ -151,7 +152,7 @@ contains
     character(len=:), allocatable :: why
     real(wp) :: ppc, limit, accurate, base
     character(len=160) :: density
-    character(len=16) :: c_margin, c_ppc
+    character(len=16) :: c_margin, c_ppc, c_pen
     character(len=:), allocatable :: method
     logical :: known
     ppc = bodies_wall_ppc(cfg%bodies, cfg%grid%h)
@@ -188,9 +189,9 @@ contains
         cfl_text(cfl_tried_min)//', the smallest cfl the stability study tried; it found '// &
         method//' stable at no cfl '//trim(density)//' (docs/stability.md)'
     end if
-    write(c_ppc, '(f5.2)') maxval([1.0_wp, cfg%walls%penalty])
+    write(c_pen, '(f5.2)') maxval([1.0_wp, cfg%walls%penalty])
     if (maxval([1.0_wp, cfg%walls%penalty]) > 1.0_wp) why = why//', divided by the largest '// &
-      '&wall penalty, '//trim(adjustl(c_ppc))
+      '&wall penalty, '//trim(adjustl(c_pen))
   end function cfl_why
 
   !> Append a warning line; 'body 1: ' is left out when the case has a single body.
@@ -435,7 +436,7 @@ contains
     type(config_t), intent(in) :: cfg
     real(wp), intent(in) :: cfl              !! the cfl in use [-]
     character(len=:), allocatable, intent(inout) :: warnings
-    real(wp) :: completes, ppc, flip
+    real(wp) :: completes, ppc, flip, pen
     integer :: scheme, basis, k
     character(len=512) :: line
     character(len=32) :: flip_text
@@ -444,6 +445,7 @@ contains
     basis = cfg%solver%basis_id
     flip = cfg%solver%flip
     ppc = bodies_wall_ppc(cfg%bodies, cfg%grid%h)   ! fewest particles per cell through a wall
+    pen = maxval([1.0_wp, cfg%walls%penalty])   ! a stiffer wall divides the limit (cfl_auto)
     completes = -1.0_wp                     ! the study's limit (-1: no study ran the method)
     do k = 1, size(limit_rows)
       if (basis < 1 .or. basis > size(basis_names) .or. scheme < 1 .or. &
@@ -500,10 +502,16 @@ contains
       call add_line(cfg, warnings, ''''//trim(basis_names(basis))//''' + '''// &
         trim(scheme_names(scheme))//''' failed at every cfl. Set scheme = ''musl'', n_thick = '// &
         itoa(n_thick_for(cfg%grid%h, ring_t(cfg)))//' ('//doc_schemes//')')
-    else if (completes > 0.0_wp .and. cfl > completes*(1.0_wp + 1.0e-9_wp)) then
-      call add_line(cfg, warnings, 'cfl '//cfl_short(cfl)//' > '//cfl_short(completes)// &
-        ', the limit of '''//trim(basis_names(basis))//''' + '''//trim(scheme_names(scheme))// &
-        '''. Set cfl = 0 ('//doc_cfl//')')
+    else if (completes > 0.0_wp .and. cfl > completes/pen*(1.0_wp + 1.0e-9_wp)) then
+      if (pen > 1.0_wp) then                 ! a stiffer wall: the limit over its penalty
+        call add_line(cfg, warnings, 'cfl '//cfl_short(cfl)//' > '// &
+          cfl_short(completes/pen)//', the limit over &wall penalty. Set cfl = 0 ('// &
+          doc_cfl//')')
+      else
+        call add_line(cfg, warnings, 'cfl '//cfl_short(cfl)//' > '//cfl_short(completes)// &
+          ', the limit of '''//trim(basis_names(basis))//''' + '''// &
+          trim(scheme_names(scheme))//'''. Set cfl = 0 ('//doc_cfl//')')
+      end if
     end if
     if (scheme == SCHEME_USL) call add_line(cfg, warnings, 'scheme ''usl'' loses 5-8 % of '// &
       'an impact''s energy. Set scheme = ''musl'' ('//doc_schemes//')')

@@ -8,7 +8,8 @@
 ! SPDX-License-Identifier: MIT
 module mpm_study_advice
   use mpm_kinds, only: wp
-  use mpm_constants, only: SHAPE_RING, SCHEME_MUSL, VOLUMETRIC_STANDARD, basis_names, &
+  use mpm_constants, only: SHAPE_RING, SCHEME_MUSL, CONTACT_SLIP, VOLUMETRIC_STANDARD, &
+                           basis_names, &
                            volumetric_names, pi
   use mpm_config_types, only: config_t, scene_of
   use mpm_walls, only: wall_t
@@ -51,6 +52,7 @@ contains
     c%solver%flip = 1.0_wp
     c%solver%volumetric_id = findloc(volumetric_names, study_volumetric(i), dim=1)
     c%run%cfl = study_cfl(i)
+    where (c%walls%contact_id /= CONTACT_SLIP) c%walls%penalty = study_penalty(i)
     w = ''
     call ring_resolution(c, 1, w)
     call advice_stability(c, study_cfl(i), w)
@@ -124,7 +126,8 @@ contains
         write(line, '(a,f4.1,a,g0.3,a,i0,a,f4.2,a,a,a,f4.2,a,i0,a)') &
           '  error <= ', 100*advice_target(k), ' %: h/t ', study_h_over_t(i), ', n_thick ', &
           study_n_t(i), ', aspect ', study_aspect(i), ', ', trim(study_basis(i)), ', cfl ', &
-          study_cfl(i), vol_text(study_volumetric(i))//pen_text(study_penalty(i))//': ', &
+          study_cfl(i), vol_text(study_volumetric(i))// &
+          pen_text(study_penalty(i), pin /= 1.0_wp)//': ', &
           study_particles(i), &
           ' particles, '//cpu_text(study_cpu_s(i))//' CPU s ('//error_text(i)//')'
       end if
@@ -150,13 +153,14 @@ contains
       ', its coarsest ring)'
     write(line, '(a,a,g0.3,a,i0,a,f4.2,a,a,a,f4.2,a)') trim(line), ': h/t ', hot, ', n_thick ', &
       nt, ', aspect ', aspect, ', ', trim(basis), ', cfl ', cfl, vol_text(volumetric)// &
-      pen_text(pin)
+      pen_text(pin, .false.)
     call append_msg(text, trim(line))
     if (best > 0) then
       write(line, '(a,g0.3,a,i0,a,f4.2,a,a,a,f4.2,a)') '  nearest study run: h/t ', &
         study_h_over_t(best), ', n_thick ', study_n_t(best), ', aspect ', study_aspect(best), &
         ', ', trim(study_basis(best)), ', cfl ', study_cfl(best), &
-        vol_text(study_volumetric(best))//pen_text(study_penalty(best))//': '// &
+        vol_text(study_volumetric(best))//pen_text(study_penalty(best), pin /= 1.0_wp)// &
+        ': '// &
         error_text(best)
       if (dbest > 0.2_wp) line = trim(line)//' (not a close match: treat as a rough guide)'
       call append_msg(text, trim(line))
@@ -200,14 +204,16 @@ contains
     if (trim(volumetric) /= 'standard') s = ', '//trim(volumetric)
   end function vol_text
 
-  !> ', &wall penalty 4' for a wall penalty other than 1, else ''.
-  pure function pen_text(penalty) result(s)
+  !> ', &wall penalty 4.0' for a wall penalty other than 1, or for any where the input's is not
+  !! 1 (`named`), else ''.
+  pure function pen_text(penalty, named) result(s)
     real(wp), intent(in) :: penalty        !! &wall penalty [-]
+    logical, intent(in) :: named           !! name it even at 1
     character(len=:), allocatable :: s
     character(len=8) :: buf
     s = ''
-    if (penalty == 1.0_wp) return
-    write(buf, '(f0.1)') penalty
+    if (penalty == 1.0_wp .and. .not. named) return
+    write(buf, '(f0.2)') penalty
     s = ', &wall penalty '//trim(buf)
   end function pen_text
 end module mpm_study_advice

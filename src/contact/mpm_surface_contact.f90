@@ -25,26 +25,26 @@
 !
 !     f_c = k_c (-g_c) n,        k_c = alpha m_c c^2 / h^2,
 !
-! spread to the active nodes as above, in the same grid update as the internal forces. On a
-! face of particles of size l (m_c = rho l^2 / 2 per length l) the penalty is as stiff as a
-! layer 2 h^2 / (alpha l) of the material, 2 h at one particle per cell and 4 h at two: the
-! penetration under a pressure p is p 2 h^2 / (alpha l rho c^2), and a wall that speeds up
-! loads the material about 2 h^2 / (alpha l c) late (a wave struck into a ring's wall at
-! h = t/4, n_t = 8: 0.3 us; docs/fe_reference/README.md). A stiffer penalty rings on a flat
-! face (docs/fe_reference/README.md). Where the face's corners lie on a row of nodes, sum_c k_c
-! N_i is 0.5 to 0.56 alpha c^2 / h^2 times the node's mass at two particles per cell (the node
-! also carries the next row of corners): a penalty frequency of about 0.7 sqrt(alpha) c / h
-! against the 2 c / h of a row of cells, so at the automatic cfl the stable time step is not
-! lowered (at the stability study's limit, 1.75, a platen striking a flat face on grid lines
-! stops the run, for a solid block whatever alpha: docs/method.md). The force is the gradient
-! of the energy 1/2 k_c g_c^2: what the material puts into the contact it gets back at
-! separation. The energy the balance counts after a step is, for a CPDI2 point,
-! 1/2 k_c g_c g_c', the gap at the start of the step times that at its end
-! (surface_step_energy), the explicit update's own invariant: 1/2 k_c g_c^2 alone lags it by
-! dt/2 f_c gdot_c (the corners of the other bases keep it). A kinematic constraint (the
-! velocity of the point cut to what closes its gap) loses the kinetic energy of the nodes it
-! stops at every impact, which costs an elastic bar a per cent of its rebound; that is why this
-! code uses a penalty (docs/method.md).
+! spread to the active nodes as above, in the same grid update as the internal forces. On a face
+! of particles of size l (m_c = rho l^2 / 2 per length l) the penalty is as stiff as a layer 2 h^2
+! / (alpha l) of the material, 2 h at one particle per cell and 4 h at two: the penetration under
+! a pressure p is p 2 h^2 / (alpha l rho c^2), and a wall that speeds up loads the material about
+! 2 h^2 / (alpha l c) late (a wave struck into a ring's wall at h = t/4, n_t = 8: up to 0.5 us;
+! docs/fe_reference/README.md). &wall penalty p multiplies alpha for one wall (mpm_contact),
+! shortening the layer and the lag by p and lowering the stable time step (cfl_auto divides by p).
+! Where the face's corners lie on a row of nodes, sum_c k_c N_i is 0.5 to 0.56 alpha c^2 / h^2
+! times the node's mass at two particles per cell (the node also carries the next row of corners):
+! a penalty frequency of about 0.7 sqrt(alpha) c / h against the 2 c / h of a row of cells, so at
+! the automatic cfl the stable time step is not lowered (at the stability study's limit, 1.75, a
+! platen striking a flat face on grid lines stops the run, for a solid block whatever alpha:
+! docs/method.md). The force is the gradient of the energy 1/2 k_c g_c^2: what the material puts
+! into the contact it gets back at separation. The energy the balance counts after a step is, for
+! a CPDI2 point, 1/2 k_c g_c g_c', the gap at the start of the step times that at its end
+! (surface_step_energy), the explicit update's own invariant: 1/2 k_c g_c^2 alone lags it by dt/2
+! f_c gdot_c (the corners of the other bases keep it). A kinematic constraint (the velocity of the
+! point cut to what closes its gap) loses the kinetic energy of the nodes it stops at every
+! impact, which costs an elastic bar a per cent of its rebound; that is why this code uses a
+! penalty (docs/method.md).
 !
 ! Friction acts on the points that carry a normal force, after the velocity update: the
 ! tangential impulse that stops the point's slip relative to the wall ('stick'), bounded by mu

@@ -77,7 +77,7 @@ contains
   !! instead where it is lower (a crush keeps the stability-based value: the refinement study
   !! measured its force against the finite element curve up to cfl 1.6). A wall penalty p
   !! times the default (&wall penalty > 1) divides it by p: a thin plate thrown off a flat
-  !! platen (tests/test_flat_face.py) stopped at cfl 0.877 with p = 2 and from 0.45 with p = 4.
+  !! platen (tests/test_flat_face.py) stops from cfl 0.84 with p = 2 and from 0.40 with p = 4.
   pure real(wp) function cfl_auto(basis, scheme, ppc, crush, penalty) result(cfl)
     integer, intent(in) :: basis           !! BASIS_* code
     integer, intent(in) :: scheme          !! SCHEME_* code

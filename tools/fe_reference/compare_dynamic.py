@@ -11,6 +11,8 @@ out/fe_dynamic/mpm/ are reused while their input is unchanged) at:
 - ``impact``: namelists/impact.nml with tools/study.py's overrides (t_end 0.9 ms);
 - ``wave``: namelists/wave.nml with the study's overrides (t_end 30 us, history every 0.1 us);
 - ``wave_default``: the same with default.nml's solver settings (F-bar, cfl 0.8);
+- ``impact_p4``, ``wave_p1``: default.nml with `&wall penalty = 4`, wave.nml with the default
+  penalty (1);
 
 measures them with tools/study.py's impact_metrics and wave_metrics, exactly as the FE runs
 are measured (tools/fe_reference/fe_dynamic.py), prints the errors against the finest FE mesh
@@ -57,6 +59,13 @@ def cases() -> dict[str, batch.Case]:
         "wave": batch.Case("wave", study.SCENES["wave"]["base"], wav),
         "wave_default": batch.Case("wave_default", study.SCENES["wave"]["base"],
                                    dict(wav, **{"solver.volumetric": "fbar", "run.cfl": 0.8})),
+        # the shipped settings with the other wall penalty: the impact with penalty 4, the wave
+        # with the default (1)
+        "impact_p4": batch.Case("impact_p4", ROOT / "namelists" / "default.nml",
+                                {"run.history_every": 1.0e-6, "run.threads": 1,
+                                 "wall.penalty": 4.0}),
+        "wave_p1": batch.Case("wave_p1", study.SCENES["wave"]["base"],
+                              dict(wav, **{"wall.penalty": 1.0})),
     }
 
 
