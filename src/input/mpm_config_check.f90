@@ -343,6 +343,14 @@ contains
       'penalty', fmt_real(w%penalty), 'has no effect with contact = ''slip'' (a mirror plane '// &
       'has no penalty)', '1 with contact = ''slip''')
     call read_pair(rd, io, 'motion_t', 'motion_f', .false., w%motion_t, w%motion_f, nt, ok)
+    if (ok .and. nt > 0) then                  ! (a factor times velocity is a speed)
+      if (maxval(abs(w%motion_f(1:nt))) > 1.0e5_wp) then
+        call err_var(rd, io, 'motion_f', fmt_list(w%motion_f(1:nt)), 'a factor beyond 1e5 '// &
+          'in size', 'up to 64 factors from -1e5 to 1e5, as many as motion_t')
+        ok = .false.
+        w%motion_f = 0.0_wp
+      end if
+    end if
     if (ok) w%n_motion = nt
     if (ok .and. nt > 0 .and. w%ramp > 0.0_wp) call warn_var(rd, io, 'ramp', &
       'the motion table replaces it. Set ramp = 0')

@@ -44,7 +44,8 @@ module mpm_config_table
   end type var_spec_t
 
   character(len=*), parameter :: s0 = 'a real number >= 0 [s] (default 0)'
-  character(len=*), parameter :: v0 = '2 finite real numbers [m/s] (default 0, 0)'
+  real(wp), parameter :: vmax = 1.0e5_wp   !! no tube is struck faster (m/s); nor a factor
+  character(len=*), parameter :: v0 = '2 real numbers from -1e5 to 1e5 [m/s] (default 0, 0)'
   character(len=*), parameter :: lu = '2 real numbers [m] each for lower and upper, lower '// &
     '< upper in both components, both given or neither (then fitted)'
 
@@ -230,7 +231,8 @@ module mpm_config_table
       allowed='the number of a ''tube'' &body given before', comment='the tube it fills'), &
     var_spec_t('body', 'fill_gap', lo=0.0_wp, only='filler', allowed='a real number >= 0 '// &
       '[m] (default 0)', comment='gap to the tube''s inner face [m]'), &
-    var_spec_t('body', 'velocity', allowed=v0, comment='initial velocity [m/s]'), &
+    var_spec_t('body', 'velocity', lo=-vmax, hi=vmax, allowed=v0, &
+      comment='initial velocity [m/s]'), &
     ! ---------------------------------------------------------------------------- &wall
     var_spec_t('wall', 'point', required=.true., unset='huge', &
       allowed='2 finite real numbers [m] (required)', &
@@ -242,12 +244,14 @@ module mpm_config_table
     var_spec_t('wall', 'friction', lo=0.0_wp, allowed='a real number >= 0, and > 0 only '// &
       'with contact = ''coulomb'' or ''bonded'' (default 0)', &
       comment='Coulomb coefficient [-]'), &
-    var_spec_t('wall', 'velocity', allowed=v0, comment='prescribed velocity [m/s]'), &
+    var_spec_t('wall', 'velocity', lo=-vmax, hi=vmax, allowed=v0, &
+      comment='prescribed velocity [m/s]'), &
     var_spec_t('wall', 'ramp', lo=0.0_wp, allowed='a real number >= 0 [s] (default 0)', &
       comment='smooth rise time of the velocity [s]'), &
     var_spec_t('wall', 'motion_t', own=.true., allowed='up to 64 times [s], >= 0 and '// &
       'strictly increasing, as many as motion_f (default none)', comment='times [s]'), &
-    var_spec_t('wall', 'motion_f', own=.true., allowed='up to 64 finite factors, as many '// &
+    var_spec_t('wall', 'motion_f', own=.true., allowed='up to 64 factors from -1e5 to 1e5, '// &
+      'as many '// &
       'as motion_t (default none)', comment='factors on velocity [-]'), &
     var_spec_t('wall', 'mass', lo=0.0_wp, allowed='a real number >= 0 [kg] (0: prescribed '// &
       'motion; > 0: a free rigid body, for depth; default 0)', &

@@ -21,6 +21,7 @@ module mpm_units
   real(wp), parameter :: yield_strain_min = 1.0e-5_wp  !! sigma_y / E below this is suspect
   real(wp), parameter :: foam_strain_max = 1.0_wp/10.0_wp  !! foam sigma_p / E above this [-]
   real(wp), parameter :: foam_sigma_min = 1.0e3_wp   !! foam sigma_p below this is suspect [Pa]
+  real(wp), parameter :: speed_max = 1.0e3_wp       !! speeds above this are suspect [m/s]
 
   !> A value that is usually a number in the wrong unit (advice_unit_issues).
   type :: unit_issue_t
@@ -36,14 +37,17 @@ contains
 
   !> Values that are possible but implausible for a tube, usually a number in the wrong unit
   !! (the input is SI): lengths over 1 m, E outside 1 MPa .. 1e13 Pa, sigma_y above E/50,
-  !! a foam's sigma_p above E/10 or below 1 kPa, density outside 10 .. 30 000 kg/m^3. The reader refuses them (`&run check_units`,
+  !! a foam's sigma_p above E/10 or below 1 kPa, density outside 10 .. 30 000 kg/m^3, a wall's
+  !! or body's speed over 1000 m/s. The reader refuses them (`&run check_units`,
   !! mpm_config_check) with its file, line and allowed range; advice_units words them as lines.
   pure subroutine advice_unit_issues(cfg, issues)
     type(config_t), intent(in) :: cfg      !! the case
     type(unit_issue_t), allocatable, intent(out) :: issues(:)  !! one per suspect value
     integer :: k
     character(len=*), parameter :: mm = 'over 1 m: the input is in metres (millimetres '// &
-      'typed as metres?)', metres = 'a length in metres, at most 1 m'
+      'typed as metres?)', metres = 'a length in metres, at most 1 m', ms = 'a speed over '// &
+      '1000 m/s (times the motion table''s largest factor): the input is in m/s (mm/s typed '// &
+      'as m/s?)', speeds = 'a speed in m/s, at most 1000 m/s'
     allocate(issues(0))
     if (cfg%grid%h > length_max) call push(issues, 'grid', 0, 'h', rtoa(cfg%grid%h)//' m', mm, &
                                            metres)
@@ -96,6 +100,15 @@ contains
         rtoa(maxval(abs(cfg%walls(k)%point)))//' m', mm, metres)
       if (cfg%walls(k)%stroke > length_max) call push(issues, 'wall', k, 'stroke', &
         rtoa(cfg%walls(k)%stroke)//' m', mm, metres)
+      associate (w => cfg%walls(k))             ! its fastest speed: velocity times the table
+        if (norm2(w%velocity)*merge(maxval(abs(w%motion_f(1:max(w%n_motion, 1)))), 1.0_wp, &
+            w%n_motion > 0) > speed_max) call push(issues, 'wall', k, 'velocity', &
+          rtoa(norm2(w%velocity))//' m/s', ms, speeds)
+      end associate
+    end do
+    do k = 1, size(cfg%bodies)
+      if (norm2(cfg%bodies(k)%velocity) > speed_max) call push(issues, 'body', k, 'velocity', &
+        rtoa(norm2(cfg%bodies(k)%velocity))//' m/s', ms, speeds)
     end do
     do k = 1, size(cfg%materials)
       associate (m => cfg%materials(k))
