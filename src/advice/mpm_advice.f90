@@ -23,7 +23,7 @@ module mpm_advice
   use mpm_particles, only: ring_counts
   use mpm_bodies, only: body_wall_thickness, is_section, bodies_wall_ppc, body_section
   use mpm_sections, only: section_t
-  use mpm_config_types, only: config_t, scene_of
+  use mpm_config_types, only: config_t, scene_of, stiffest_penalty
   use mpm_walls, only: wall_t, wall_travel
   use mpm_time_step, only: cfl_study, cfl_margin, ppc_low, cfl_tried_min
   use mpm_errors, only: append_msg
@@ -189,8 +189,8 @@ contains
         cfl_text(cfl_tried_min)//', the smallest cfl the stability study tried; it found '// &
         method//' stable at no cfl '//trim(density)//' (docs/stability.md)'
     end if
-    write(c_pen, '(f5.2)') maxval([1.0_wp, cfg%walls%penalty])
-    if (maxval([1.0_wp, cfg%walls%penalty]) > 1.0_wp) why = why//', divided by the largest '// &
+    write(c_pen, '(f5.2)') stiffest_penalty(cfg)
+    if (stiffest_penalty(cfg) > 1.0_wp) why = why//', divided by the largest '// &
       '&wall penalty, '//trim(adjustl(c_pen))
   end function cfl_why
 
@@ -445,7 +445,7 @@ contains
     basis = cfg%solver%basis_id
     flip = cfg%solver%flip
     ppc = bodies_wall_ppc(cfg%bodies, cfg%grid%h)   ! fewest particles per cell through a wall
-    pen = maxval([1.0_wp, cfg%walls%penalty])   ! a stiffer wall divides the limit (cfl_auto)
+    pen = stiffest_penalty(cfg)   ! a stiffer wall divides the limit (cfl_auto)
     completes = -1.0_wp                     ! the study's limit (-1: no study ran the method)
     do k = 1, size(limit_rows)
       if (basis < 1 .or. basis > size(basis_names) .or. scheme < 1 .or. &

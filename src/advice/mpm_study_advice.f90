@@ -11,7 +11,7 @@ module mpm_study_advice
   use mpm_constants, only: SHAPE_RING, SCHEME_MUSL, CONTACT_SLIP, VOLUMETRIC_STANDARD, &
                            basis_names, &
                            volumetric_names, pi
-  use mpm_config_types, only: config_t, scene_of
+  use mpm_config_types, only: config_t, scene_of, stiffest_penalty
   use mpm_walls, only: wall_t
   use mpm_errors, only: append_msg
   use mpm_strings, only: itoa
@@ -72,7 +72,7 @@ contains
     real(wp) :: t, hot, aspect, d, dbest, v, pin
     integer :: ib, k, i, j, best, nt
     text = ''
-    pin = maxval([1.0_wp, cfg%walls%penalty])   ! the stiffest wall's penalty
+    pin = stiffest_penalty(cfg)   ! the stiffest wall's penalty
     scene = scene_of(cfg)
     if (len_trim(scene) == 0 .or. n_study == 0) return
     ib = 0                        ! the coarsest ring: largest h/t, then fewest particles through

@@ -16,7 +16,8 @@ module mpm_contact
   use mpm_constants, only: CONTACT_SLIP, CONTACT_BONDED, EXIT_NUMERIC
   use mpm_grid, only: grid_t
   use mpm_tiles, only: tiles_t
-  use mpm_walls, only: wall_velocity, wall_mirror_node, wall_travel, wall_free_step, wall_shift
+  use mpm_walls, only: wall_t, wall_velocity, wall_mirror_node, wall_travel, wall_free_step, &
+                       wall_shift
   use mpm_surface_contact, only: surface_points, surface_push, surface_friction, surface_energy, &
                                  surface_slip_loss, contact_alpha, surface_tie, &
                                  surface_step_energy
@@ -85,11 +86,11 @@ contains
       if (prm%basis == BASIS_CPDI2 .and. prm%surface_curve) then
         call mirror_planes(st, mirror, nm)
         call surface_curve_points(st%p, wk%wall_work(3:4, iw), wk%wall_work(5:6, iw), &
-                                  st%walls(iw)%penalty*stiffness(prm, g), mirror(:, 1:nm), &
+                                  wall_stiffness(prm, g, st%walls(iw)), mirror(:, 1:nm), &
                                   1.0e-6_wp*g%h, wk%surf(iw))
       else
         call surface_points(st%p, prm%basis, wk%wall_work(3:4, iw), wk%wall_work(5:6, iw), &
-                            st%walls(iw)%penalty*stiffness(prm, g), wk%par, wk%surf(iw))
+                            wall_stiffness(prm, g, st%walls(iw)), wk%par, wk%surf(iw))
       end if
       call surface_push(wk%surf(iw), g%origin, g%h, g%nx, g%ny, g%mass, g%mass_cut, wk%nb, &
                         wk%blk, wk%w, wk%gw, wk%wall_work(5:6, iw), dt, g%force, imp, g%nf, &
@@ -191,11 +192,11 @@ contains
       if (prm%basis == BASIS_CPDI2 .and. prm%surface_curve) then
         call mirror_planes(st, mirror, nm)
         call surface_curve_points(st%p, xw, st%walls(iw)%normal, &
-                                  st%walls(iw)%penalty*stiffness(prm, g), mirror(:, 1:nm), &
+                                  wall_stiffness(prm, g, st%walls(iw)), mirror(:, 1:nm), &
                                   1.0e-6_wp*g%h, wk%surf(iw))
       else
         call surface_points(st%p, prm%basis, xw, st%walls(iw)%normal, &
-                            st%walls(iw)%penalty*stiffness(prm, g), wk%par, wk%surf(iw))
+                            wall_stiffness(prm, g, st%walls(iw)), wk%par, wk%surf(iw))
       end if
       st%e_contact = st%e_contact + surface_energy(wk%surf(iw))
     end do
@@ -242,6 +243,16 @@ contains
     real(wp) :: kf
     kf = contact_alpha*(prm%c_max/g%h)**2
   end function stiffness
+
+  !> The penalty stiffness per unit mass of wall w's surface points: its &wall penalty times
+  !! the default (stiffness) [1/s^2].
+  pure function wall_stiffness(prm, g, w) result(kf)
+    type(params_t), intent(in) :: prm      !! parameters (wave speed)
+    type(grid_t), intent(in) :: g          !! grid (cell size)
+    type(wall_t), intent(in) :: w          !! the wall
+    real(wp) :: kf
+    kf = w%penalty*stiffness(prm, g)
+  end function wall_stiffness
 
   !> After step 3: a wall whose surface points lie more than half a cell behind it moves
   !! faster than its contact can push the material away (the penalty acts within about h / c):

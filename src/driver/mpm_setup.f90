@@ -6,7 +6,7 @@ module mpm_setup
   use mpm_constants, only: EXIT_INPUT, SHAPE_RING, SECTOR_FULL, SECTOR_HALF, &
                            SECTOR_QUARTER, CONTACT_SLIP, VOLUMETRIC_STANDARD, &
                            CONTACT_FRICTIONLESS, CONTACT_BONDED
-  use mpm_config, only: config_t, scene_of
+  use mpm_config, only: config_t, scene_of, stiffest_penalty
   use mpm_particles, only: particles_allocate, basis_reach
   use mpm_bodies, only: body_counts, body_fill, body_fields, body_field_split, is_section, &
                         has_sector, bodies_wall_ppc
@@ -165,7 +165,7 @@ contains
     s%prm%cfl = cfg%run%cfl                ! the input's, or the automatic value (cfl = 0)
     if (.not. s%prm%cfl > 0.0_wp) s%prm%cfl = cfl_auto(cfg%solver%basis_id, &
       cfg%solver%scheme_id, bodies_wall_ppc(cfg%bodies, cfg%grid%h), scene_of(cfg) == 'crush', &
-      maxval([1.0_wp, cfg%walls%penalty]))
+      stiffest_penalty(cfg))
     s%prm%dt_fixed = cfg%run%dt
     s%prm%t_end = cfg%run%t_end
     s%prm%gravity = cfg%run%gravity

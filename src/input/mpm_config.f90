@@ -12,7 +12,7 @@ module mpm_config
                            CONTACT_FRICTIONLESS
   use mpm_config_types, only: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, &
                               body_cfg_t, wall_cfg_t, probe_cfg_t, contact_cfg_t, unset_real, &
-                              scene_of
+                              scene_of, stiffest_penalty
   use mpm_config_text, only: lower, itoa, quote, unquote, suggestion, join_list, fmt_real, &
                              fmt_list, finite
   use mpm_config_table, only: specs, n_groups, group_names, group_id, spec_index, group_specs, &
@@ -28,7 +28,7 @@ module mpm_config
   public :: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, body_cfg_t, &
             wall_cfg_t, probe_cfg_t, contact_cfg_t
   public :: read_config, config_resolve, write_config, write_config_unit, default_config
-  public :: unset_real, scene_of
+  public :: unset_real, scene_of, stiffest_penalty
 
 contains
 

@@ -18,7 +18,7 @@ module mpm_config_check
   use mpm_bodies, only: body_box, body_mesh, is_section, body_estimate
   use mpm_config_text, only: lower, itoa, quote, file_stem, fmt_short, fmt_list, fmt_real, &
                              finite
-  use mpm_config_table, only: n_groups
+  use mpm_config_table, only: n_groups, vmax
   use mpm_config_scan, only: reader_t, occurrence, err_var, warn_var, err_missing, warn_group, &
                              given
   use mpm_walls, only: wall_t, wall_stroke_setup, wall_end_time, wall_stroke_travel
@@ -344,11 +344,10 @@ contains
       'has no penalty)', '1 with contact = ''slip''')
     call read_pair(rd, io, 'motion_t', 'motion_f', .false., w%motion_t, w%motion_f, nt, ok)
     if (ok .and. nt > 0) then                  ! (a factor times velocity is a speed)
-      if (maxval(abs(w%motion_f(1:nt))) > 1.0e5_wp) then
+      if (maxval(abs(w%motion_f(1:nt))) > vmax) then
         call err_var(rd, io, 'motion_f', fmt_list(w%motion_f(1:nt)), 'a factor beyond 1e5 '// &
-          'in size', 'up to 64 factors from -1e5 to 1e5, as many as motion_t')
-        ok = .false.
-        w%motion_f = 0.0_wp
+          'in size')
+        ok = .false.                           ! (then no table: motion_f is reset below)
       end if
     end if
     if (ok) w%n_motion = nt

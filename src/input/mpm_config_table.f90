@@ -13,6 +13,7 @@ module mpm_config_table
   implicit none
   private
   public :: var_spec_t, specs, n_groups, group_names, group_repeatable, group_id, spec_index, &
+            vmax, &
             group_specs, var_names, enum_names, echo_comment, unset_note
 
   integer, parameter :: n_groups = 8
@@ -44,7 +45,7 @@ module mpm_config_table
   end type var_spec_t
 
   character(len=*), parameter :: s0 = 'a real number >= 0 [s] (default 0)'
-  real(wp), parameter :: vmax = 1.0e5_wp   !! no tube is struck faster (m/s); nor a factor
+  real(wp), parameter :: vmax = 1.0e5_wp   !! no tube is struck faster [m/s]; nor a motion factor
   character(len=*), parameter :: v0 = '2 real numbers from -1e5 to 1e5 [m/s] (default 0, 0)'
   character(len=*), parameter :: lu = '2 real numbers [m] each for lower and upper, lower '// &
     '< upper in both components, both given or neither (then fitted)'

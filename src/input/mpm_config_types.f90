@@ -15,7 +15,7 @@ module mpm_config_types
   private
   public :: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, body_cfg_t, &
             body_in_t, wall_cfg_t, probe_cfg_t, contact_cfg_t
-  public :: unset_real, scene_of
+  public :: unset_real, scene_of, stiffest_penalty
 
   type :: run_cfg_t
     character(len=name_len) :: title = ''          !! label of the case
@@ -142,4 +142,10 @@ contains
       end if
     end do
   end function scene_of
+
+  !> The largest &wall penalty of the case, at least 1 (the automatic cfl is divided by it).
+  pure real(wp) function stiffest_penalty(cfg) result(p)
+    type(config_t), intent(in) :: cfg     !! the case
+    p = maxval([1.0_wp, cfg%walls%penalty])
+  end function stiffest_penalty
 end module mpm_config_types
