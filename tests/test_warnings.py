@@ -19,7 +19,9 @@ import sys
 import tempfile
 from pathlib import Path
 
+from plots.mpmplot import namelist
 from tests.pycheck import Checks
+from tools.fe_reference import square_speed
 
 ROOT = Path(__file__).resolve().parent.parent
 BIN = os.environ.get("TUBEMPM", str(ROOT / "bin" / "tubempm"))
@@ -97,9 +99,10 @@ def case_text(subs: dict) -> str:
 def square_tube(scratch: Path) -> None:
     """The quasi-static warning of a 'tube' (docs/validation.md#quasi-static): the shipped
     square tube at 2 m/s relative approach has none; at 4 m/s it warns with the ratio to
-    H omega_1, worked out here: a 48 mm centreline square, t 1.5 mm, so H = 49.5 mm; its longest
-    wall L = a side's straight 42 mm and half of each rounded corner (r 3 mm on the centreline),
-    omega_1 = pi^2 sqrt(E' t^3 / 12 / (rho t L^4))."""
+    H omega_1, worked out from the namelist by tools/fe_reference/square_speed.py (h_omega, the
+    calibration's): a 48 mm centreline square, t 1.5 mm, so H = 49.5 mm; its longest wall L = a
+    side's straight 42 mm and half of each rounded corner (r 3 mm on the centreline), omega_1 =
+    pi^2 sqrt(E' t^3 / 12 / (rho t L^4))."""
     text = (ROOT / "namelists" / "sections" / "square_tube.nml").read_text()
     for v, warned in ((1.0, False), (2.0, True)):
         path = scratch / f"warn_square_{v:g}.nml"
@@ -111,10 +114,7 @@ def square_tube(scratch: Path) -> None:
               f"{'expected' if warned else 'not expected'}: {lines}")
         if not (warned and lines):
             continue
-        e, nu, rho, t = 210.0e9, 0.3, 7800.0, 1.5e-3
-        length = 48.0e-3 - 2 * 3.0e-3 + 0.5 * math.pi * 3.0e-3
-        omega = math.pi ** 2 * math.sqrt(e * t ** 3 / 12 / (1 - nu ** 2) / (rho * t * length ** 4))
-        want = 2 * v / (49.5e-3 * omega)
+        want = 2 * v / square_speed.h_omega(namelist.read_namelist(path))
         m = re.search(r"\(([0-9.]+) H omega_1\)", lines[0])
         got = float(m.group(1)) if m else math.nan
         check(abs(got - want) <= 0.02 * want + 5e-5, f"square tube: ratio {got} against "
