@@ -50,8 +50,10 @@ runs at the cfl the warning gives, 0.4.
 Each run must complete (exit 0) with its energy balance (summary.nml `energy_error`: the largest
 imbalance of kinetic + strain + plastic + damped + contact_loss against the external work over
 the run) within the stated tolerance: ENERGY_TOL for a scene with walls only and for two bodies
-meeting, whose inelastic impulse between the fields is booked in `contact_loss` (docs/output.md);
-ENERGY_TOL_BODIES for self-contact, whose welded halves are not. Scheme 'usl' loses energy at every
+meeting or a ring meeting itself, whose inelastic impulse between the fields is booked in
+`contact_loss` (docs/output.md; the weld of a self-contact ring's halves is the one field they
+would be, measured at most 1.2 % in the matrix); ENERGY_TOL_WARNED for the self-contact seams on
+a sticking wall that `--check` warns of. Scheme 'usl' loses energy at every
 cfl where material meets a wall or another body (docs/stability.md#schemes): its rows are held
 to ENERGY_TOL_USL, and `--check` must warn of it. Basis 'linear' with 'usl' failed at every cfl
 the stability study tried: it is not in the array; one run of it must stop cleanly instead
@@ -77,8 +79,8 @@ ROOT = HERE.parent
 T = Checks("test_scene_matrix")
 check = T.check
 
-ENERGY_TOL = 0.02          # walls only: 2 % of max(E0, external work)
-ENERGY_TOL_BODIES = 0.05   # self-contact: the weld's loss is not booked
+ENERGY_TOL = 0.02          # 2 % of max(E0, external work)
+ENERGY_TOL_WARNED = 0.05   # seams on a sticking wall with a basis of squares (warned of)
 ENERGY_TOL_USL = 0.20      # 'usl': 4-17 % lost in the matrix's contacts, warned of by --check
 
 FACTORS = {
@@ -454,8 +456,8 @@ def seams_on_stick(scratch: Path, name: str, c: dict) -> None:
     clean = all(ln.startswith(("ERROR [", "WARNING [", " ")) for ln in lines)
     if res.returncode == 0:
         err = float(readers.read_summary(folder / "out" / "summary.nml")["energy_error"])
-        check(err <= ENERGY_TOL_BODIES and clean, f"{name}: energy error {err:.4f} <= "
-              f"{ENERGY_TOL_BODIES} ({c})")
+        check(err <= ENERGY_TOL_WARNED and clean, f"{name}: energy error {err:.4f} <= "
+              f"{ENERGY_TOL_WARNED} ({c})")
     else:
         check(res.returncode == 4 and clean and any(folder.glob("out/crash_*.h5")),
               f"{name}: stops cleanly with the last good state (exit {res.returncode}: "
@@ -463,7 +465,8 @@ def seams_on_stick(scratch: Path, name: str, c: dict) -> None:
 
 
 def run_sections(scratch: Path) -> int:
-    """The section rows: each completes within ENERGY_TOL (self-contact: ENERGY_TOL_BODIES)."""
+    """The section rows: each completes within ENERGY_TOL (seams on a sticking wall with a basis of
+    squares: seams_on_stick)."""
     rows = section_array()
     rows += [dict([r for r in rows if r["shape"] == "tube"][0], penalty=4.0)]   # (penalty_rows)
     for name, values in SECTION_FACTORS.items():
@@ -483,7 +486,7 @@ def run_sections(scratch: Path) -> int:
             print(f"   (section row {k}: {c})")
             continue
         err = float(s["energy_error"])
-        tol = ENERGY_TOL if c["shape"] == "disc" else ENERGY_TOL_BODIES
+        tol = ENERGY_TOL
         check(err <= tol, f"{name}: energy error {err:.4f} <= {tol} ({c})")
     half_matches_full(scratch)
     return len(rows)
@@ -547,7 +550,7 @@ def main() -> int:
             print(f"   (row {k}: {c})")
             continue
         err = float(s["energy_error"])
-        tol = ENERGY_TOL_BODIES if c["scene"] == "two_rings" and c["self_contact"] else ENERGY_TOL
+        tol = ENERGY_TOL
         if c["scheme"] == "usl":
             tol = ENERGY_TOL_USL
             warn = check_warnings(scratch / name / f"{name}.nml")
