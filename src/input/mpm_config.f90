@@ -16,7 +16,7 @@ module mpm_config
   use mpm_config_text, only: lower, itoa, quote, unquote, suggestion, join_list, fmt_real, &
                              fmt_list, finite
   use mpm_config_table, only: specs, n_groups, group_names, group_id, spec_index, group_specs, &
-                              var_names, enum_names
+                              var_names, enum_names, beyond
   use mpm_config_record, only: rec_t, field_t, record_read, record_fields, field_index
   use mpm_config_scan, only: reader_t, asg_t, load_lines, scan_source, check_groups, add_err, &
                              add_warn, join_msgs, label, err_var, err_missing, warn_group, &
@@ -354,6 +354,8 @@ contains
         continue                             ! its default
       else if (f(k)%n > 2) then
         continue                             ! a table: the group's rules
+      else if (f(k)%kind == 'r' .and. len(beyond(r, f(k)%x)) > 0) then
+        call err_var(rd, io, name, fmt_list_of(f(k)), beyond(r, f(k)%x))
       else if (f(k)%kind == 'r' .and. .not. all(finite(f(k)%x))) then
         call err_var(rd, io, name, fmt_list_of(f(k)), trim(merge('not a finite number', &
           'not finite numbers ', f(k)%n == 1)))

@@ -18,7 +18,7 @@ module mpm_config_check
   use mpm_bodies, only: body_box, body_mesh, is_section, body_estimate
   use mpm_config_text, only: lower, itoa, quote, file_stem, fmt_short, fmt_list, fmt_real, &
                              finite
-  use mpm_config_table, only: n_groups, vmax
+  use mpm_config_table, only: n_groups, magnitude_bounds, spec_index, beyond
   use mpm_config_scan, only: reader_t, occurrence, err_var, warn_var, err_missing, warn_group, &
                              given
   use mpm_walls, only: wall_t, wall_stroke_setup, wall_end_time, wall_stroke_travel
@@ -242,9 +242,11 @@ contains
     type(body_cfg_t), intent(inout) :: b
     character(len=:), allocatable :: path, line, what
     character(len=1024) :: buf, msg
-    real(wp) :: r(5)
+    real(wp) :: r(5), big, small
     real(wp), allocatable :: seg(:,:)
+    character(len=:), allocatable :: unit
     integer :: u, ios, ln
+    call magnitude_bounds(spec_index('body', 'thickness'), big, small, unit)   ! lengths
     path = trim(b%walls_file)
     if (path(1:1) /= '/' .and. index(rd%file, '/', back=.true.) > 0) &
       path = rd%file(1:index(rd%file, '/', back=.true.))//path
@@ -269,6 +271,9 @@ contains
       if (ios /= 0 .or. .not. all(abs(r) <= huge(1.0_wp))) then
         what = path//':'//itoa(ln)//': '''//line//''' is not 5 finite numbers x1, y1, x2, '// &
           'y2, thickness'
+      else if (any(abs(r) > big) .or. r(5) < small) then
+        what = path//':'//itoa(ln)//': beyond the limits of the program: up to '// &
+          fmt_short(big)//' m in size, a thickness of at least '//fmt_short(small)//' m'
       else if (r(5) <= 0.0_wp .or. norm2(r(3:4) - r(1:2)) <= 0.0_wp) then
         what = path//':'//itoa(ln)//': a wall of zero length or thickness'
       else if (size(seg, 2) >= 4096) then
@@ -342,14 +347,8 @@ contains
     if (w%contact_id == CONTACT_SLIP .and. w%penalty /= 1.0_wp) call err_var(rd, io, &
       'penalty', fmt_real(w%penalty), 'has no effect with contact = ''slip'' (a mirror plane '// &
       'has no penalty)', '1 with contact = ''slip''')
+    ! (its factors, as every number without a unit, are at most vmax in size: mpm_config_table)
     call read_pair(rd, io, 'motion_t', 'motion_f', .false., w%motion_t, w%motion_f, nt, ok)
-    if (ok .and. nt > 0) then                  ! (a factor times velocity is a speed)
-      if (maxval(abs(w%motion_f(1:nt))) > vmax) then
-        call err_var(rd, io, 'motion_f', fmt_list(w%motion_f(1:nt)), 'a factor beyond 1e5 '// &
-          'in size')
-        ok = .false.                           ! (then no table: motion_f is reset below)
-      end if
-    end if
     if (ok) w%n_motion = nt
     if (ok .and. nt > 0 .and. w%ramp > 0.0_wp) call warn_var(rd, io, 'ramp', &
       'the motion table replaces it. Set ramp = 0')
@@ -463,6 +462,11 @@ contains
       end if
       if (t(k) /= unset_real) last = k
     end do
+    if (len(beyond(spec_index(rd%occ(io)%group, var), t)) > 0) then
+      call err_var(rd, io, var, '', beyond(spec_index(rd%occ(io)%group, var), t))
+      ok = .false.
+      return
+    end if
     do k = 1, last
       if (t(k) == unset_real) then
         call err_var(rd, io, var, fmt_list(t(1:last)), var//'('//itoa(k)// &

@@ -9,11 +9,11 @@ module mpm_config_table
   use mpm_constants, only: name_len, basis_names, scheme_names, plane_names, model_names, &
                            rate_law_names, shape_names, sector_names, contact_names, &
                            flow_stress_names, volumetric_names
-  use mpm_config_text, only: join_list, lower
+  use mpm_config_text, only: join_list, lower, itoa, fmt_real, fmt_short, finite
   implicit none
   private
   public :: var_spec_t, specs, n_groups, group_names, group_repeatable, group_id, spec_index, &
-            vmax, &
+            vmax, magnitude_bounds, beyond, &
             group_specs, var_names, enum_names, echo_comment, unset_note
 
   integer, parameter :: n_groups = 8
@@ -45,10 +45,25 @@ module mpm_config_table
   end type var_spec_t
 
   character(len=*), parameter :: s0 = 'a real number >= 0 [s] (default 0)'
-  real(wp), parameter :: vmax = 1.0e5_wp   !! no tube is struck faster [m/s]; nor a motion factor
+  real(wp), parameter :: vmax = 1.0e5_wp   !! no tube is struck faster [m/s]; nor is a number
+                                         !! without a unit (a motion factor) larger
   character(len=*), parameter :: v0 = '2 real numbers from -1e5 to 1e5 [m/s] (default 0, 0)'
   character(len=*), parameter :: lu = '2 real numbers [m] each for lower and upper, lower '// &
     '< upper in both components, both given or neither (then fitted)'
+
+  !> The magnitudes the program takes, by the unit of a row's comment, with check_units or
+  !! without: beyond them the set-up's arithmetic overflows (a length of 1e300 m, a thickness of
+  !! 1e-300 m), far beyond any tube. big: the largest |value|; small: the smallest value other
+  !! than 0 of a quantity that is not negative (lo >= 0). Speeds: their rows' range (vmax).
+  type :: magnitude_t
+    character(len=8) :: unit = ''
+    real(wp) :: big = 0.0_wp, small = 0.0_wp
+  end type magnitude_t
+  type(magnitude_t), parameter :: magnitudes(*) = [magnitude_t('m', 1.0e3_wp, 1.0e-9_wp), &
+    magnitude_t('s', 1.0e6_wp, 1.0e-15_wp), magnitude_t('Pa', 1.0e15_wp, 1.0e-3_wp), &
+    magnitude_t('kg/m^3', 1.0e6_wp, 1.0e-6_wp), magnitude_t('kg', 1.0e9_wp, 1.0e-9_wp), &
+    magnitude_t('m/s^2', 1.0e9_wp, 0.0_wp), &
+    magnitude_t('1/s', 1.0e12_wp, 1.0e-12_wp), magnitude_t('-', vmax, 0.0_wp)]
 
   type(var_spec_t), parameter :: specs(*) = [ &
     ! ---------------------------------------------------------------------------- &run
@@ -332,6 +347,50 @@ contains
     s = trim(specs(k)%unset_note)
     if (len(s) == 0 .and. specs(k)%required) s = 'required: '//trim(specs(k)%comment)
   end function unset_note
+
+  !> The magnitudes row k takes (its unit's; big = huge and small = 0 without a unit), and the
+  !! unit ('' without one).
+  pure subroutine magnitude_bounds(k, big, small, unit)
+    integer, intent(in) :: k
+    real(wp), intent(out) :: big, small
+    character(len=:), allocatable, intent(out) :: unit
+    integer :: p, j
+    big = huge(1.0_wp)
+    small = 0.0_wp
+    unit = ''
+    p = index(specs(k)%comment, '[', back=.true.)
+    if (p == 0) return
+    unit = specs(k)%comment(p+1:index(specs(k)%comment, ']', back=.true.) - 1)
+    do j = 1, size(magnitudes)   ! (a loop: gfortran 12.2's findloc of a deferred-length text in
+      if (magnitudes(j)%unit /= unit) cycle   ! a component array broke the module's findlocs)
+      big = magnitudes(j)%big
+      if (specs(k)%lo >= 0.0_wp) small = magnitudes(j)%small
+    end do
+  end subroutine magnitude_bounds
+
+  !> '' when the finite values of row r are within the magnitudes the program takes
+  !! (magnitude_bounds), else which one is not and the bounds; huge values (a table's entries
+  !! not given) are passed over.
+  function beyond(r, x) result(what)
+    integer, intent(in) :: r
+    real(wp), intent(in) :: x(:)
+    character(len=:), allocatable :: what
+    real(wp) :: big, small
+    character(len=:), allocatable :: unit
+    integer :: j
+    what = ''
+    call magnitude_bounds(r, big, small, unit)
+    do j = 1, size(x)
+      if (.not. finite(x(j)) .or. x(j) == huge(1.0_wp)) cycle
+      if (abs(x(j)) <= big .and. .not. (x(j) /= 0.0_wp .and. abs(x(j)) < small)) cycle
+      if (size(x) > 1) what = trim(specs(r)%name)//'('//itoa(j)//') = '//fmt_real(x(j))//': '
+      if (unit == '-') unit = ''
+      if (len(unit) > 0) unit = ' '//unit
+      what = what//'beyond the limits of the program: up to '//fmt_short(big)//unit//' in size'
+      if (small > 0.0_wp) what = what//', 0 or at least '//fmt_short(small)//unit
+      return
+    end do
+  end function beyond
 
   !> The echo's comment of row k (% replaced by the list of names).
   pure function echo_comment(k) result(s)
