@@ -143,9 +143,9 @@ contains
     third = 1.0_wp/3.0_wp
     lines = [character(len=2048) :: &
       '&run title = ''it''''s a "test"'', output_dir = ''a/b c/d''', &
-      ' t_end = '//e17(1.0e-300_wp), &
+      ' t_end = '//e17(1.0e-14_wp*third), &      ! the program's limits: 1e-15 s, 1e3 m
       ' cfl = '//e17(0.1_wp + 0.2_wp), &
-      ' depth = '//e17(1.0e300_wp), &
+      ' depth = '//e17(1.0e3_wp - third), &
       ' gravity = -0.0, '//e17(-9.81_wp*third), &   ! along the mirror plane of body 2
       ' threads = 3, history_every = 1e-7, check_units = F /', &   ! lower = -1, -2 (m)
       '&solver basis = ''CPDI1'', scheme = ''Usf'', plane = ''STRESS''', &
@@ -156,7 +156,7 @@ contains
       ' E = '//e17(third*1.0e11_wp)//', rho = '//e17(7.8e3_wp*third), &
       ' sigma_y = 2.5e8, rate_law = ''none'', cs_d = 6500, cs_q = 4 /', &
       '&material name = ''alu'', E = 7e10, nu = 0.499999, rho = 2.7e3', &
-      ' sigma_y = 1.5e8, hardening = 4.9e-324, rate_law = ''Cowper_Symonds'' /', &
+      ' sigma_y = 1.5e8, hardening = 1.0000000000000002e-3, rate_law = ''Cowper_Symonds'' /', &
       '&body shape = ''rect'', material = ''ALU'', center = 1.5, 0.25', &
       ' size = 0.5, 0.25, n_x = 7, n_y = 3, velocity = -0.0, 1e-12 /', &
       '&body material = ''steel'', center = 1, 1, r_inner = 0.1, r_outer = 0.2', &
@@ -176,7 +176,8 @@ contains
     call check(stat == 0, 'awkward file reads: '//msg)
     if (stat /= 0) return
     call check(a%run%title == 'it''s a "test"', 'quotes in a title: '//trim(a%run%title))
-    call check(a%run%t_end == 1.0e-300_wp .and. a%run%depth == 1.0e300_wp, 'tiny and huge')
+    call check(a%run%t_end == 1.0e-14_wp*third .and. a%run%depth == 1.0e3_wp - third, &
+      'near the limits, all 17 digits')
     call check(a%run%cfl == 0.1_wp + 0.2_wp, '0.1 + 0.2 exactly')
     call check(a%solver%basis == 'cpdi1' .and. a%solver%basis_id == BASIS_CPDI1 .and. &
       a%solver%scheme_id == SCHEME_USF .and. a%solver%plane_id == PLANE_STRESS, &
