@@ -12,11 +12,12 @@ program test_scenes
   use mpm_setup, only: setup_sim, sector_factor
   use mpm_solver, only: sim_t, solver_step
   use mpm_walls, only: wall_travel
-  use mpm_output, only: full_force
+  use mpm_output, only: full_force, next_output
   use testing, only: begin_test, check, check_close, finish_tests
   implicit none
   character(len=*), parameter :: dir = 'tests/scenes/'
 
+  call test_next_output()
   call test_elastic_stiffness()
   call test_impact_rebound()
   call test_sectors()
@@ -24,6 +25,24 @@ program test_scenes
   call finish_tests('test_scenes')
 
 contains
+
+  !> The next output time: on the grid next + k every, the first after t; an interval below a
+  !! thousandth of the step, or below the round-off of t, gives the next step (and returns).
+  subroutine test_next_output()
+    real(wp) :: tn
+    call begin_test('next output time')
+    tn = next_output(1.0e-5_wp, 1.0e-5_wp, 1.00001e-5_wp)
+    call check(tn == 1.0e-5_wp + 1.0e-5_wp, 'one interval on')
+    tn = next_output(1.0e-5_wp, 1.0e-6_wp, 1.35e-5_wp)
+    call check(tn > 1.35e-5_wp .and. tn - 1.0e-6_wp <= 1.35e-5_wp*(1.0_wp + 1.0e-12_wp) .and. &
+      abs(tn - 1.4e-5_wp) < 1.0e-12_wp, 'four intervals in a step: the first after t')
+    tn = next_output(1.0e-3_wp, 1.0e-15_wp, 1.0e-3_wp + 1.0e-8_wp)
+    call check(tn > 1.0e-3_wp + 1.0e-8_wp .and. tn < 1.0e-3_wp + 2.0e-8_wp, &
+      '1e7 intervals in a step: the next step')
+    tn = next_output(10.0_wp, 1.0e-15_wp, 10.0_wp)
+    call check(tn > 10.0_wp*(1.0_wp + 1.0e-12_wp) .and. tn < 10.0_wp*(1.0_wp + 2.0e-12_wp), &
+      'an interval below the round-off of t: the next step, not a loop without end')
+  end subroutine test_next_output
 
   subroutine load(file, cfg, s)
     character(len=*), intent(in) :: file

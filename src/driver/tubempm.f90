@@ -21,7 +21,7 @@ program tubempm
   use mpm_particles, only: particles_t, particles_copy
   use mpm_basis, only: cpdi2_first_folded
   use mpm_output, only: history_t, history_open, history_write, history_close, write_summary, &
-                        summary_t
+                        summary_t, next_output
   use mpm_images, only: images_of_walls
   use mpm_results, only: results_t, results_compute, results_write_csv, loading_walls
   use mpm_io_hdf5, only: snapfile_t, snap_create, snap_reopen, snap_write, snap_close, xdmf_write
@@ -504,9 +504,7 @@ contains
     if (cfg%run%snapshot_every > 0.0_wp .and. s%t >= r%next_snap*(1.0_wp - 1.0e-12_wp) &
         .and. .not. r%done) then
       call write_snapshot(s, r)
-      do while (r%next_snap <= s%t*(1.0_wp + 1.0e-12_wp))
-        r%next_snap = r%next_snap + cfg%run%snapshot_every
-      end do
+      r%next_snap = next_output(r%next_snap, cfg%run%snapshot_every, s%t)
     end if
   end subroutine write_outputs
 

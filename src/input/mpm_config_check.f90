@@ -14,7 +14,7 @@ module mpm_config_check
                            SHAPE_HONEYCOMB, SHAPE_WALLS, SHAPE_FILLER, sector_names, &
                            shape_names, max_table, max_cells, pi
   use mpm_config_types, only: config_t, grid_cfg_t, material_cfg_t, body_cfg_t, wall_cfg_t, &
-                              contact_cfg_t, unset_real
+                              contact_cfg_t, unset_real, stiffest_penalty
   use mpm_bodies, only: body_box, body_mesh, is_section, body_estimate
   use mpm_config_text, only: lower, itoa, quote, file_stem, fmt_short, fmt_list, fmt_real, &
                              finite
@@ -26,7 +26,7 @@ module mpm_config_check
   use mpm_symmetry, only: symmetry_checks
   use mpm_placement, only: placement_checks
   use mpm_material, only: material_from, material_wave_speed
-  use mpm_time_step, only: time_step_dt
+  use mpm_time_step, only: time_step_dt, cfl_margin, cfl_tried_min
   implicit none
   private
   public :: check_group, check_mesh, cross_checks
@@ -584,7 +584,7 @@ contains
     if (all_ok) all_ok = rd%occ(io_run)%ok .and. rd%occ(io_grid)%ok .and. &
                          all(rd%occ(occ_mat)%ok) .and. all(rd%occ(occ_body)%ok)
     if (all_ok .and. io_solver > 0) all_ok = rd%occ(io_solver)%ok
-    if (all_ok) call check_fixed_dt(rd, cfg, io_run)
+    if (all_ok) call check_time_step(rd, cfg, io_run)
 
     ! a half or quarter model: nothing may move across its mirror planes (mpm_symmetry)
     call symmetry_checks(rd, cfg)
@@ -817,14 +817,16 @@ contains
     same_pair = (a(1) == b(1) .and. a(2) == b(2)) .or. (a(1) == b(2) .and. a(2) == b(1))
   end function same_pair
 
-  !> A fixed time step must not exceed the stable limit at cfl = 1.
-  subroutine check_fixed_dt(rd, cfg, io_run)
+  !> A fixed time step must not exceed the stable limit at cfl = 1; no time step, fixed or from
+  !! cfl (at least its smallest automatic value), so small that t + dt would round to t.
+  subroutine check_time_step(rd, cfg, io_run)
     type(reader_t), intent(inout) :: rd
     type(config_t), intent(in) :: cfg
     integer, intent(in) :: io_run
     integer :: k, kc
-    real(wp) :: cds(size(cfg%materials)), cd, vmax, dt_lim
-    if (.not. cfg%run%dt > 0.0_wp .or. size(cfg%materials) == 0) return
+    real(wp) :: cds(size(cfg%materials)), cd, vmax, dt_lim, cfl
+    character(len=:), allocatable :: which
+    if (size(cfg%materials) == 0) return
     do k = 1, size(cfg%materials)          ! dilatational wave speeds
       cds(k) = material_wave_speed(material_from(cfg%materials(k), cfg%solver%mass_scale))
     end do
@@ -832,6 +834,21 @@ contains
     cd = cds(kc)
     vmax = max(0.0_wp, maxval([(norm2(cfg%bodies(k)%velocity), k = 1, size(cfg%bodies))]))
     dt_lim = time_step_dt(1.0_wp, cfg%grid%h, cd, vmax)
+    if (.not. cfg%run%dt > 0.0_wp) then
+      cfl = cfg%run%cfl
+      which = 'cfl '
+      if (.not. cfl > 0.0_wp) then
+        cfl = cfl_margin*cfl_tried_min/stiffest_penalty(cfg)
+        which = 'the smallest automatic cfl, '
+      end if
+      if (cfl*dt_lim < cfg%run%t_end*epsilon(1.0_wp)) call err_var(rd, io_run, 't_end', &
+        fmt_real(cfg%run%t_end), 'the time step, about '//fmt_short(cfl*dt_lim)//' s ('//which// &
+        fmt_short(cfl)//' x h / (c_d + v_max), c_d = '//fmt_short(cd)//' m/s of &material #'// &
+        itoa(kc)//'), is so small that t + dt would round to t before t_end', 't_end <= '// &
+        fmt_short(cfl*dt_lim/epsilon(1.0_wp))//' s, or a larger h, or a lower wave speed '// &
+        '(nu further from 0.5)')
+      return
+    end if
     if (cfg%run%dt > dt_lim) call err_var(rd, io_run, 'dt', fmt_real(cfg%run%dt), &
       'above the stable limit h / (c_d + v_max) = '//fmt_short(dt_lim)//' s at cfl = 1 '// &
       '(h = '//fmt_short(cfg%grid%h)//' m; c_d = sqrt((lambda + 2 mu)/rho) = '// &
@@ -844,7 +861,7 @@ contains
       't_end = '//fmt_short(cfg%run%t_end)//' s and the run would never end', 't_end x '// &
       fmt_short(epsilon(1.0_wp))//' = '//fmt_short(cfg%run%t_end*epsilon(1.0_wp))// &
       ' <= dt <= '//fmt_short(dt_lim)//' [s], or dt = 0 (time step from cfl)')
-  end subroutine check_fixed_dt
+  end subroutine check_time_step
 
 
 end module mpm_config_check

@@ -15,7 +15,7 @@ module mpm_output
   implicit none
   private
   public :: history_t, history_open, history_write, history_close, write_summary, full_force, &
-            com_full, summary_t
+            com_full, summary_t, next_output
 
   !> An open history file.
   type :: history_t
@@ -39,6 +39,22 @@ module mpm_output
   end type summary_t
 
 contains
+
+  !> The first output time after t on the grid next + k every [s]; an interval shorter than a
+  !! step (more than 1000 of them in it), or below the round-off of t, gives the next step's.
+  pure function next_output(next, every, t) result(tn)
+    real(wp), intent(in) :: next           !! the output time just reached [s]
+    real(wp), intent(in) :: every          !! the interval (> 0) [s]
+    real(wp), intent(in) :: t              !! the time [s]
+    real(wp) :: tn
+    integer :: k
+    tn = next
+    do k = 1, 1000
+      if (tn > t*(1.0_wp + 1.0e-12_wp)) return
+      tn = tn + every
+    end do
+    if (tn <= t*(1.0_wp + 1.0e-12_wp)) tn = nearest(t*(1.0_wp + 1.0e-12_wp), 1.0_wp)
+  end function next_output
 
   !> Create history.csv in dir and write the header line.
   subroutine history_open(h, path, s, every, depth, factor, probe, stat, errmsg, append)
@@ -125,11 +141,7 @@ contains
     stat = 0
     errmsg = ''
     if (.not. force .and. s%t < h%next_time*(1.0_wp - 1.0e-12_wp)) return
-    if (h%every > 0.0_wp) then
-      do while (h%next_time <= s%t*(1.0_wp + 1.0e-12_wp))
-        h%next_time = h%next_time + h%every
-      end do
-    end if
+    if (h%every > 0.0_wp) h%next_time = next_output(h%next_time, h%every, s%t)
     row(1) = s%t
     i = 1
     do k = 1, s%nwall
