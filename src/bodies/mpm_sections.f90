@@ -304,7 +304,7 @@ contains
         tb = ((c(1) - a(1))*r(2) - (c(2) - a(2))*r(1))/den
         if (ta < -tol .or. ta > 1.0_wp + tol .or. tb < -tol .or. tb > 1.0_wp + tol) cycle
         x = a + ta*r
-        write(at, '(es10.3,a,es10.3)') x(1), ', ', x(2)
+        at = sci(x(1), 3)//', '//sci(x(2), 3)
         stat = 3
         msg = 'two walls meet at ('//trim(adjustl(at))//') m without a joint: split both '// &
               'there, so that walls meet only at their ends'

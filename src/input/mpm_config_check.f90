@@ -319,7 +319,9 @@ contains
     if (stat == 3 .and. b%shape_id == SHAPE_TUBE) call err_var(rd, io, 'vertices', &
       fmt_list(b%vertices(1:2*b%n_vertices)), 'the polygon crosses itself: '//msg, &
       'a simple polygon, counter-clockwise')
-    if (stat == 3 .and. b%shape_id /= SHAPE_TUBE) call err_var(rd, io, 'walls_file', &
+    if (stat == 3 .and. b%shape_id == SHAPE_HONEYCOMB) call err_var(rd, io, 'cell_l', &
+      fmt_real(b%cell_l), msg, 'cell_l, cell_h and cell_angle whose walls meet only at their ends')
+    if (stat == 3 .and. b%shape_id == SHAPE_WALLS) call err_var(rd, io, 'walls_file', &
       ''''//trim(b%walls_file)//'''', msg, 'walls that meet only at their ends')
     if (stat == 1) call err_var(rd, io, 'n_thick', itoa(b%n_thick), 'the walls cannot be '// &
       'filled with particles: '//msg, 'walls longer than their joints need, meeting at '// &
@@ -681,8 +683,8 @@ contains
     type(wall_t) :: w
     integer :: k, io
     logical :: ok, all_stroke, any_moving, any_mass
-    real(wp) :: t_stop
-    character(len=:), allocatable :: without
+    real(wp) :: t_stop, travel
+    character(len=:), allocatable :: without, rest
     all_stroke = .true.
     any_moving = .false.
     any_mass = .false.
@@ -709,9 +711,11 @@ contains
       w%stroke = cfg%walls(k)%stroke
       call wall_stroke_setup(w, ok)
       if (.not. ok .and. io > 0) then
-        call err_var(rd, io, 'stroke', fmt_real(w%stroke), 'not reached: the motion comes '// &
-          'to rest after '//fmt_short(wall_stroke_travel(w, huge(1.0_wp)*1.0e-10_wp))// &
-          ' m', 'a stroke the motion reaches, or a motion table that keeps moving')
+        travel = wall_stroke_travel(w, huge(1.0_wp)*1.0e-10_wp)    ! (at rest, or moving away)
+        rest = 'the motion comes to rest after '//fmt_short(travel)//' m'
+        if (travel < 0.0_wp) rest = 'the motion table ends moving the wall away from the material'
+        call err_var(rd, io, 'stroke', fmt_real(w%stroke), 'not reached: '//rest, &
+          'a stroke the motion reaches, or a motion table that keeps moving')
         all_stroke = .false.
       else if (w%stroke > 0.0_wp) then
         t_stop = max(t_stop, wall_end_time(w))
