@@ -85,6 +85,9 @@ contains
       call rect_counts(b%n_x, b%n_y, np, nc)
     case default
       call body_mesh(b, xc, quad, pwall, stat, msg)
+      np = 0                               ! (not meshable: none; the set-up says so)
+      nc = 0
+      if (stat /= 0) return
       np = size(quad, 2)
       nc = size(xc, 2)
     end select

@@ -180,7 +180,7 @@ contains
     tend = w%ramp
     if (w%n_motion > 0) tend = w%motion_t(w%n_motion)
     f_end = law_factor(w, tend + 1.0_wp)
-    if (f_end > 0.0_wp) tend = tend + 2.0_wp*w%stroke/(v*f_end) + w%ramp
+    if (v*f_end > 0.0_wp) tend = tend + 2.0_wp*w%stroke/(v*f_end) + w%ramp
     n = 20000
     ta = 0.0_wp
     do k = 1, n

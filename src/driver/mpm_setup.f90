@@ -92,8 +92,9 @@ contains
         end if
         call body_counts(b, npb, ncb, nk)
         if (npb == 0) then                 ! a mesh the reader's check left to here
-          call append_msg(errmsg, trim(cfg%file)//': &body #'//itoa(ib)//': its shape makes '// &
-            'no particles (a section that cannot be meshed: run tubempm --check)')
+          call append_msg(errmsg, trim(cfg%file)//': &body #'//itoa(ib)//': its section '// &
+            'cannot be meshed (walls too thin or too short for their joints); allowed: walls '// &
+            'longer than their joints need, at n_thick particles through each')
           stat = EXIT_INPUT
         end if
         np = np + npb

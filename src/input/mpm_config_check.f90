@@ -127,6 +127,13 @@ contains
     if (k > 0) call err_var(rd, io, 'curve_stress', fmt_list(m%curve_stress(1:n)), &
       'curve_stress('//itoa(k)//') = '//fmt_real(m%curve_stress(k))//' is not > 0, or '// &
       'below the point before')
+    if (ok .and. n > 1 .and. k == 0) k = findloc([(m%curve_strain(j) - m%curve_strain(j - 1) &
+      >= 1.0e-9_wp, j = 2, n)], .false., 1)
+    if (k > 0 .and. ok) then                     ! (finer steps: slopes beyond the program's)
+      call err_var(rd, io, 'curve_strain', fmt_list(m%curve_strain(1:n)), 'curve_strain('// &
+        itoa(k + 1)//') is less than 1e-9 above the point before')
+      ok = .false.
+    end if
     if (ok .and. k == 0) m%n_curve = n
     do k = 1, size(law)                          ! the curve replaces the law
       if (n > 0 .and. given(rd, io, trim(law(k)))) call err_var(rd, io, trim(law(k)), '', &
@@ -209,7 +216,35 @@ contains
         b%corner_radius < 0.5_wp*b%thickness) call err_var(rd, io, 'corner_radius', &
       fmt_real(b%corner_radius), 'below thickness/2 = '//fmt_real(0.5_wp*b%thickness)// &
       ' (the inner face would fold)')
+    if (b%corner_radius > 0.0_wp .and. b%n_vertices >= 3) call check_arcs(rd, io, b)
   end subroutine check_tube
+
+  !> The rounded corners fit their sides: a corner of radius r turning by theta takes
+  !! r tan(theta/2) of each side it joins, and the two corners of a side together at most all
+  !! of it.
+  subroutine check_arcs(rd, io, b)
+    type(reader_t), intent(inout) :: rd
+    integer, intent(in) :: io
+    type(body_cfg_t), intent(in) :: b
+    real(wp) :: take(b%n_vertices), side(b%n_vertices), d1(2), d2(2), turn
+    integer :: k, n
+    n = b%n_vertices
+    do k = 1, n                                  ! side k: vertex k to k + 1
+      d1 = b%vertices(2*modulo(k, n)+1:2*modulo(k, n)+2) - b%vertices(2*k-1:2*k)
+      d2 = b%vertices(2*modulo(k+1, n)+1:2*modulo(k+1, n)+2) - &
+           b%vertices(2*modulo(k, n)+1:2*modulo(k, n)+2)
+      side(k) = norm2(d1)
+      turn = abs(atan2(d1(1)*d2(2) - d1(2)*d2(1), dot_product(d1, d2)))
+      take(modulo(k, n) + 1) = b%corner_radius*tan(min(0.5_wp*turn, 0.5_wp*pi - 1.0e-6_wp))
+    end do
+    do k = 1, n
+      if (take(k) + take(modulo(k, n) + 1) <= side(k)*(1.0_wp + 1.0e-9_wp)) cycle
+      call err_var(rd, io, 'corner_radius', fmt_real(b%corner_radius), 'too large for side '// &
+        itoa(k)//' ('//fmt_short(side(k))//' m): its two rounded corners take '// &
+        fmt_short(take(k) + take(modulo(k, n) + 1))//' m of it')
+      return
+    end do
+  end subroutine check_arcs
 
   !> A honeycomb: 1 to 64 cells each way, an angle that is not 0 and leaves the cells open.
   subroutine check_honeycomb(rd, io, b)
@@ -244,6 +279,8 @@ contains
     character(len=1024) :: buf, msg
     real(wp) :: r(5), big, small
     real(wp), allocatable :: seg(:,:)
+    integer, allocatable :: lines(:)
+    integer :: k
     character(len=:), allocatable :: unit
     integer :: u, ios, ln
     call magnitude_bounds(spec_index('body', 'thickness'), big, small, unit)   ! lengths
@@ -256,7 +293,7 @@ contains
         trim(msg)//')')
       return
     end if
-    allocate(seg(5, 0))
+    allocate(seg(5, 0), lines(0))
     ln = 0
     what = ''
     do while (len(what) == 0)
@@ -280,10 +317,16 @@ contains
         what = 'more than 4096 walls'
       else
         seg = reshape([seg, r], [5, size(seg, 2) + 1])
+        lines = [lines, ln]
       end if
     end do
     close(u)
     if (len(what) == 0 .and. size(seg, 2) == 0) what = 'has no walls'
+    do k = 1, size(seg, 2)                 ! (ends closer than this are one joint: mpm_bodies)
+      if (len(what) > 0) exit
+      if (norm2(seg(3:4, k) - seg(1:2, k)) <= 1.0e-6_wp*minval(seg(5, :))) what = path//':'// &
+        itoa(lines(k))//': a wall shorter than 1e-6 times the thinnest wall (its ends are one joint)'
+    end do
     if (len(what) > 0) then
       call err_var(rd, io, 'walls_file', ''''//trim(b%walls_file)//'''', what)
       return

@@ -146,8 +146,8 @@ module mpm_config_table
     var_spec_t('material', 'rate_law', comment='%'), &
     var_spec_t('material', 'cs_d', lo=0.0_wp, lo_open=.true., &
       allowed='a real number > 0 [1/s] (default 40.4)', comment='Cowper-Symonds D [1/s]'), &
-    var_spec_t('material', 'cs_q', lo=0.0_wp, lo_open=.true., &
-      allowed='a real number > 0 (default 5)', comment='Cowper-Symonds q [-]'), &
+    var_spec_t('material', 'cs_q', lo=0.1_wp, hi=100.0_wp, &
+      allowed='a real number from 0.1 to 100 (default 5)', comment='Cowper-Symonds q [-]'), &
     var_spec_t('material', 'flow_stress', comment='%'), &
     var_spec_t('material', 'jc_b', lo=0.0_wp, allowed='a real number >= 0 [Pa] (default 0)', &
       comment='Johnson-Cook B [Pa]'), &
@@ -173,11 +173,12 @@ module mpm_config_table
       '>= 0 [Pa], not with a curve (default 0)', comment='foam hardening gamma [Pa]'), &
     var_spec_t('material', 'foam_alpha2', lo=0.0_wp, only='foam', allowed='a real number '// &
       '>= 0 [Pa], not with a curve (default 0)', comment='foam densification alpha2 [Pa]'), &
-    var_spec_t('material', 'foam_beta', lo=0.0_wp, lo_open=.true., only='foam', &
-      allowed='a real number > 0, not with a curve (default 1)', &
+    var_spec_t('material', 'foam_beta', lo=0.01_wp, hi=100.0_wp, only='foam', &
+      allowed='a real number from 0.01 to 100, not with a curve (default 1)', &
       comment='foam densification exponent beta [-]'), &
-    var_spec_t('material', 'eps_d', lo=0.0_wp, lo_open=.true., &
-      only='foam', unset='neg', allowed='a real number > 0 (required for model = ''foam'' '// &
+    var_spec_t('material', 'eps_d', lo=1.0e-3_wp, hi=10.0_wp, &
+      only='foam', unset='neg', allowed='a real number from 0.001 to 10 (required for model '// &
+      '= ''foam'' '// &
       'without curve_strain, curve_stress)', comment='foam densification strain [-]'), &
     var_spec_t('material', 'curve_strain', own=.true., only='foam', &
       allowed='up to 64 plastic strains, the first 0, strictly increasing, as many as '// &

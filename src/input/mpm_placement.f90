@@ -11,7 +11,7 @@ module mpm_placement
   use mpm_kinds, only: wp
   use mpm_constants, only: CONTACT_SLIP
   use mpm_config_types, only: config_t
-  use mpm_bodies, only: body_low, body_overlap
+  use mpm_bodies, only: body_low, body_overlap, body_estimate
   use mpm_config_text, only: itoa, fmt_short, fmt_list
   use mpm_config_scan, only: reader_t, occurrence, err_var, warn_var
   implicit none
@@ -25,8 +25,17 @@ contains
     type(reader_t), intent(inout) :: rd    !! the input's occurrences and messages
     type(config_t), intent(in) :: cfg      !! the case, its lengths checked
     integer, intent(in) :: occ_body(:)     !! occurrence of each &body
-    call overlap_checks(rd, cfg, occ_body)
-    call wall_side_checks(rd, cfg, occ_body)
+    logical :: ok(size(occ_body))
+    integer :: j
+    real(wp) :: np, nc, ext
+    do j = 1, size(occ_body)                 ! bodies meshed here: those of at most 2e6
+      ok(j) = rd%occ(occ_body(j))%ok       ! particles (the budget refuses larger ones)
+      if (.not. ok(j)) cycle
+      call body_estimate(cfg%bodies(j), np, nc, ext)
+      ok(j) = np <= 2.0e6_wp
+    end do
+    call overlap_checks(rd, cfg, occ_body, ok)
+    call wall_side_checks(rd, cfg, occ_body, ok)
     call twin_walls(rd, cfg)
   end subroutine placement_checks
 
@@ -66,16 +75,17 @@ contains
   end subroutine twin_walls
 
   !> No two bodies overlapping by more than h/2 at t = 0; reported at the later body's centre.
-  subroutine overlap_checks(rd, cfg, occ_body)
+  subroutine overlap_checks(rd, cfg, occ_body, ok)
     type(reader_t), intent(inout) :: rd    !! the input's occurrences and messages
     type(config_t), intent(in) :: cfg      !! the case
     integer, intent(in) :: occ_body(:)     !! occurrence of each &body
+    logical, intent(in) :: ok(:)           !! each body read without error, and meshable
     integer :: i, j
     real(wp) :: depth
     do j = 2, size(cfg%bodies)
-      if (.not. rd%occ(occ_body(j))%ok) cycle
+      if (.not. ok(j)) cycle
       do i = 1, j - 1
-        if (.not. rd%occ(occ_body(i))%ok) cycle
+        if (.not. ok(i)) cycle
         depth = body_overlap(cfg%bodies(i), cfg%bodies(j))
         if (depth <= 0.5_wp*cfg%grid%h) cycle
         call err_var(rd, occ_body(j), 'center', fmt_list(cfg%bodies(j)%center), &
@@ -91,10 +101,11 @@ contains
   !! (its normal pointing away from the material, or its point inside the body) would be
   !! pushed through it at the first step; reported at the wall's normal, with the normal that
   !! would put the body in front. Mirror planes ('slip') hold material on both sides.
-  subroutine wall_side_checks(rd, cfg, occ_body)
+  subroutine wall_side_checks(rd, cfg, occ_body, ok)
     type(reader_t), intent(inout) :: rd    !! the input's occurrences and messages
     type(config_t), intent(in) :: cfg      !! the case
     integer, intent(in) :: occ_body(:)     !! occurrence of each &body
+    logical, intent(in) :: ok(:)           !! each body read without error, and meshable
     integer :: k, j, i, io
     real(wp) :: n(2), gap, flipped
     character(len=256) :: fix
@@ -106,12 +117,12 @@ contains
       if (.not. rd%occ(io)%ok .or. cfg%walls(k)%contact_id == CONTACT_SLIP) cycle
       n = cfg%walls(k)%normal
       do j = 1, size(cfg%bodies)
-        if (.not. rd%occ(occ_body(j))%ok) cycle
+        if (.not. ok(j)) cycle
         gap = body_low(cfg%bodies(j), n) - dot_product(cfg%walls(k)%point, n)
         if (gap >= -0.5_wp*cfg%grid%h) cycle
         flipped = huge(1.0_wp)              ! the flip must put every body in front
         do i = 1, size(cfg%bodies)
-          if (rd%occ(occ_body(i))%ok) flipped = min(flipped, body_low(cfg%bodies(i), -n) + &
+          if (ok(i)) flipped = min(flipped, body_low(cfg%bodies(i), -n) + &
                                                     dot_product(cfg%walls(k)%point, n))
         end do
         fix = any_fix

@@ -9,6 +9,7 @@ module mpm_units
   use mpm_config_types, only: config_t
   use mpm_errors, only: append_msg
   use mpm_strings, only: rtoa, itoa
+  use mpm_config_text, only: finite
   implicit none
   private
 
@@ -101,12 +102,14 @@ contains
       if (cfg%walls(k)%stroke > length_max) call push(issues, 'wall', k, 'stroke', &
         rtoa(cfg%walls(k)%stroke)//' m', mm, metres)
       associate (w => cfg%walls(k))             ! its fastest speed: velocity times the table
+        if (.not. all(finite(w%velocity))) cycle   ! (reported where it is read)
         if (norm2(w%velocity)*merge(maxval(abs(w%motion_f(1:max(w%n_motion, 1)))), 1.0_wp, &
             w%n_motion > 0) > speed_max) call push(issues, 'wall', k, 'velocity', &
           rtoa(norm2(w%velocity))//' m/s', ms, speeds)
       end associate
     end do
     do k = 1, size(cfg%bodies)
+      if (.not. all(finite(cfg%bodies(k)%velocity))) cycle   ! (reported where it is read)
       if (norm2(cfg%bodies(k)%velocity) > speed_max) call push(issues, 'body', k, 'velocity', &
         rtoa(norm2(cfg%bodies(k)%velocity))//' m/s', ms, speeds)
     end do
