@@ -227,7 +227,8 @@ module mpm_config_table
       only='tube honeycomb', unset='neg', allowed='a real number > 0 [m] (required for '// &
       'shape = ''tube'' and ''honeycomb'')', comment='wall thickness [m]'), &
     var_spec_t('body', 'corner_radius', lo=0.0_wp, only='tube', allowed='0 (sharp) or a '// &
-      'real number >= thickness/2 [m] whose rounded corners fit their sides (default 0)', comment='corner radius, centreline [m]'), &
+      'real number >= thickness/2 [m] whose rounded corners fit their sides (default 0)', &
+      comment='corner radius, centreline [m]'), &
     var_spec_t('body', 'n_cells', own=.true., only='honeycomb', &
       unset='zero', allowed='2 whole numbers from 1 to 64: cells along x and y (required '// &
       'for shape = ''honeycomb'')', comment='cells along x and y'), &
