@@ -312,6 +312,7 @@ contains
     integer :: ib, k, worst(size(cfg%walls))
     real(wp) :: t, rm, ei, mass, omega2, vwall, ratio, top(size(cfg%walls))
     character(len=512) :: line
+    character(len=16) :: rtext
     character(len=:), allocatable :: which
     top = 0.0_wp                           ! per wall: the largest ratio over the rings
     rm = 0.0_wp
@@ -359,14 +360,18 @@ contains
       if (count(cfg%bodies%shape_id == SHAPE_RING .or. cfg%bodies%shape_id == SHAPE_TUBE) > 1) &
         which = ' of body '//itoa(worst(k))
       if (cfg%bodies(worst(k))%shape_id == SHAPE_RING) then
-        write(line, '(a,i0,a,f5.3,a)') 'wall ', k, ': not quasi-static (', top(k), &
+        write(rtext, '(f5.3)') top(k)
+        if (top(k) >= 9.9995_wp) rtext = sci(top(k), 2)         ! (no field overflow)
+        write(line, '(a,i0,a)') 'wall ', k, ': not quasi-static ('//trim(rtext)// &
           ' D omega_2'//which//'). Set |velocity| <= '// &
           sci(quasi_static_ratio*vwall/top(k), 1)//' ('//doc_quasi_static//')'
       else
-        write(line, '(a,i0,a,f6.4,a)') 'wall ', k, ': not quasi-static (', &
-          top(k)*quasi_static_section/quasi_static_ratio, ' H omega_1'//which// &
-          '). Set |velocity| <= '//sci(quasi_static_ratio*vwall/top(k), 1)//' ('// &
-          doc_quasi_static//')'
+        write(rtext, '(f6.4)') top(k)*quasi_static_section/quasi_static_ratio
+        if (top(k)*quasi_static_section/quasi_static_ratio >= 9.99995_wp) &
+          rtext = sci(top(k)*quasi_static_section/quasi_static_ratio, 2)
+        write(line, '(a,i0,a)') 'wall ', k, ': not quasi-static ('//trim(rtext)// &
+          ' H omega_1'//which//'). Set |velocity| <= '// &
+          sci(quasi_static_ratio*vwall/top(k), 1)//' ('//doc_quasi_static//')'
       end if
       call add_line(cfg, warnings, line)
       exit
