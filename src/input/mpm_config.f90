@@ -1,6 +1,7 @@
 !> The case read from one namelist file: the pre-scan (mpm_config_scan), the compiler's namelist
 !! read of every assignment (mpm_config_record), the checks of each variable against its row of
-!! the table (mpm_config_table), the group rules and those across groups (mpm_config_check),
+!! the table (mpm_config_table), the group rules and those across groups (mpm_config_check,
+!! a body's in mpm_config_body),
 !! every problem reported at once; and the public face of the input (types, echo, defaults).
 ! SPDX-License-Identifier: MIT
 module mpm_config
@@ -21,7 +22,8 @@ module mpm_config
   use mpm_config_scan, only: reader_t, asg_t, load_lines, scan_source, check_groups, add_err, &
                              add_warn, join_msgs, label, err_var, err_missing, warn_group, &
                              given, last_asg, value_tokens, allowed_text, tok_len
-  use mpm_config_check, only: check_group, check_mesh, cross_checks
+  use mpm_config_check, only: check_group, cross_checks
+  use mpm_config_body, only: check_mesh
   use mpm_config_echo, only: write_config, write_config_unit
   implicit none
   private
