@@ -247,7 +247,7 @@ contains
     c2%fields = 2
     call advice_wall_time(1.0e5_wp, c2, BASIS_CPDI2, 1, more, rate2, bench, warning)
     call check(more > seconds, 'a second velocity field: more time')
-    c2%touching = 100.0_wp
+    c2%contact = 100.0_wp
     call advice_wall_time(1.0e5_wp, c2, BASIS_CPDI2, 1, seconds, rate2, bench, warning)
     call check(seconds > more, 'contact between bodies: more time')
     c2%foam = c2%particles
