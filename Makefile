@@ -47,7 +47,7 @@ TESTSRC := $(wildcard tests/test_*.f90)
 TESTS   := $(patsubst tests/%.f90,$(BLD)/%,$(TESTSRC))
 FC_ALL  := $(FC) $(FFLAGS_common) $(FFLAGS_$(BUILD))
 
-.PHONY: all deps test run clean help check-namelists check-paraview bench study stability figures \
+.PHONY: all deps test run clean help check-namelists check-paraview bench bench-cost study stability figures \
         cfl-accuracy validate-honeycomb \
         fuzz fuzz-scenes fe-reference test-slurm design-example
 
@@ -139,7 +139,16 @@ bench: deps
 	$(PYTHON) -m tests.check_native out/bench/check_native
 	@$(MAKE) --no-print-directory BUILD=release BLD=$(BENCH_BLD) $(BENCH_BLD)/bench
 	$(PYTHON) -m tools.bench --exe $(BENCH_BLD)/bench --out docs/bench $(BENCH_FLAGS)
-	$(PYTHON) -m tools.advice_tables --bench    # --check's wall-time estimate
+	$(PYTHON) -m tools.advice_tables --bench --cost    # --check's wall-time estimate and model
+
+## bench-cost: the wall-time model's measurements (about 80 min on one thread; never part of
+##        make test): every shipped namelist's first 1.5e7 particle-steps and the whole run of
+##        those whose contact or foam changes (tools/bench.py --cost, docs/bench/cost_<stamp>.csv), then
+##        the fit of its terms (tools/advice_tables.py --cost writes src/advice/mpm_cost_table.inc)
+bench-cost: all
+	@$(MAKE) --no-print-directory BUILD=release BLD=$(BENCH_BLD) $(BENCH_BLD)/bench
+	$(PYTHON) -m tools.bench --exe $(BENCH_BLD)/bench --cost --out docs/bench
+	$(PYTHON) -m tools.advice_tables --cost    # --check's wall-time model
 
 $(BLD)/bench: tools/bench.f90 $(LIBOBJ) | $(BLD) $(BLD)/tmod_bench
 	$(FC_ALL) $(HDF5_FFLAGS) -I$(BLD) -J$(BLD)/tmod_bench -o $@ $< $(LIBOBJ) $(HDF5_LIBS)

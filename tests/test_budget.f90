@@ -19,7 +19,7 @@ program test_budget
   use mpm_solver, only: sim_t, solver_step, solver_memory_bytes
   use mpm_particles, only: particles_memory_bytes
   use mpm_budget, only: budget_t, budget_estimate, budget_check, budget_max_nodes
-  use mpm_advice, only: advice_wall_time
+  use mpm_cost, only: advice_wall_time, cost_counts_t
   use mpm_units, only: advice_units
   use testing, only: begin_test, check, check_close, finish_tests
   implicit none
@@ -218,20 +218,44 @@ contains
                'E above 1e13 and rho above 30000 warned')
   end subroutine units
 
-  !> seconds = work / rate of the basis; a warning beyond an hour only.
+  !> A case like make bench's rings (one field, 1e6 particles, 2.6 grid nodes a particle): its
+  !! rate within 5 % of make bench's for the basis; seconds = particle-steps / rate; each term
+  !! of the cost model adds time (foam: none less); a warning beyond an hour only.
   subroutine wall_time()
-    real(wp) :: seconds, rate, rate2
+    real(wp) :: seconds, rate, rate2, bench, more
     character(len=:), allocatable :: warning
-    call advice_wall_time(1.0e9_wp, BASIS_CPDI2, 1, seconds, rate, warning)
+    type(cost_counts_t) :: c, c2
+    c%particles = 1.0e6_wp
+    c%nodes = 2.6e6_wp
+    call advice_wall_time(1.0e3_wp, c, BASIS_CPDI2, 1, seconds, rate, bench, warning)
     call check(rate > 1.0e5_wp .and. rate < 1.0e8_wp, 'a throughput between 1e5 and 1e8 '// &
                'particle-steps/s')
+    call check_close(rate, bench, 'make bench''s ring: make bench''s rate', rtol=0.05_wp)
     call check_close(seconds, 1.0e9_wp/rate, 'seconds = work / rate', rtol=1.0e-14_wp)
-    call advice_wall_time(0.5_wp*3600.0_wp*rate, BASIS_CPDI2, 1, seconds, rate, warning)
+    c%particles = 1.0e4_wp
+    c%nodes = 3.0e4_wp
+    call advice_wall_time(0.5_wp*3600.0_wp*rate/c%particles, c, BASIS_CPDI2, 1, seconds, rate, &
+                          bench, warning)
     call check(len(warning) == 0, 'half an hour: no warning')
-    call advice_wall_time(2.0_wp*3600.0_wp*rate, BASIS_CPDI2, 1, seconds, rate, warning)
+    call advice_wall_time(2.0_wp*3600.0_wp*rate/c%particles, c, BASIS_CPDI2, 1, seconds, rate, &
+                          bench, warning)
     call check(index(warning, 'about 2:00:00') > 0, 'two hours: warned as 2:00:00: '//warning)
-    call advice_wall_time(1.0e9_wp, BASIS_CPDI2, 8, seconds, rate2, warning)
+    call advice_wall_time(1.0e5_wp, c, BASIS_CPDI2, 8, seconds, rate2, bench, warning)
     call check(rate2 > rate, 'more threads: a higher rate (the two-thread median)')
+    call advice_wall_time(1.0e5_wp, c, BASIS_CPDI2, 1, seconds, rate, bench, warning)
+    c2 = c
+    c2%fields = 2
+    call advice_wall_time(1.0e5_wp, c2, BASIS_CPDI2, 1, more, rate2, bench, warning)
+    call check(more > seconds, 'a second velocity field: more time')
+    c2%contact = 100.0_wp
+    call advice_wall_time(1.0e5_wp, c2, BASIS_CPDI2, 1, seconds, rate2, bench, warning)
+    call check(seconds > more, 'contact between bodies: more time')
+    c2%foam = c2%particles
+    call advice_wall_time(1.0e5_wp, c2, BASIS_CPDI2, 1, more, rate2, bench, warning)
+    call check(more >= seconds, 'foam: no less time')
+    c2%fbar = c2%particles
+    call advice_wall_time(1.0e5_wp, c2, BASIS_CPDI2, 1, seconds, rate2, bench, warning)
+    call check(seconds > more, 'F-bar: more time')
   end subroutine wall_time
 
   !> A body flying away makes a fitted grid grow; with room for fewer nodes than it needs the

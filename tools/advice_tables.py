@@ -19,11 +19,14 @@
     src/advice/mpm_bench_table.inc      the throughput per basis on 1 and 2 threads (particle-steps
                                         per second, the median over the scenes and sizes of the newest
                                         docs/bench/bench_*.csv): --check's wall-time estimate
+    src/advice/mpm_cost_table.inc       the cost model's terms beyond the bench's throughput (extra
+                                        velocity fields, contact, foam), fitted to the newest
+                                        docs/bench/cost_*.csv of make bench-cost (cost_fit)
 
 A file is rewritten only when its text changes (no rebuild otherwise). `make study`,
 `make figures` and `make stability` call this script; plots/ writes nothing into src/.
 
-    python3 -m tools.advice_tables [--study] [--stability] [--bench]   (no option: all)
+    python3 -m tools.advice_tables [--study] [--stability] [--bench] [--cost]   (no option: all)
 """
 from __future__ import annotations
 
@@ -224,14 +227,189 @@ def bench_include(folder: Path) -> str:
     return "".join(lines)
 
 
+def bench_table(folder: Path) -> Path:
+    """The bench table --check's throughput comes from (bench_include's choice)."""
+    tables = sorted(p for p in folder.glob("bench_*.csv")
+                    if not p.stem.endswith(("_before", "_busy")))
+    quiet = [p for p in tables if bench_spread(bench_rows(p)) <= MAX_SPREAD]
+    if not quiet:
+        raise SystemExit(f"ERROR [advice_tables]: no quiet bench_*.csv in {folder}")
+    return quiet[-1]
+
+
+def median(xs: list[float]) -> float:
+    s = sorted(xs)
+    m = len(s) // 2
+    return s[m] if len(s) % 2 else 0.5 * (s[m - 1] + s[m])
+
+
+COST_UNITS = {"cost_node": "per grid node and velocity field [s]",
+              "cost_body_entry": "per pair entry between two bodies [s]",
+              "cost_self_entry": "per pair entry within a body (self-contact) [s]",
+              "cost_foam": "per foam particle [s]",
+              "cost_foam_plane": "per foam particle in plane stress, more [s]",
+              "cost_fbar": "per particle under F-bar [s]",
+              "cost_step": "per step [s]",
+              "contact_cover": "share of the facing surface nodes in contact (run mean) [-]",
+              "contact_keep": "share of the entries at t = 0 kept (run mean) [-]",
+              "bench_nodes": "grid nodes per particle of make bench's scenes [-]"}
+
+
+def cost_rows(folder: Path) -> tuple[Path, list[dict]]:
+    """The newest docs/bench/cost_*.csv and its rows, each with `speed`: the machine's speed
+    when it was measured over make bench's (the row's reference_mps, the bench's CPDI2 crush
+    at 1e4 particles then, over the bench table's)."""
+    tables = sorted(folder.glob("cost_*.csv"))
+    if not tables:
+        raise SystemExit(f"ERROR [advice_tables]: no cost_*.csv in {folder} (make bench-cost)")
+    path = tables[-1]
+    ref = [r for r in bench_rows(bench_table(folder)) if r["scene"] == "crush"
+           and r["basis"] == "cpdi2" and r["threads"] == "1" and r["deterministic"] == "0"
+           and int(r["particles"]) < 20000]
+    if not ref:
+        raise SystemExit("ERROR [advice_tables]: the bench table has no CPDI2 crush at 1e4")
+    rows = bench_rows(path)
+    for r in rows:
+        r["speed"] = float(r["reference_mps"]) / float(ref[0]["mps_median"])
+    return path, rows
+
+
+def cost_measured(rows: list[dict]) -> dict[str, dict]:
+    """Per case, the row of its whole run where there is one, else of its first segment."""
+    by_case: dict[str, dict] = {}
+    for r in rows:
+        if r["case"] not in by_case or r["segment"] == "run":
+            by_case[r["case"]] = r
+    return by_case
+
+
+def bench_rate1(folder: Path) -> dict[str, float]:
+    """make bench's one-thread rate per basis (as in mpm_bench_table.inc)."""
+    rows = bench_rows(bench_table(folder))
+    return {b: median([float(r["mps_median"]) for r in rows if r["basis"] == b
+                       and r["threads"] == "1" and r["deterministic"] == "0"]) for b in BASES}
+
+
+def bench_nodes(folder: Path) -> float:
+    """Grid nodes per particle of make bench's scenes (median of its one-thread rows)."""
+    rows = bench_rows(bench_table(folder))
+    return median([int(r["nodes"]) / int(r["particles"]) for r in rows
+                   if r["threads"] == "1" and r["deterministic"] == "0"])
+
+
+def case_setting(name: str, key: str, default: str) -> str:
+    """A &solver setting of a case (a shipped namelist or a variant of tools/bench.py)."""
+    from plots.mpmplot import namelist
+    from tools.bench import COST_VARIANTS
+    base = COST_VARIANTS[name][0] if name in COST_VARIANTS else name
+    solver = namelist.read_namelist(ROOT / "namelists" / (base + ".nml")).get("solver", [{}])
+    return str(solver[0].get(key, default)).lower()
+
+
+def cost_step_time(r: dict) -> float:
+    """A row's measured time per step [s], at make bench's machine speed."""
+    return int(r["particles"]) / float(r["mps_all"]) * r["speed"]
+
+
+COST_TERMS = ("cost_node", "cost_body_entry", "cost_self_entry", "cost_foam", "cost_foam_plane",
+              "cost_fbar", "cost_step")
+
+
+def nonneg_lstsq(x, y, w):
+    """Weighted least squares with every coefficient >= 0 (a negative one is dropped, 0)."""
+    import numpy as np
+    x, y, w = np.array(x, dtype=float), np.array(y, dtype=float), np.array(w, dtype=float)
+    keep = list(range(x.shape[1]))
+    sol = np.zeros(0)
+    while keep:
+        sol, *_ = np.linalg.lstsq(x[:, keep] * w[:, None], y * w, rcond=None)
+        if (sol >= 0).all():
+            break
+        keep.pop(int(np.argmin(sol)))
+    out = [0.0] * x.shape[1]
+    for k, v in zip(keep, sol):
+        out[k] = float(v)
+    return out
+
+
+def cost_fit(rows: list[dict], folder: Path) -> dict[str, float]:
+    """The terms' costs (mpm_cost): least squares on the time per step beyond make bench's
+    particles / rate, relative to the step's time (a term that comes out negative is dropped),
+    over every case (its whole run where it was measured, else its first segment; not
+    tools/bench.py's COST_CONTROLS), with the counts measured along the run: nodes x fields
+    less the bench's nodes per particle x particles, pair entries between bodies and within a
+    body, foam particles, those in plane stress, particles under F-bar, and 1 (the step).
+    Then contact_cover and contact_keep (contact_share)."""
+    from tools.bench import COST_CONTROLS
+    rate1, nu = bench_rate1(folder), bench_nodes(folder)
+    x, y, w = [], [], []
+    for r in cost_measured(rows).values():
+        if r["case"] in COST_CONTROLS:
+            continue
+        tau = cost_step_time(r)
+        n = int(r["particles"])
+        body = float(r["body_entries"])
+        foam = int(r["foam_particles"])
+        plane = foam if case_setting(r["case"], "plane", "strain") == "stress" else 0
+        fbar = n if case_setting(r["case"], "volumetric", "standard") in ("fbar",
+                                                                          "fbarwall") else 0
+        x.append([int(r["nodes"]) * int(r["nf"]) - nu * n, body,
+                  float(r["pair_entries"]) - body, foam, plane, fbar, 1.0])
+        y.append(tau - n / rate1[r["basis"]])
+        w.append(1.0 / tau)
+    coef = dict(zip(COST_TERMS, nonneg_lstsq(x, y, w)))
+    coef["contact_cover"], coef["contact_keep"] = contact_share(rows, coef["cost_body_entry"])
+    coef["bench_nodes"] = nu
+    return coef
+
+
+def pair_entries(pairs: str, cover: float, keep: float) -> float:
+    """The pair entries between bodies mpm_cost counts for a run from a row's pairs0 ('t:s;t:s':
+    per pair of bodies with a law, its entries and facing surface nodes at t = 0): per pair
+    the larger of keep x t and cover x s."""
+    got = [[float(v) for v in p.split(":")] for p in pairs.split(";") if p.strip()]
+    return sum(max(keep * t, cover * s) for t, s in got)
+
+
+def contact_share(rows: list[dict], cost_entry: float) -> tuple[float, float]:
+    """The contact of a run (mpm_cost): the share of the facing surface nodes in contact
+    (contact_cover, among 0, 0.002, ..., 1) and of the entries at t = 0 kept (contact_keep,
+    among 0, 0.02, ..., 1), averaged over a run, that give the whole-run rows' measured mean
+    entries between bodies best, each row's error costed (cost_entry) relative to its step
+    time."""
+    full = [r for r in rows if r["segment"] == "run" and r.get("pairs0", "").strip()]
+    if not full:
+        return 0.0, 1.0
+
+    def err(ck: tuple[float, float]) -> float:
+        return sum((cost_entry * (pair_entries(r["pairs0"], *ck) - float(r["body_entries"]))
+                    / cost_step_time(r)) ** 2 for r in full)
+    return min(((c / 500.0, k / 50.0) for c in range(501) for k in range(51)), key=err)
+
+
+def cost_include(folder: Path) -> str:
+    """src/advice/mpm_cost_table.inc: the cost model's coefficients (cost_fit)."""
+    path, rows = cost_rows(folder)
+    coef = cost_fit(rows, folder)
+    lines = [f"! Generated by tools/advice_tables.py from docs/bench/{path.name} (make\n",
+             "! bench-cost, one thread; its times scaled to make bench's machine speed by its\n",
+             f"! reference scene against docs/bench/{bench_table(folder).name}): do not\n",
+             "! edit. The terms of the time per step beyond make bench's particles / rate\n",
+             "! (mpm_cost, docs/performance.md).\n"]
+    for k, v in coef.items():
+        lines.append(f"real(wp), parameter :: {k} = {v:.4e}_wp   !! {COST_UNITS[k]}\n")
+    return "".join(lines)
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--study", action="store_true", help="only src/advice/mpm_advice_table.inc")
     ap.add_argument("--stability", action="store_true",
                     help="only src/method/mpm_time_step_table.inc and src/advice/mpm_stability_table.inc")
     ap.add_argument("--bench", action="store_true", help="only src/advice/mpm_bench_table.inc")
+    ap.add_argument("--cost", action="store_true", help="only src/advice/mpm_cost_table.inc")
     args = ap.parse_args(argv)
-    both = not (args.study or args.stability or args.bench)
+    both = not (args.study or args.stability or args.bench or args.cost)
     if args.study or both:
         from plots.plot_study import advice, read_table
         table = ROOT / "docs" / "study" / "study_full.csv"
@@ -246,6 +424,9 @@ def main(argv: list[str] | None = None) -> int:
     if args.bench or both:
         write_if_changed(ROOT / "src" / "advice" / "mpm_bench_table.inc",
                          bench_include(ROOT / "docs" / "bench"))
+    if args.cost or both:
+        write_if_changed(ROOT / "src" / "advice" / "mpm_cost_table.inc",
+                         cost_include(ROOT / "docs" / "bench"))
     return 0
 
 

@@ -13,6 +13,16 @@
 !          (the row gives the count chosen)
 !   STEPS  time steps per repetition; REPS repetitions (after 3 untimed warm-up steps)
 !   DETERMINISTIC 0 | 1 (default 0); SCHEME usl | usf | musl (default musl)
+!        bench --case-header
+!        bench case FILE THREADS STEPS REPS [SKIP]
+!   FILE   a case file (namelist), run as read (its outputs are not written); SKIP untimed steps
+!          first (default 3); the row (tools/bench.py --cost): particles, nodes, velocity
+!          fields, foam particles, particle-steps per second (best and median of REPS, and over
+!          all of them), the mean contact nodes, particles touching them, pair entries and those
+!          between two bodies per step, the counts of --check's cost model at t = 0 (mpm_cost:
+!          pair entries between bodies, surface nodes facing, entries within a body), ns per
+!          particle-step of each phase, and per pair of bodies with a law its entries and
+!          facing nodes at t = 0 ('t:s;t:s')
 ! Row: scene, basis, scheme, deterministic, threads, particles, nodes, block width, steps, reps,
 ! particle-steps per second (median, min, max; median per CPU second of all threads: robust to
 ! other load, but it counts the time threads spin at barriers), runtime ratio (simulated /
@@ -23,16 +33,17 @@ program bench
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
   use mpm_kinds, only: wp, i8
   use mpm_constants, only: basis_names, scheme_names, SCHEME_MUSL, PLANE_STRAIN, MODEL_J2, &
-                           SECTOR_HALF, SECTOR_QUARTER
-  use mpm_config, only: config_t, config_resolve
+                           SECTOR_HALF, SECTOR_QUARTER, MODEL_FOAM
+  use mpm_config, only: config_t, config_resolve, read_config
   use mpm_scene_builder, only: scene_new, scene_add_material, scene_add_ring, scene_add_wall
   use mpm_setup, only: setup_sim
   use mpm_solver, only: sim_t, solver_step, solver_memory_bytes
   use mpm_timers, only: clock_seconds, n_phases, phase_names
   use mpm_sys, only: sys_free_threads
+  use mpm_cost, only: cost_counts_t, cost_case_counts
   implicit none
   integer, parameter :: warm_steps = 3
-  character(len=64) :: arg(8)
+  character(len=512) :: arg(8)
   character(len=:), allocatable :: errmsg, why
   type(config_t) :: cfg
   type(sim_t) :: s
@@ -52,8 +63,21 @@ program bench
       line = trim(line)//',ns_'//trim(phase_names(k))
     end do
     write(output_unit, '(a)') trim(line)//',memory_model_bytes,vmhwm_bytes'
+  else if (arg(1) == '--case-header') then
+    line = 'case,basis,threads,particles,nodes,nf,foam_particles,steps,reps,t_start,t_end,' // &
+           'mps_best,mps_median,mps_all,contact_nodes,contact_particles,pair_entries,' // &
+           'body_entries,touching0,facing0,self0'
+    do k = 1, n_phases
+      line = trim(line)//',ns_'//trim(phase_names(k))
+    end do
+    write(output_unit, '(a)') trim(line)//',pairs0'
   else
-    call run_scene()
+    call get_command_argument(1, arg(1))
+    if (arg(1) == 'case') then
+      call run_case()
+    else
+      call run_scene()
+    end if
   end if
 
 contains
@@ -148,6 +172,113 @@ contains
     end do
     write(output_unit, '(a,",",i0,",",i0)') trim(line), solver_memory_bytes(s), peak_rss()
   end subroutine run_scene
+
+  !> A case file's scene: SKIP untimed steps, then REPS times STEPS timed steps on THREADS
+  !! threads; one row (--case-header) with the contact work counted per timed step.
+  subroutine run_case()
+    integer :: skip, nfoam, ip
+    real(wp) :: t_start, ncn, npl, npn, nbe, tsum
+    integer :: taken, total, done
+    type(cost_counts_t) :: c0
+    if (nargs < 5) then
+      write(error_unit, '(a)') 'usage: bench case FILE THREADS STEPS REPS [SKIP]'
+      error stop 2
+    end if
+    do k = 2, min(nargs, 6)
+      call get_command_argument(k, arg(k))
+    end do
+    read(arg(3), *) threads
+    read(arg(4), *) steps
+    read(arg(5), *) reps
+    skip = warm_steps
+    if (nargs >= 6) read(arg(6), *) skip
+    if (threads < 1 .or. steps < 1 .or. reps < 1 .or. skip < 0) then
+      write(error_unit, '(a)') 'bench: bad arguments'
+      error stop 2
+    end if
+    !$ call omp_set_num_threads(threads)
+    call read_config(trim(arg(2)), cfg, stat, errmsg)
+    if (stat /= 0) then
+      write(error_unit, '(a)') 'bench: bad case: '//errmsg
+      error stop 2
+    end if
+    call setup_sim(cfg, s, stat, errmsg)
+    if (stat /= 0) then
+      write(error_unit, '(a)') 'bench: setup failed: '//errmsg
+      error stop 2
+    end if
+    c0 = cost_case_counts(s)             ! what --check counts at t = 0
+    nfoam = 0
+    do ip = 1, s%p%np
+      if (s%prm%mats(s%p%mat(ip))%model_id == MODEL_FOAM) nfoam = nfoam + 1
+    end do
+    do k = 1, skip
+      call step_or_stop()
+    end do
+    t_start = s%t
+    allocate(rate(reps))
+    s%diag%phase_time = 0.0_wp
+    ncn = 0.0_wp
+    npl = 0.0_wp
+    npn = 0.0_wp
+    nbe = 0.0_wp
+    tsum = 0.0_wp
+    total = 0
+    done = 0
+    do rep = 1, reps
+      t0 = clock_seconds()
+      taken = 0
+      do k = 1, steps
+        if (s%t >= s%prm%t_end) exit      ! the case's end: a step there is refused
+        call step_or_stop()
+        taken = taken + 1
+        ncn = ncn + real(s%wk%fc%ncn, wp)
+        npl = npl + real(s%wk%fc%nplist, wp)
+        npn = npn + real(s%wk%fc%npn, wp)
+        nbe = nbe + real(body_entries(), wp)
+      end do
+      t1 = clock_seconds()
+      if (taken == 0) exit
+      done = rep
+      total = total + taken
+      tsum = tsum + (t1 - t0)
+      rate(rep) = real(s%p%np, wp)*real(taken, wp)/(t1 - t0)
+      ! each repetition on standard error: a run's throughput along its time
+      write(error_unit, '(a,i0,2(a,es11.4))') 'rep ', rep, ' t ', s%t, ' mps ', rate(rep)
+      flush(error_unit)
+    end do
+    if (done == 0) then
+      write(error_unit, '(a)') 'bench: no step before the case''s t_end'
+      error stop 2
+    end if
+    phase = s%diag%phase_time/(real(s%p%np, wp)*real(total, wp))*1.0e9_wp
+    ! (the wall time of all the timed steps: a run's throughput over its whole time)
+    write(line, '(a,",",a,",",i0,",",i0,",",i0,",",i0,",",i0,",",i0,",",i0,' // &
+          '5(",",es11.4),7(",",f10.2))') trim(arg(2)), trim(basis_names(s%prm%basis)), &
+          threads, s%p%np, s%g%nn, s%prm%nf, nfoam, total, done, t_start, s%t, &
+          maxval(rate(1:done)), median(rate(1:done)), &
+          real(s%p%np, wp)*real(total, wp)/tsum, &
+          [ncn, npl, npn, nbe]/real(total, wp), c0%touching, c0%facing, c0%self
+    do k = 1, n_phases
+      write(line, '(a,",",f9.2)') trim(line), phase(k)
+    end do
+    ! each pair of bodies with a law at t = 0: its entries and facing surface nodes
+    line = trim(line)//','
+    do k = 1, size(c0%pair_touch)
+      write(line, '(a,i0,":",i0)') trim(line)//trim(merge(' ', ';', k == 1)), &
+        nint(c0%pair_touch(k)), nint(c0%pair_face(k))
+    end do
+    write(output_unit, '(a)') trim(line)
+  end subroutine run_case
+
+  !> Pair entries between two bodies now (the others are a body's self-contact).
+  integer function body_entries() result(n)
+    integer :: e
+    n = 0
+    do e = 1, s%wk%fc%npn
+      if (s%prm%field_body(s%wk%fc%pn_a(e)) /= s%prm%field_body(s%wk%fc%pn_b(e))) n = n + 1
+    end do
+  end function body_entries
 
   !> One J2 material and one ring body (sector), one wall to be placed by the caller;
   !! 2 x 2 particles per cell.

@@ -18,12 +18,23 @@ about 1e5 particles with 1 and 2 threads and with the automatic count of a run (
 = 0`), each beside a spinning process on all but one core, interleaved ROUNDS times; its rows go
 to OUT/bench_<date>_busy.csv (--no-busy skips it).
 
+With --cost (make bench-cost; never part of make test) it measures instead what --check's
+wall-time model needs (tools/advice_tables.py --cost fits it, src/advice/mpm_cost_table.inc):
+every shipped namelist (namelists/*.nml, namelists/*/*.nml) and the variants of COST_VARIANTS
+on one thread, each its first COST_WORK particle-steps (after 3 untimed steps) in COST_TRIES
+processes, the best kept; the cases of COST_FULL (contact that develops during the run) also
+once over their whole run. Before and after, the bench's CPDI2 crush at 1e4 particles (the
+machine's speed then against make bench's table: its CPDI2 crush at 1e4 particles). Rows to
+OUT/cost_<date>.csv.
+
 usage: tools/bench.py --exe build/release/bench [--out out/bench] [--quick] [--tag TAG]
                       [--compare OLD.csv]
+       tools/bench.py --exe build/release/bench --cost [--out docs/bench] [--only NAME ...]
 """
 import argparse
 import csv
 import datetime
+import glob
 import io
 import math
 import os
@@ -294,6 +305,145 @@ def busy_series(exe, header, phases):
     return rows
 
 
+COST_WORK = 1.5e7      # particle-steps of a case's first segment
+COST_TRIES = 3         # processes per case: the best (the least disturbed) is kept
+# contact between bodies that starts after t = 0 and grows (its mean over the whole run)
+# (and the foam, whose return map costs more once it yields), each once over its whole run
+COST_FULL = ("contact/nested", "contact/two_rings", "contact/plates", "contact/row3",
+             "contact/densify", "foam/filled_ring", "contact/nested_eccentric", "contact/stack",
+             "foam/foam_block", "foam/foam_disc", "foam/foam_square", "foam/filled_drop")
+# controlled variants (name: namelist, values set): a term alone; foam_square_j2 (a J2 core
+# that yields from the first steps: J2's return map is no term of the model) is measured, not
+# fitted (COST_CONTROLS)
+COST_CONTROLS = ("variant/foam_square_j2",)
+COST_VARIANTS = {
+    "variant/hex_tube_no_self": ("sections/hex_tube", {"body.self_contact": False}),
+    "variant/honeycomb_no_self": ("sections/honeycomb", {"body.self_contact": False}),
+    "variant/foam_square_j2": ("foam/foam_square", {"material.model": "j2", "material.sigma_y":
+                                                    1.6e6, "material.hardening": 2.0e6}),
+}
+
+
+def write_variant(name, folder):
+    """Write the namelist of a variant of COST_VARIANTS into folder; its path."""
+    from plots.mpmplot import namelist
+    base, values = COST_VARIANTS[name]
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    with open(os.path.join(root, "namelists", base + ".nml")) as f:
+        text = namelist.set_values(f.read(), values)
+    path = os.path.join(folder, os.path.basename(name) + ".nml")
+    with open(path, "w") as f:
+        f.write(text)
+    return path
+
+
+def cost_cases(only):
+    """(name, path of the namelist to run, whole run?) of every case of --cost."""
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    nml = os.path.join(root, "namelists")
+    names = sorted(os.path.relpath(os.path.join(d, f), nml)[:-4]
+                   for d, _, fs in os.walk(nml) for f in fs if f.endswith(".nml"))
+    out = [(n, os.path.join(nml, n + ".nml"), False) for n in names]
+    tmp = os.path.join(root, "out", "bench", "cost_variants")
+    os.makedirs(tmp, exist_ok=True)
+    for name in COST_VARIANTS:
+        out.append((name, write_variant(name, tmp), False))
+    out += [(n, os.path.join(nml, n + ".nml"), True) for n in COST_FULL]
+    return [c for c in out if not only or c[0] in only]
+
+
+def steps_to_end(path):
+    """The steps --check counts to t_end (at the initial speeds)."""
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    out = subprocess.run([os.path.join(root, "bin", "tubempm"), "--check", path],
+                         capture_output=True, text=True)
+    for line in out.stdout.splitlines():
+        if line.startswith("steps: about") and "(" in line:
+            return int(line.split("(")[1].split()[0])
+    sys.exit(f"bench: --check {path} gave no step count:\n{out.stdout}{out.stderr}")
+
+
+def cost_run(exe, name, path, full):
+    """One case on one thread: its first segment (best of COST_TRIES processes) or its whole
+    run (one process, 25 segments). The row of `bench case` with the case's name."""
+    env = dict(os.environ, OMP_NUM_THREADS="1")
+    total = steps_to_end(path)
+    if full:
+        cmd = [exe, "case", path, "1", str((total + 24) // 25), "25", "0"]
+        tries = 1
+    else:
+        header = subprocess.run([exe, "--case-header"], capture_output=True, text=True,
+                                check=True).stdout.strip().split(",")
+        probe = subprocess.run([exe, "case", path, "1", "1", "1", "0"], capture_output=True,
+                               text=True, env=env)
+        if probe.returncode != 0:
+            sys.exit(f"bench: {path}: {probe.stderr}")
+        np_ = int(dict(zip(header, probe.stdout.strip().split(",")))["particles"])
+        steps = max(50, min(total - 3, int(COST_WORK / np_)))
+        cmd = [exe, "case", path, "1", str(steps), "1", "3"]
+        tries = COST_TRIES
+    best = None
+    for _ in range(tries):
+        out = subprocess.run(cmd, capture_output=True, text=True, env=env)
+        if out.returncode != 0:
+            sys.exit(f"bench: {' '.join(cmd)} failed:\n{out.stderr}")
+        row = out.stdout.strip().splitlines()[-1].split(",")
+        if best is None or float(row[13]) > float(best[13]):
+            best = row
+    best[0] = name
+    return ["run" if full else "first"] + best
+
+
+def reference_rate(exe):
+    """The bench's CPDI2 crush at about 1e4 particles on one thread (the size of the shipped
+    scenes: a working set in cache like theirs), best of COST_TRIES [particle-steps/s]: the
+    machine's speed now, against make bench's table."""
+    cfg = ("crush", "cpdi2", SIZES["crush"][0], 1, 0)
+    return max(float(run(exe, subprocess.run([exe, "--header"], capture_output=True, text=True,
+                                             check=True).stdout.strip().split(","), cfg)
+                     ["mps_median"]) for _ in range(COST_TRIES))
+
+
+def cost_main(args):
+    header = subprocess.run([args.exe, "--case-header"], capture_output=True, text=True,
+                            check=True).stdout.strip().split(",")
+    stamp = datetime.datetime.now().strftime("%Y-%m-%d_%H%M")
+    t0 = time.time()
+    ref0 = reference_rate(args.exe)
+    print(f"reference (crush cpdi2 1e4, 1 thread): {ref0 / 1e6:.3f} M particle-steps/s", flush=True)
+    rows = []
+    for name, path, full in cost_cases(args.only):
+        r = cost_run(args.exe, name, path, full)
+        rows.append(r)
+        d = dict(zip(["segment"] + header, r))
+        print(f"{d['segment']:5s} {name:36s} {int(d['particles']):6d} particles, "
+              f"{float(d['mps_all']) / 1e6:6.3f} M particle-steps/s, "
+              f"{float(d['pair_entries']):7.1f} pair entries", flush=True)
+    ref1 = reference_rate(args.exe)
+    print(f"reference after: {ref1 / 1e6:.3f} M particle-steps/s; {time.time() - t0:.0f} s in all")
+    for r in rows:                      # each row with the reference of its measurement
+        r.append(f"{0.5 * (ref0 + ref1):.5e}")
+    header = ["segment"] + header + ["reference_mps"]
+    old = sorted(glob.glob(os.path.join(args.out, "cost_*.csv")))
+    if args.only and old:               # the rows not measured now: the newest table's
+        done = {(r[0], r[1]) for r in rows}
+        with open(old[-1]) as f:
+            kept = [r for r in csv.reader(line for line in f if not line.startswith("#"))][1:]
+        rows = [r for r in kept if (r[0], r[1]) not in done] + rows
+        print(f"rows of {os.path.basename(old[-1])} kept: {len(kept) - len(done & {(r[0], r[1]) for r in kept})}")
+    os.makedirs(args.out, exist_ok=True)
+    name = os.path.join(args.out, f"cost_{stamp}{'_' + args.tag if args.tag else ''}.csv")
+    with open(name, "w") as f:
+        f.write(f"# tubempm make bench-cost, {stamp}, {platform.node()}, one thread; "
+                f"reference_mps: the bench's CPDI2 crush at {SIZES['crush'][0]} particles "
+                f"through the wall, mean of before and after the row's series "
+                f"({'these cases' if args.only else 'all'}: {ref0:.5e} / {ref1:.5e})\n")
+        w = csv.writer(f, lineterminator="\n")
+        w.writerow(header)
+        w.writerows(rows)
+    print(f"table written to {name}")
+
+
 def read_csv(path):
     with open(path) as f:
         return list(csv.DictReader(line for line in f if not line.startswith("#")))
@@ -309,7 +459,14 @@ def main():
     ap.add_argument("--compare", default="", help="an earlier CSV file to compare with")
     ap.add_argument("--no-plot", action="store_true", help="skip the PNG")
     ap.add_argument("--no-busy", action="store_true", help="skip the busy series")
+    ap.add_argument("--cost", action="store_true", help="the cost model's measurements "
+                    "(make bench-cost): every shipped namelist on one thread")
+    ap.add_argument("--only", nargs="*", default=[], help="with --cost: these cases only "
+                    "(names as contact/nested)")
     args = ap.parse_args()
+    if args.cost:
+        cost_main(args)
+        return
 
     header = subprocess.run([args.exe, "--header"], capture_output=True, text=True,
                             check=True).stdout.strip().split(",")

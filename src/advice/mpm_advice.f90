@@ -6,8 +6,8 @@
 !!
 !! The data are compiled in from generated tables (tools/advice_tables.py writes them):
 !! src/advice/mpm_stability_table.inc (the largest cfl at which the stability study's impact
-!! scene completes, per basis and scheme, docs/stability/cfl_limits_ppc*.csv) and
-!! src/advice/mpm_bench_table.inc (the throughput of make bench per basis). Their rows are found
+!! scene completes, per basis and scheme, docs/stability/cfl_limits_ppc*.csv; the wall-time
+!! estimate and its tables are mpm_cost's). Its rows are found
 !! by the names of the basis and scheme: a basis or scheme no study has run has no advice. The
 !! automatic cfl and its table are the time step's (mpm_time_step). The errors hold for the
 !! studies' scenes; for other tubes they are a guide in the dimensionless settings (h/t, n_t,
@@ -28,12 +28,12 @@ module mpm_advice
   use mpm_time_step, only: cfl_study, cfl_margin, ppc_low, cfl_tried_min
   use mpm_errors, only: append_msg
   use mpm_units, only: advice_units
-  use mpm_strings, only: rtoa, itoa, hms, sci
+  use mpm_strings, only: rtoa, itoa, sci
   implicit none
   private
 
   public :: advice_check, advice_end_of_run, wall_too_thin
-  public :: advice_wall_time, cfl_text, cfl_why
+  public :: cfl_text, cfl_why
   ! (for mpm_study_advice)
   public :: ring_resolution, advice_stability, ring_aspect, approach_speed, volumetric_fits, &
             pct_text
@@ -44,14 +44,8 @@ module mpm_advice
     character(len=8) :: basis = '', scheme = ''
     real(wp) :: completes(2) = 0.0_wp
   end type limit_row_t
-  !> A row of the bench table: particle-steps per second on 1 and on 2 threads.
-  type :: bench_row_t
-    character(len=8) :: basis = ''
-    real(wp) :: rate(2) = 0.0_wp
-  end type bench_row_t
 
   include 'mpm_stability_table.inc'
-  include 'mpm_bench_table.inc'
 
   real(wp), parameter :: flip_trusted = 0.999_wp   !! flip below this dissipates visibly [-]
   real(wp), parameter :: delta_fold = 0.8_wp       !! delta/D from which CPDI domains fold [-]
@@ -67,7 +61,6 @@ module mpm_advice
   !! (0.0076) and 47 % at 8 m/s (docs/validation.md#quasi-static)
   real(wp), parameter :: quasi_static_section = 0.005_wp
 
-  real(wp), parameter :: long_run = 3600.0_wp       !! runs longer than this are warned of [s]
   !> volumetric = 'fbarwall' is measured good at n_thick = 4 (h = t/4 and t/2) and too soft at
   !! 8 (docs/validation.md); above this n_thick --check warns [-]
   integer, parameter :: fbarwall_nt_max = 5
@@ -274,32 +267,6 @@ contains
       exit
     end do
   end subroutine advice_filler
-
-  !> The wall time of a run of `work` particle-steps on `threads` threads of the release build
-  !! at the throughput `make bench` measured (src/advice/mpm_bench_table.inc, docs/performance.md)
-  !! [s], and a warning line when it is beyond an hour ('' otherwise); rate = 0 where make
-  !! bench has not measured the basis.
-  subroutine advice_wall_time(work, basis, threads, seconds, rate, warning)
-    real(wp), intent(in) :: work           !! particles x steps [-]
-    integer, intent(in) :: basis           !! BASIS_* code
-    integer, intent(in) :: threads         !! threads of the run
-    real(wp), intent(out) :: seconds       !! estimated wall time [s]
-    real(wp), intent(out) :: rate          !! throughput used [particle-steps/s]
-    character(len=:), allocatable, intent(out) :: warning  !! '' or the warning
-    integer :: k
-    rate = 0.0_wp
-    seconds = 0.0_wp
-    warning = ''
-    do k = 1, size(bench_rows)
-      if (basis < 1 .or. basis > size(basis_names)) exit
-      if (bench_rows(k)%basis == basis_names(basis)) rate = bench_rows(k)%rate(min(max(threads, &
-                                                                                      1), 2))
-    end do
-    if (.not. rate > 0.0_wp) return        ! not measured yet (make bench)
-    seconds = work/rate
-    if (seconds > long_run) warning = 'the run will take about '//hms(seconds)//' (h:mm:ss). '// &
-      'Set checkpoint_every = 600 (docs/output.md#checkpoints-and-restart)'
-  end subroutine advice_wall_time
 
   !> Per ring body: cells against the wall thickness and particles through the wall
   !! (ring_resolution), and the platen speed against the ring's ovalling mode (inextensional

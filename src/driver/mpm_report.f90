@@ -12,7 +12,8 @@ module mpm_report
   use mpm_time_step, only: time_step_dt
   use mpm_errors, only: append_msg
   use mpm_strings, only: itoa, rtoa, plural, hms, sci
-  use mpm_advice, only: advice_check, advice_wall_time, cfl_text, cfl_why
+  use mpm_advice, only: advice_check, cfl_text, cfl_why
+  use mpm_cost, only: cost_counts_t, cost_case_counts, advice_wall_time
   use mpm_budget, only: budget_t, budget_estimate, budget_threads, bytes_text
   use mpm_sys, only: sys_memory_available
   use mpm_surface_contact, only: surface_tied
@@ -102,6 +103,37 @@ contains
     end if
   end subroutine wall_motion_report
 
+  !> The wall-time estimate of `steps` steps on `nthreads` threads (mpm_cost: make bench's
+  !! throughput for the basis, corrected for the grid's nodes and fields, the contact, the foam
+  !! and F-bar) as a report line, naming what the model counts; the long-run warning ('' none).
+  subroutine wall_time_report(cfg, s, steps, nthreads, report, long_run)
+    type(config_t), intent(in) :: cfg      !! the case
+    type(sim_t), intent(in) :: s           !! the simulation at t = 0
+    real(wp), intent(in) :: steps          !! steps to t_end [-]
+    integer, intent(in) :: nthreads        !! threads of the run
+    character(len=:), allocatable, intent(inout) :: report   !! the set-up, one item per line
+    character(len=:), allocatable, intent(out) :: long_run   !! '' or the warning
+    type(cost_counts_t) :: c
+    real(wp) :: seconds, rate, bench_rate, nodes
+    character(len=:), allocatable :: line, extra
+    c = cost_case_counts(s)
+    call advice_wall_time(steps, c, s%prm%basis, nthreads, seconds, rate, bench_rate, long_run)
+    extra = '''s '//sci(bench_rate, 2)//' with '//itoa(nint(c%nodes))//' grid nodes'
+    if (c%fields > 1) extra = extra//', '//itoa(c%fields)//' velocity fields'
+    nodes = c%contact + c%self
+    if (nodes > 0.0_wp) extra = extra//', contact at about '//itoa(nint(nodes))//' nodes a step'
+    if (c%foam > 0.0_wp) extra = extra//', '//itoa(nint(c%foam))//' foam particles'
+    if (c%fbar > 0.0_wp) extra = extra//', F-bar'
+    line = 'wall-time estimate: about '//hms(seconds)//' (h:mm:ss, release build, '// &
+      itoa(min(nthreads, 2))//' thread(s), at the '//sci(rate, 2)// &
+      ' particle-steps/s modelled from make bench'//extra//'; docs/performance.md)'
+    if (.not. rate > 0.0_wp) line = 'wall-time estimate: none (make bench has not measured '// &
+      'basis '''//trim(basis_names(s%prm%basis))//''' yet; docs/performance.md)'
+    if (cfg%run%threads == 0 .and. nthreads > 1) line = line//'; for free cores: a '// &
+      'run takes one thread per core that other work does not keep busy'
+    call append_msg(report, line)
+  end subroutine wall_time_report
+
   !> The derived set-up as text lines (for --check and the run's banner), and the warnings a
   !! mechanics expert would give (mpm_advice's advice_check), one per line in `warnings`.
   subroutine setup_report(cfg, s, report, warnings)
@@ -113,7 +145,7 @@ contains
     logical, allocatable :: ring_particle(:)
     real(wp) :: dt_stable, dt
     real(wp) :: steps                      ! to t_end at the initial speeds [-]
-    real(wp) :: seconds, rate, avail
+    real(wp) :: avail
     type(budget_t) :: bud
     character(len=:), allocatable :: long_run, source
     logical :: known
@@ -203,18 +235,7 @@ contains
     call append_msg(report, line)
     nthreads = bud%threads                 ! below parallel_min particles loops run serially
     if (s%p%np < s%prm%parallel_min) nthreads = 1
-    call advice_wall_time(steps*real(s%p%np, wp), s%prm%basis, nthreads, &
-                          seconds, rate, long_run)
-    write(line, '(a,i0,a)') 'wall-time estimate: about '//hms(seconds)// &
-      ' (h:mm:ss, release build, ', min(nthreads, 2), ' thread(s), at the '//sci(rate, 2)// &
-      ' particle-steps/s of make bench, docs/performance.md)'
-    if (.not. rate > 0.0_wp) line = 'wall-time estimate: none (make bench has not measured '// &
-      'basis '''//trim(basis_names(s%prm%basis))//''' yet; docs/performance.md)'
-    if (cfg%run%threads == 0 .and. nthreads > 1) line = trim(line)//'; for free cores: a '// &
-      'run takes one thread per core that other work does not keep busy'
-    if (s%prm%nf > 1) line = trim(line)//'; contact between bodies is not in it: 1.3 (nested '// &
-      'rings) to 4.4 (foam-filled tubes) times as long (docs/performance.md)'
-    call append_msg(report, line)
+    call wall_time_report(cfg, s, steps, nthreads, report, long_run)
     if (sector_factor(cfg) > 1.0_wp) then
       call append_msg(report, 'outputs: energies and masses x '// &
         itoa(nint(sector_factor(cfg)))//' and wall forces summed over mirror images (the '// &
