@@ -631,7 +631,8 @@ contains
         fmt_real(cfg%run%t_end), 'the time step, about '//fmt_short(cfl*dt_lim)//' s ('//which// &
         fmt_short(cfl)//' x h / (c_d + v_max), c_d = '//fmt_short(cd)//' m/s of &material #'// &
         itoa(kc)//'), is so small that t + dt would round to t before t_end', 't_end <= '// &
-        fmt_short(cfl*dt_lim/epsilon(1.0_wp))//' s, or a larger h, or a lower wave speed '// &
+        fmt_short(min(cfl*dt_lim/epsilon(1.0_wp), 1.0e6_wp))//' s, or a larger h, or a lower '// &
+        'wave speed '// &
         '(nu further from 0.5)')
       return
     end if

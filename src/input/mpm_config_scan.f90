@@ -442,6 +442,8 @@ contains
       if (len(rd%occ(io)%asg(ia)%sub) > 0) shown = var//'('//rd%occ(io)%asg(ia)%sub//')'
       if (len(value) > 0 .and. (shown /= var .or. index(', '//v, ', ,') > 0)) &
         v = v//' (so '//var//' = '//value//')'
+    else if (len(value) > 0) then
+      v = value//' (not in the file: resolved from the other groups)'
     end if
     allow = allowed_text(rd%occ(io)%group, var)
     if (present(allowed)) allow = allowed
