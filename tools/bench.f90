@@ -33,7 +33,7 @@ program bench
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
   use mpm_kinds, only: wp, i8
   use mpm_constants, only: basis_names, scheme_names, SCHEME_MUSL, PLANE_STRAIN, MODEL_J2, &
-                           SECTOR_HALF, SECTOR_QUARTER, MODEL_FOAM
+                           SECTOR_HALF, SECTOR_QUARTER
   use mpm_config, only: config_t, config_resolve, read_config
   use mpm_scene_builder, only: scene_new, scene_add_material, scene_add_ring, scene_add_wall
   use mpm_setup, only: setup_sim
@@ -133,15 +133,9 @@ contains
     end select
     cfg%solver%deterministic = det /= 0
     call config_resolve(cfg, stat, errmsg)
-    if (stat /= 0) then
-      write(error_unit, '(a)') 'bench: bad case: '//errmsg
-      error stop 2
-    end if
+    call stop_unless_ok('bad case')
     call setup_sim(cfg, s, stat, errmsg)
-    if (stat /= 0) then
-      write(error_unit, '(a)') 'bench: setup failed: '//errmsg
-      error stop 2
-    end if
+    call stop_unless_ok('setup failed')
 
     do k = 1, warm_steps
       call step_or_stop()
@@ -176,7 +170,7 @@ contains
   !> A case file's scene: SKIP untimed steps, then REPS times STEPS timed steps on THREADS
   !! threads; one row (--case-header) with the contact work counted per timed step.
   subroutine run_case()
-    integer :: skip, nfoam, ip
+    integer :: skip, nfoam
     real(wp) :: t_start, ncn, npl, npn, nbe, tsum
     integer :: taken, total, done
     type(cost_counts_t) :: c0
@@ -198,20 +192,11 @@ contains
     end if
     !$ call omp_set_num_threads(threads)
     call read_config(trim(arg(2)), cfg, stat, errmsg)
-    if (stat /= 0) then
-      write(error_unit, '(a)') 'bench: bad case: '//errmsg
-      error stop 2
-    end if
+    call stop_unless_ok('bad case')
     call setup_sim(cfg, s, stat, errmsg)
-    if (stat /= 0) then
-      write(error_unit, '(a)') 'bench: setup failed: '//errmsg
-      error stop 2
-    end if
+    call stop_unless_ok('setup failed')
     c0 = cost_case_counts(s)             ! what --check counts at t = 0
-    nfoam = 0
-    do ip = 1, s%p%np
-      if (s%prm%mats(s%p%mat(ip))%model_id == MODEL_FOAM) nfoam = nfoam + 1
-    end do
+    nfoam = nint(c0%foam)
     do k = 1, skip
       call step_or_stop()
     end do
@@ -301,6 +286,14 @@ contains
   end function scene_case
 
   !> One step; a failure ends the benchmark with its message.
+  !> Stop with 'bench: <what>: <errmsg>' when stat is not 0 (the case's reading or set-up).
+  subroutine stop_unless_ok(what)
+    character(len=*), intent(in) :: what
+    if (stat == 0) return
+    write(error_unit, '(a)') 'bench: '//what//': '//errmsg
+    error stop 2
+  end subroutine stop_unless_ok
+
   subroutine step_or_stop()
     integer :: st
     character(len=:), allocatable :: msg

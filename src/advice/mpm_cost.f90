@@ -80,7 +80,7 @@ contains
       c%fbar = c%particles
     if (s%prm%nf < 2) return
     call cost_counts(s%p%x(:, 1:s%p%np), s%p%half(:, 1:s%p%np), s%prm%field(1:s%p%np), &
-                     s%prm%field_body, s%prm%pair_law, foam, s%g%origin, s%g%h, s%g%nx, &
+                     s%prm%field_body, s%prm%pair_law, s%g%origin, s%g%h, s%g%nx, &
                      s%g%ny, c)
   end function cost_case_counts
 
@@ -88,17 +88,16 @@ contains
   !! cells its corners lie in, for its field; a node marked for two fields whose bodies have a
   !! contact law is a pair entry per such pair (between two bodies, or within one: self
   !! contact); a body's surface nodes are its marked nodes with a neighbour it does not mark.
-  pure subroutine cost_counts(x, half, field, field_body, pair_law, foam, origin, h, nx, ny, c)
+  pure subroutine cost_counts(x, half, field, field_body, pair_law, origin, h, nx, ny, c)
     real(wp), intent(in) :: x(:,:)         !! particle positions (2, np) [m]
     real(wp), intent(in) :: half(:,:)      !! particle half sizes (2, np) [m]
     integer, intent(in) :: field(:)        !! velocity field of each particle (np)
     integer, intent(in) :: field_body(:)   !! body of each field (nf)
     integer, intent(in) :: pair_law(:,:)   !! contact law between two bodies, 0 none (nb, nb)
-    logical, intent(in) :: foam(:)         !! particle of a foam material (np)
     real(wp), intent(in) :: origin(2)      !! grid origin [m]
     real(wp), intent(in) :: h              !! cell size [m]
     integer, intent(in) :: nx, ny          !! nodes along x and y
-    type(cost_counts_t), intent(inout) :: c  !! in: particles, nodes, fields; out: the rest
+    type(cost_counts_t), intent(inout) :: c  !! in: particles, nodes, fields, foam; out: contact
     logical, allocatable :: marked(:,:), body_node(:,:)
     integer :: nf, nbody, ip, q, i, j, n, a, b, ba, bb
     integer, allocatable :: surf(:)
@@ -107,7 +106,6 @@ contains
     integer :: npair
     nf = size(field_body)
     nbody = size(pair_law, 1)
-    c%foam = real(count(foam), wp)
     c%touching = 0.0_wp
     c%facing = 0.0_wp
     c%contact = 0.0_wp

@@ -329,7 +329,7 @@ contains
     type(field_t), allocatable :: f(:), d(:)
     integer, allocatable :: idx(:)
     integer :: j, r, k, id, n0, ios
-    character(len=:), allocatable :: name, sel, other, t
+    character(len=:), allocatable :: name, sel, other, t, lim
     character(len=64), allocatable :: names(:)
     character(len=256) :: msg
     allocate(f, source=record_fields(ig, rec))
@@ -349,6 +349,8 @@ contains
         call record_read(ig, rec, name//' = '//d(k)%raw, ios, msg)
         cycle
       end if
+      lim = ''                               ! beyond the program's limits (a table's: its rules)
+      if (f(k)%kind == 'r' .and. f(k)%n <= 2) lim = beyond(r, f(k)%x)
       names = enum_names(name)
       if (.not. given(rd, io, name) .and. specs(r)%required) then
         call err_missing(rd, io, name)
@@ -356,8 +358,8 @@ contains
         continue                             ! its default
       else if (f(k)%n > 2) then
         continue                             ! a table: the group's rules
-      else if (f(k)%kind == 'r' .and. len(beyond(r, f(k)%x)) > 0) then
-        call err_var(rd, io, name, fmt_list_of(f(k)), beyond(r, f(k)%x))
+      else if (len(lim) > 0) then
+        call err_var(rd, io, name, fmt_list_of(f(k)), lim)
       else if (f(k)%kind == 'r' .and. .not. all(finite(f(k)%x))) then
         call err_var(rd, io, name, fmt_list_of(f(k)), trim(merge('not a finite number', &
           'not finite numbers ', f(k)%n == 1)))

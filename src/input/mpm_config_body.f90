@@ -14,7 +14,11 @@ module mpm_config_body
   use mpm_config_scan, only: reader_t, err_var, err_missing, given
   implicit none
   private
-  public :: check_body, check_mesh, table_count
+  public :: check_body, check_mesh, table_count, mesh_check_max
+
+  !> The particles of a body the reader meshes at most (the set-up meshes larger bodies, the
+  !! memory budget refuses those too large)
+  real(wp), parameter :: mesh_check_max = 2.0e6_wp
 
 contains
   !> &body: the sector (full when not given), the radii and n_circ of a ring, and the rules of
@@ -217,8 +221,6 @@ contains
     integer :: stat
     character(len=:), allocatable :: msg
     real(wp) :: np, nc, ext
-    ! the particles the check meshes at most (the set-up meshes larger bodies)
-    real(wp), parameter :: mesh_check_max = 2.0e6_wp
     if (.not. (is_section(b%shape_id) .or. b%shape_id == SHAPE_DISC)) return
     if (b%shape_id == SHAPE_TUBE .and. (b%n_vertices < 3 .or. b%thickness <= 0.0_wp)) return
     if (b%shape_id == SHAPE_HONEYCOMB .and. (any(b%n_cells < 1) .or. b%thickness <= 0.0_wp &
@@ -253,6 +255,7 @@ contains
     integer, intent(out) :: n
     logical, intent(inout) :: ok
     integer :: k, last
+    character(len=:), allocatable :: what
     n = 0
     last = 0
     do k = 1, size(t)
@@ -263,8 +266,9 @@ contains
       end if
       if (t(k) /= unset_real) last = k
     end do
-    if (len(beyond(spec_index(rd%occ(io)%group, var), t)) > 0) then
-      call err_var(rd, io, var, '', beyond(spec_index(rd%occ(io)%group, var), t))
+    what = beyond(spec_index(rd%occ(io)%group, var), t)
+    if (len(what) > 0) then
+      call err_var(rd, io, var, '', what)
       ok = .false.
       return
     end if

@@ -12,6 +12,7 @@ module mpm_placement
   use mpm_constants, only: CONTACT_SLIP
   use mpm_config_types, only: config_t
   use mpm_bodies, only: body_low, body_overlap, body_estimate
+  use mpm_config_body, only: mesh_check_max
   use mpm_config_text, only: itoa, fmt_short, fmt_list
   use mpm_config_scan, only: reader_t, occurrence, err_var, warn_var
   implicit none
@@ -28,11 +29,11 @@ contains
     logical :: ok(size(occ_body))
     integer :: j
     real(wp) :: np, nc, ext
-    do j = 1, size(occ_body)                 ! bodies meshed here: those of at most 2e6
+    do j = 1, size(occ_body)                 ! bodies meshed here: at most mesh_check_max
       ok(j) = rd%occ(occ_body(j))%ok       ! particles (the budget refuses larger ones)
       if (.not. ok(j)) cycle
       call body_estimate(cfg%bodies(j), np, nc, ext)
-      ok(j) = np <= 2.0e6_wp
+      ok(j) = np <= mesh_check_max
     end do
     call overlap_checks(rd, cfg, occ_body, ok)
     call wall_side_checks(rd, cfg, occ_body, ok)
