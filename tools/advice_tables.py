@@ -33,6 +33,7 @@ from __future__ import annotations
 import argparse
 import csv
 import math
+import statistics
 import sys
 from pathlib import Path
 from typing import Any
@@ -237,12 +238,6 @@ def bench_table(folder: Path) -> Path:
     return quiet[-1]
 
 
-def median(xs: list[float]) -> float:
-    s = sorted(xs)
-    m = len(s) // 2
-    return s[m] if len(s) % 2 else 0.5 * (s[m - 1] + s[m])
-
-
 COST_UNITS = {"cost_node": "per grid node and velocity field [s]",
               "cost_body_entry": "per pair entry between two bodies [s]",
               "cost_self_entry": "per pair entry within a body (self-contact) [s]",
@@ -286,14 +281,14 @@ def cost_measured(rows: list[dict]) -> dict[str, dict]:
 def bench_rate1(folder: Path) -> dict[str, float]:
     """make bench's one-thread rate per basis (as in mpm_bench_table.inc)."""
     rows = bench_rows(bench_table(folder))
-    return {b: median([float(r["mps_median"]) for r in rows if r["basis"] == b
+    return {b: statistics.median([float(r["mps_median"]) for r in rows if r["basis"] == b
                        and r["threads"] == "1" and r["deterministic"] == "0"]) for b in BASES}
 
 
 def bench_nodes(folder: Path) -> float:
     """Grid nodes per particle of make bench's scenes (median of its one-thread rows)."""
     rows = bench_rows(bench_table(folder))
-    return median([int(r["nodes"]) / int(r["particles"]) for r in rows
+    return statistics.median([int(r["nodes"]) / int(r["particles"]) for r in rows
                    if r["threads"] == "1" and r["deterministic"] == "0"])
 
 
