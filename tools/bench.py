@@ -305,6 +305,7 @@ def busy_series(exe, header, phases):
     return rows
 
 
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 COST_WORK = 1.5e7      # particle-steps of a case's first segment
 COST_TRIES = 3         # processes per case: the best (the least disturbed) is kept
 # contact between bodies that starts after t = 0 and grows (its mean over the whole run)
@@ -328,8 +329,7 @@ def write_variant(name, folder):
     """Write the namelist of a variant of COST_VARIANTS into folder; its path."""
     from plots.mpmplot import namelist
     base, values = COST_VARIANTS[name]
-    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    with open(os.path.join(root, "namelists", base + ".nml")) as f:
+    with open(os.path.join(ROOT, "namelists", base + ".nml")) as f:
         text = namelist.set_values(f.read(), values)
     path = os.path.join(folder, os.path.basename(name) + ".nml")
     with open(path, "w") as f:
@@ -339,12 +339,11 @@ def write_variant(name, folder):
 
 def cost_cases(only):
     """(name, path of the namelist to run, whole run?) of every case of --cost."""
-    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    nml = os.path.join(root, "namelists")
+    nml = os.path.join(ROOT, "namelists")
     names = sorted(os.path.relpath(os.path.join(d, f), nml)[:-4]
                    for d, _, fs in os.walk(nml) for f in fs if f.endswith(".nml"))
     out = [(n, os.path.join(nml, n + ".nml"), False) for n in names]
-    tmp = os.path.join(root, "out", "bench", "cost_variants")
+    tmp = os.path.join(ROOT, "out", "bench", "cost_variants")
     os.makedirs(tmp, exist_ok=True)
     for name in COST_VARIANTS:
         out.append((name, write_variant(name, tmp), False))
@@ -354,8 +353,7 @@ def cost_cases(only):
 
 def steps_to_end(path):
     """The steps --check counts to t_end (at the initial speeds)."""
-    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    out = subprocess.run([os.path.join(root, "bin", "tubempm"), "--check", path],
+    out = subprocess.run([os.path.join(ROOT, "bin", "tubempm"), "--check", path],
                          capture_output=True, text=True)
     for line in out.stdout.splitlines():
         if line.startswith("steps: about") and "(" in line:
@@ -363,17 +361,16 @@ def steps_to_end(path):
     sys.exit(f"bench: --check {path} gave no step count:\n{out.stdout}{out.stderr}")
 
 
-def cost_run(exe, name, path, full):
+def cost_run(exe, header, name, path, full):
     """One case on one thread: its first segment (best of COST_TRIES processes) or its whole
-    run (one process, 25 segments). The row of `bench case` with the case's name."""
+    run (one process, 25 segments). The row of `bench case` (columns `header`) with the case's
+    name."""
     env = dict(os.environ, OMP_NUM_THREADS="1")
     total = steps_to_end(path)
     if full:
         cmd = [exe, "case", path, "1", str((total + 24) // 25), "25", "0"]
         tries = 1
     else:
-        header = subprocess.run([exe, "--case-header"], capture_output=True, text=True,
-                                check=True).stdout.strip().split(",")
         probe = subprocess.run([exe, "case", path, "1", "1", "1", "0"], capture_output=True,
                                text=True, env=env)
         if probe.returncode != 0:
@@ -388,7 +385,8 @@ def cost_run(exe, name, path, full):
         if out.returncode != 0:
             sys.exit(f"bench: {' '.join(cmd)} failed:\n{out.stderr}")
         row = out.stdout.strip().splitlines()[-1].split(",")
-        if best is None or float(row[13]) > float(best[13]):
+        best_col = header.index("mps_all")      # (the rate the fit reads)
+        if best is None or float(row[best_col]) > float(best[best_col]):
             best = row
     best[0] = name
     return ["run" if full else "first"] + best
@@ -413,7 +411,7 @@ def cost_main(args):
     print(f"reference (crush cpdi2 1e4, 1 thread): {ref0 / 1e6:.3f} M particle-steps/s", flush=True)
     rows = []
     for name, path, full in cost_cases(args.only):
-        r = cost_run(args.exe, name, path, full)
+        r = cost_run(args.exe, header, name, path, full)
         rows.append(r)
         d = dict(zip(["segment"] + header, r))
         print(f"{d['segment']:5s} {name:36s} {int(d['particles']):6d} particles, "
