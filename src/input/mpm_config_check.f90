@@ -472,6 +472,7 @@ contains
     any_mass = .false.
     t_stop = 0.0_wp
     without = ''
+    rest = ''                 ! (gfortran -O2 would warn it may be used uninitialized)
     do k = 1, size(cfg%walls)
       if (cfg%walls(k)%mirror) cycle
       io = occurrence(rd, 'wall', k)
@@ -494,8 +495,11 @@ contains
       call wall_stroke_setup(w, ok)
       if (.not. ok .and. io > 0) then
         travel = wall_stroke_travel(w, huge(1.0_wp)*1.0e-10_wp)    ! (at rest, or moving away)
-        rest = 'the motion comes to rest after '//fmt_short(travel)//' m'
-        if (travel < 0.0_wp) rest = 'the motion table ends moving the wall away from the material'
+        if (travel < 0.0_wp) then
+          rest = 'the motion table ends moving the wall away from the material'
+        else
+          rest = 'the motion comes to rest after '//fmt_short(travel)//' m'
+        end if
         call err_var(rd, io, 'stroke', fmt_real(w%stroke), 'not reached: '//rest, &
           'a stroke the motion reaches, or a motion table that keeps moving')
         all_stroke = .false.

@@ -36,7 +36,7 @@ contains
       ok(j) = np <= mesh_check_max
     end do
     call overlap_checks(rd, cfg, occ_body, ok)
-    call wall_side_checks(rd, cfg, occ_body, ok)
+    call wall_side_checks(rd, cfg, ok)
     call twin_walls(rd, cfg)
   end subroutine placement_checks
 
@@ -102,10 +102,9 @@ contains
   !! (its normal pointing away from the material, or its point inside the body) would be
   !! pushed through it at the first step; reported at the wall's normal, with the normal that
   !! would put the body in front. Mirror planes ('slip') hold material on both sides.
-  subroutine wall_side_checks(rd, cfg, occ_body, ok)
+  subroutine wall_side_checks(rd, cfg, ok)
     type(reader_t), intent(inout) :: rd    !! the input's occurrences and messages
     type(config_t), intent(in) :: cfg      !! the case
-    integer, intent(in) :: occ_body(:)     !! occurrence of each &body
     logical, intent(in) :: ok(:)           !! each body read without error, and meshable
     integer :: k, j, i, io
     real(wp) :: n(2), gap, flipped
