@@ -11,15 +11,12 @@ module mpm_config
   use mpm_constants, only: EXIT_INPUT, EXIT_IO, BASIS_CPDI2, SCHEME_MUSL, PLANE_STRAIN, &
                            MODEL_J2, RATE_NONE, FLOW_LINEAR, SHAPE_RING, SECTOR_FULL, &
                            CONTACT_FRICTIONLESS
-  use mpm_config_types, only: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, &
-                              body_cfg_t, wall_cfg_t, probe_cfg_t, contact_cfg_t, unset_real, &
-                              scene_of, stiffest_penalty
-  use mpm_config_text, only: lower, itoa, quote, unquote, suggestion, join_list, fmt_real, &
-                             fmt_list, finite
+  use mpm_config_types, only: config_t, unset_real, scene_of, stiffest_penalty
+  use mpm_config_text, only: lower, itoa, quote, unquote, suggestion, join_list, fmt_list, finite
   use mpm_config_table, only: specs, n_groups, group_names, group_id, spec_index, group_specs, &
                               var_names, enum_names, beyond
-  use mpm_config_record, only: rec_t, field_t, record_read, record_fields, field_index
-  use mpm_config_scan, only: reader_t, asg_t, load_lines, scan_source, check_groups, add_err, &
+  use mpm_config_record, only: rec_t, field_t, record_read, record_fields, field_index, field_text
+  use mpm_config_scan, only: reader_t, load_lines, scan_source, check_groups, add_err, &
                              add_warn, join_msgs, label, err_var, err_missing, warn_group, &
                              given, last_asg, value_tokens, allowed_text, tok_len
   use mpm_config_check, only: check_group, cross_checks
@@ -27,10 +24,8 @@ module mpm_config
   use mpm_config_echo, only: write_config, write_config_unit
   implicit none
   private
-  public :: config_t, run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, body_cfg_t, &
-            wall_cfg_t, probe_cfg_t, contact_cfg_t
-  public :: read_config, config_resolve, write_config, write_config_unit, default_config
-  public :: unset_real, scene_of, stiffest_penalty
+  public :: config_t, read_config, config_resolve, write_config, write_config_unit, default_config
+  public :: scene_of, stiffest_penalty
 
 contains
 
@@ -359,18 +354,18 @@ contains
       else if (f(k)%n > 2) then
         continue                             ! a table: the group's rules
       else if (len(lim) > 0) then
-        call err_var(rd, io, name, fmt_list_of(f(k)), lim)
+        call err_var(rd, io, name, field_text(f(k)), lim)
       else if (f(k)%kind == 'r' .and. .not. all(finite(f(k)%x))) then
-        call err_var(rd, io, name, fmt_list_of(f(k)), trim(merge('not a finite number', &
+        call err_var(rd, io, name, field_text(f(k)), trim(merge('not a finite number', &
           'not finite numbers ', f(k)%n == 1)))
       else if (f(k)%n == 2 .and. f(k)%kind == 'r' .and. count_values(rd, io, name) == 1) then
         call err_var(rd, io, name, fmt_list(f(k)%x), 'needs 2 values, only one was given')
-      else if ((f(k)%kind == 'r' .or. f(k)%kind == 'i') .and. .not. specs(r)%own) then
+      else if ((f(k)%kind == 'r' .or. f(k)%kind == 'i') ) then
         if (any(.not. (f(k)%x >= specs(r)%lo .and. f(k)%x <= specs(r)%hi)) .or. &
             (specs(r)%lo_open .and. any(.not. f(k)%x > specs(r)%lo)) .or. &
             (specs(r)%hi_open .and. any(.not. f(k)%x < specs(r)%hi))) &
-          call err_var(rd, io, name, fmt_list_of(f(k)), 'out of range')
-      else if (f(k)%kind == 'c' .and. .not. specs(r)%own) then
+          call err_var(rd, io, name, field_text(f(k)), 'out of range')
+      else if (f(k)%kind == 'c' ) then
         t = trim(adjustl(f(k)%s))
         id = 0
         if (size(names) > 0) id = findloc(names, lower(t), 1)
@@ -394,22 +389,6 @@ contains
       ig == 5))//' = '''//sel//'''. Delete '//trim(merge('it  ', 'them', index(other(3:), ',') &
       == 0)))
   end subroutine check_rows
-
-  !> The values of a field as a list ('1.0, 2.0'; integers without a point).
-  function fmt_list_of(f) result(s)
-    type(field_t), intent(in) :: f
-    character(len=:), allocatable :: s
-    integer :: k
-    s = ''
-    do k = 1, f%n
-      if (k > 1) s = s//', '
-      if (f%kind == 'i') then
-        s = s//itoa(nint(f%x(k)))
-      else
-        s = s//fmt_real(f%x(k))
-      end if
-    end do
-  end function fmt_list_of
 
   !> How many values the last assignment to var gives (a null value counts, r*x counts r).
   integer function count_values(rd, io, var) result(n)

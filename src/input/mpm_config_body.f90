@@ -6,12 +6,12 @@
 module mpm_config_body
   use mpm_kinds, only: wp
   use mpm_constants, only: SHAPE_DISC, SHAPE_RING, SECTOR_FULL, SECTOR_HALF, SECTOR_QUARTER, &
-                           SHAPE_TUBE, SHAPE_HONEYCOMB, SHAPE_WALLS, sector_names, max_cells, pi
+                           SHAPE_TUBE, SHAPE_HONEYCOMB, SHAPE_WALLS, sector_names, pi
   use mpm_config_types, only: body_cfg_t, unset_real
   use mpm_bodies, only: body_mesh, is_section, body_estimate
   use mpm_config_text, only: itoa, fmt_short, fmt_list, fmt_real, finite
   use mpm_config_table, only: magnitude_bounds, spec_index, beyond
-  use mpm_config_scan, only: reader_t, err_var, err_missing, given
+  use mpm_config_scan, only: reader_t, err_var, err_missing
   implicit none
   private
   public :: check_body, check_mesh, table_count, mesh_check_max
@@ -74,7 +74,7 @@ contains
       return
     end if
     if (n == 0) then
-      call err_var(rd, io, 'vertices', '', 'missing (required)')
+      call err_missing(rd, io, 'vertices')
     else if (mod(n, 2) /= 0 .or. n < 6) then
       call err_var(rd, io, 'vertices', fmt_list(b%vertices(1:n)), itoa(n)//' numbers: not '// &
         '3 or more x, y pairs')
@@ -129,13 +129,6 @@ contains
     integer, intent(in) :: io
     type(body_cfg_t), intent(inout) :: b
     real(wp) :: open_h
-    if (.not. given(rd, io, 'n_cells')) then
-      call err_missing(rd, io, 'n_cells')
-    else if (any(b%n_cells < 1) .or. any(b%n_cells > max_cells)) then
-      call err_var(rd, io, 'n_cells', itoa(b%n_cells(1))//', '//itoa(b%n_cells(2)), &
-        'not two whole numbers from 1 to '//itoa(max_cells))
-      b%n_cells = 0
-    end if
     if (abs(b%cell_angle) < 1.0_wp) call err_var(rd, io, 'cell_angle', &
       fmt_real(b%cell_angle), 'too close to 0 (the inclined walls would lie flat)')
     if (b%cell_h > 0.0_wp .and. b%cell_l > 0.0_wp .and. b%thickness > 0.0_wp) then

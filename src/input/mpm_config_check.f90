@@ -14,10 +14,10 @@ module mpm_config_check
   use mpm_config_types, only: config_t, grid_cfg_t, material_cfg_t, wall_cfg_t, contact_cfg_t, &
                               unset_real, stiffest_penalty
   use mpm_bodies, only: body_box, body_mesh
-  use mpm_config_text, only: lower, itoa, quote, file_stem, fmt_short, fmt_list, fmt_real, &
+  use mpm_config_text, only: lower, itoa, quote, fmt_short, fmt_list, fmt_real, &
                              finite
   use mpm_config_table, only: n_groups
-  use mpm_config_scan, only: reader_t, occurrence, err_var, warn_var, err_missing, warn_group, &
+  use mpm_config_scan, only: reader_t, occurrence, err_var, err_missing, warn_group, &
                              given
   use mpm_walls, only: wall_t, wall_stroke_setup, wall_end_time, wall_stroke_travel
   use mpm_units, only: advice_unit_issues, unit_issue_t
@@ -82,7 +82,7 @@ contains
     if (m%model_id == MODEL_J2 .and. .not. given(rd, io, 'sigma_y')) &
       call err_missing(rd, io, 'sigma_y')
     if (m%model_id /= MODEL_J2 .and. m%model_id > 0 .and. given(rd, io, 'sigma_y')) &
-      call warn_var(rd, io, 'sigma_y', not_j2//'. Delete it')
+      call err_var(rd, io, 'sigma_y', '', not_j2//'. Delete it', warn=.true.)
     if (m%rate_law_id == RATE_COWPER_SYMONDS .and. m%model_id /= MODEL_J2) call warn_group(rd, &
       io, 'rate_law needs model = ''j2''. Set rate_law = ''none''')
     if (m%flow_stress_id == FLOW_JOHNSON_COOK) then
@@ -168,8 +168,8 @@ contains
     ! (its factors, as every number without a unit, are at most vmax in size: mpm_config_table)
     call read_pair(rd, io, 'motion_t', 'motion_f', .false., w%motion_t, w%motion_f, nt, ok)
     if (ok) w%n_motion = nt
-    if (ok .and. nt > 0 .and. w%ramp > 0.0_wp) call warn_var(rd, io, 'ramp', &
-      'the motion table replaces it. Set ramp = 0')
+    if (ok .and. nt > 0 .and. w%ramp > 0.0_wp) call err_var(rd, io, 'ramp', '', &
+      'the motion table replaces it. Set ramp = 0', warn=.true.)
     w%motion_t(w%n_motion+1:) = 0.0_wp         ! past the table: the type's default
     w%motion_f(w%n_motion+1:) = 0.0_wp
     call check_free_wall(rd, io, w)
@@ -270,9 +270,7 @@ contains
     type(contact_cfg_t), intent(inout) :: c
     integer :: b(2)
     b = c%bodies
-    if (any(b < 0) .or. any(b > 1000000)) then
-      call err_var(rd, io, 'bodies', '', 'not two whole numbers from 0 to 1000000')
-    else if (count(b == 0) == 1) then
+    if (count(b == 0) == 1) then
       call err_var(rd, io, 'bodies', '', 'one body given with 0 (0, 0 stands for every pair '// &
         'not named elsewhere)')
     else if (b(1) == b(2) .and. b(1) > 0) then
@@ -294,7 +292,12 @@ contains
     io_run = first_of(1)
     io_solver = first_of(2)
     io_grid = first_of(3)
-    if (len_trim(cfg%run%title) == 0) cfg%run%title = file_stem(rd%file)
+    if (len_trim(cfg%run%title) == 0) then      ! the file name without folder and extension
+      cfg%run%title = rd%file(index(rd%file, '/', back=.true.) + 1:)
+      j = index(cfg%run%title, '.', back=.true.)
+      if (j > 1) cfg%run%title(j:) = ''
+      if (len_trim(cfg%run%title) == 0) cfg%run%title = 'case'
+    end if
     if (len_trim(cfg%run%output_dir) == 0) cfg%run%output_dir = 'out/'//trim(cfg%run%title)
     if (io_solver == 0) then
       cfg%solver%basis_id = BASIS_CPDI2

@@ -11,10 +11,10 @@ module mpm_config_echo
   use mpm_constants, only: EXIT_IO, max_table, shape_names, shape_plural, FLOW_JOHNSON_COOK, &
                            VOLUMETRIC_FBAR, MODEL_FOAM
   use mpm_config_types, only: config_t, unset_real
-  use mpm_config_text, only: itoa, quote, fmt_real, fmt_list, finite
+  use mpm_config_text, only: itoa, quote, fmt_real, finite
   use mpm_config_table, only: specs, n_groups, group_names, group_specs, echo_comment, &
                               unset_note, enum_names
-  use mpm_config_record, only: rec_t, field_t, record_fields, field_index
+  use mpm_config_record, only: rec_t, field_t, record_fields, field_index, field_text
   implicit none
   private
   public :: write_config, write_config_unit
@@ -259,17 +259,10 @@ contains
       if (size(names) == 0 .or. k == 0) return
       id = nint(f(k)%x(1))
       if (id >= 1 .and. id <= size(names)) s = quote(trim(names(id)))
-    case ('i')
-      s = itoa(nint(x%x(1)))
-      if (x%n == 2) s = s//', '//itoa(nint(x%x(2)))
     case ('l')
       s = trim(merge('.true. ', '.false.', x%x(1) > 0.5_wp))
     case default
-      if (x%n == 2) then
-        s = fmt_list(x%x)
-      else
-        s = fmt_real(x%x(1))
-      end if
+      s = field_text(x)
     end select
   end function value_text
 

@@ -13,11 +13,11 @@ module mpm_config_record
   use mpm_kinds, only: wp
   use mpm_config_types, only: run_cfg_t, solver_cfg_t, grid_cfg_t, material_cfg_t, body_in_t, &
                               wall_cfg_t, probe_cfg_t, contact_cfg_t
-  use mpm_config_text, only: lower, string_end, unquote
+  use mpm_config_text, only: lower, string_end, unquote, itoa, fmt_real
   use mpm_config_table, only: group_names
   implicit none
   private
-  public :: rec_t, field_t, record_read, record_fields, field_index
+  public :: rec_t, field_t, record_read, record_fields, field_index, field_text
 
   !> A record of every group (one at a time is in use).
   type :: rec_t
@@ -79,6 +79,19 @@ contains
     end do
     k = 0
   end function field_index
+
+  !> The values of a number field as a list ('1.0, 2.0'; integers without a point).
+  function field_text(f) result(s)
+    type(field_t), intent(in) :: f
+    character(len=:), allocatable :: s
+    integer :: k
+    s = ''
+    do k = 1, f%n
+      if (k > 1) s = s//', '
+      if (f%kind == 'i') s = s//itoa(nint(f%x(k)))
+      if (f%kind /= 'i') s = s//fmt_real(f%x(k))
+    end do
+  end function field_text
 
   !> The namelist read of one assignment (write = .false.) or the write of the whole record
   !! into buf (write = .true.).
@@ -155,6 +168,7 @@ contains
     type(field_t), allocatable :: f(:)
     type(field_t) :: one
     integer :: p, j, r, ios, n
+    real(wp) :: y
     character(len=:), allocatable :: t, v
     allocate(f(0))
     n = 0
@@ -199,16 +213,10 @@ contains
         one%x = [one%x, spread(merge(1.0_wp, 0.0_wp, v == 'T'), 1, r)]
       else
         if (verify(v, '+-0123456789') == 0) one%kind = 'i'
-        one%x = [one%x, spread(to_real(v), 1, r)]
+        read(v, *, iostat=ios) y
+        one%x = [one%x, spread(y, 1, r)]
       end if
     end do
     if (n > 0) f = [f, one]
   end function parse_fields
-
-  !> A number of the namelist output.
-  real(wp) function to_real(v)
-    character(len=*), intent(in) :: v
-    integer :: ios
-    read(v, *, iostat=ios) to_real
-  end function to_real
 end module mpm_config_record

@@ -17,7 +17,7 @@ module mpm_config_scan
   implicit none
   private
   public :: reader_t, occ_t, asg_t, load_lines, scan_source, check_groups, add_err, add_warn, &
-            join_msgs, label, occurrence, err_var, err_missing, warn_var, warn_group, given, &
+            join_msgs, label, occurrence, err_var, err_missing, warn_group, given, &
             last_asg, value_tokens, allowed_text, tok_len
 
   integer, parameter :: tok_len = 2048      !! longest value token (a quoted path: 512)
@@ -58,7 +58,7 @@ module mpm_config_scan
   type :: reader_t
     character(len=:), allocatable :: file
     logical :: numbered = .true.             !! messages give line numbers (a file)
-    integer :: n_occ = 0, n_err = 0, n_warn = 0
+    integer :: n_occ = 0, n_err = 0
     type(line_t), allocatable :: lines(:)
     type(occ_t), allocatable :: occ(:)
     type(msg_t), allocatable :: err(:), warn(:)
@@ -322,7 +322,6 @@ contains
     integer, intent(in) :: line
     character(len=*), intent(in) :: text
     rd%warn = [rd%warn, msg_t(line, file_line(rd, line)//text)]
-    rd%n_warn = size(rd%warn)
   end subroutine add_warn
 
   pure function file_line(rd, line) result(s)
@@ -424,12 +423,14 @@ contains
 
   !> `file:line: &group #k: var = value: what; allowed: ...` for occurrence io; the line and
   !! the value are those of the variable's last assignment when the input has one (given by a
-  !! subscript or with null values, the whole value `value` follows in brackets).
-  subroutine err_var(rd, io, var, value, what, allowed)
+  !! subscript or with null values, the whole value `value` follows in brackets). warn: a
+  !! warning instead, with the group's section of docs/input.md in place of allowed.
+  subroutine err_var(rd, io, var, value, what, allowed, warn)
     type(reader_t), intent(inout) :: rd
     integer, intent(in) :: io
     character(len=*), intent(in) :: var, value, what
     character(len=*), intent(in), optional :: allowed
+    logical, intent(in), optional :: warn
     integer :: ia, ln
     character(len=:), allocatable :: v, shown, allow
     ln = rd%occ(io)%line
@@ -447,7 +448,13 @@ contains
     end if
     allow = allowed_text(rd%occ(io)%group, var)
     if (present(allowed)) allow = allowed
-    call add_err(rd, ln, label(rd, io)//': '//shown//' = '//v//': '//what//'; allowed: '//allow)
+    if (len(v) > 0) shown = shown//' = '//v
+    if (present(warn)) then
+      if (warn) call add_warn(rd, ln, label(rd, io)//': '//shown//': '//what// &
+        ' (docs/input.md#'//rd%occ(io)%group//')')
+      if (warn) return
+    end if
+    call add_err(rd, ln, label(rd, io)//': '//shown//': '//what//'; allowed: '//allow)
     rd%occ(io)%ok = .false.
   end subroutine err_var
 
@@ -460,27 +467,6 @@ contains
       'allowed: '//allowed_text(rd%occ(io)%group, var))
     rd%occ(io)%ok = .false.
   end subroutine err_missing
-
-  !> A warning about a variable of occurrence io (at its assignment, with its value): what is
-  !! wrong and what to set; the group's section of docs/input.md follows.
-  subroutine warn_var(rd, io, var, what)
-    type(reader_t), intent(inout) :: rd
-    integer, intent(in) :: io
-    character(len=*), intent(in) :: var, what
-    integer :: ia
-    character(len=:), allocatable :: shown
-    ia = last_asg(rd, io, var)
-    if (ia == 0) then
-      call warn_group(rd, io, var//': '//what)
-      return
-    end if
-    associate (a => rd%occ(io)%asg(ia))
-      shown = var
-      if (len(a%sub) > 0) shown = var//'('//a%sub//')'
-      call add_warn(rd, a%line, label(rd, io)//': '//shown//' = '//a%value//': '//what// &
-        ' (docs/input.md#'//rd%occ(io)%group//')')
-    end associate
-  end subroutine warn_var
 
   !> A warning about occurrence io as a whole, with the group's section of docs/input.md.
   subroutine warn_group(rd, io, what)

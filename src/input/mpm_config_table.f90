@@ -40,7 +40,6 @@ module mpm_config_table
                                             !! default in parentheses ('' for a list of names:
                                             !! made from the list)
     character(len=48) :: comment = ''       !! echo comment: meaning [unit]; % = the names
-    logical :: own = .false.                !! checked by the group's own rules
     logical :: quiet = .false.              !! left out of the echo while at its default
   end type var_spec_t
 
@@ -119,8 +118,8 @@ module mpm_config_table
     ! ---------------------------------------------------------------------------- &grid
     var_spec_t('grid', 'h', required=.true., lo=0.0_wp, lo_open=.true., unset='neg', &
       allowed='a real number > 0 [m] (required)', comment='cell size [m]'), &
-    var_spec_t('grid', 'lower', allowed=lu, comment='lower domain corner [m]', own=.true.), &
-    var_spec_t('grid', 'upper', allowed=lu, comment='upper domain corner [m]', own=.true.), &
+    var_spec_t('grid', 'lower', allowed=lu, comment='lower domain corner [m]'), &
+    var_spec_t('grid', 'upper', allowed=lu, comment='upper domain corner [m]'), &
     ! ---------------------------------------------------------------------------- &material
     var_spec_t('material', 'name', required=.true., unset='emp', &
       allowed='text of 1 to 64 characters, unique among the &material groups (required)', &
@@ -180,10 +179,10 @@ module mpm_config_table
       only='foam', unset='neg', allowed='a real number from 0.001 to 10 (required for model '// &
       '= ''foam'' '// &
       'without curve_strain, curve_stress)', comment='foam densification strain [-]'), &
-    var_spec_t('material', 'curve_strain', own=.true., only='foam', &
+    var_spec_t('material', 'curve_strain', only='foam', &
       allowed='up to 64 plastic strains, the first 0, strictly increasing, as many as '// &
       'curve_stress (default none: the law)', comment='plastic strains [-]'), &
-    var_spec_t('material', 'curve_stress', own=.true., only='foam', &
+    var_spec_t('material', 'curve_stress', only='foam', &
       allowed='up to 64 yield stresses > 0 [Pa], not decreasing, as many as '// &
       'curve_strain (default none)', comment='uniaxial yield stresses [Pa]'), &
     ! ---------------------------------------------------------------------------- &body
@@ -205,7 +204,7 @@ module mpm_config_table
       only='ring tube honeycomb walls disc filler', &
       allowed='an integer from 1 to 256, even where three walls meet at an angle (default 16)', &
       comment='particles through the wall (disc: radius)'), &
-    var_spec_t('body', 'n_circ', only='ring', own=.true., &
+    var_spec_t('body', 'n_circ', only='ring', &
       allowed='0 (particles about square) or an integer >= 3, divisible by 2 for sector = '// &
       '''half'' and by 4 for ''quarter'' (default 0)', &
       comment='particles around the whole ring (0 = auto)'), &
@@ -220,7 +219,7 @@ module mpm_config_table
       allowed='an integer >= 1 (required for shape = ''rect'')', comment='particles along x'), &
     var_spec_t('body', 'n_y', required=.true., lo=1.0_wp, only='rect', unset='zero', &
       allowed='an integer >= 1 (required for shape = ''rect'')', comment='particles along y'), &
-    var_spec_t('body', 'vertices', own=.true., only='tube', &
+    var_spec_t('body', 'vertices', only='tube', &
       allowed='3 to 64 points x, y [m] of the centreline polygon, counter-clockwise, '// &
       'finite (required for shape = ''tube'')', comment='centreline polygon x, y, ... [m]'), &
     var_spec_t('body', 'thickness', required=.true., lo=0.0_wp, lo_open=.true., &
@@ -229,7 +228,7 @@ module mpm_config_table
     var_spec_t('body', 'corner_radius', lo=0.0_wp, only='tube', allowed='0 (sharp) or a '// &
       'real number >= thickness/2 [m] whose rounded corners fit their sides (default 0)', &
       comment='corner radius, centreline [m]'), &
-    var_spec_t('body', 'n_cells', own=.true., only='honeycomb', &
+    var_spec_t('body', 'n_cells', required=.true., lo=1.0_wp, hi=64.0_wp, only='honeycomb', &
       unset='zero', allowed='2 whole numbers from 1 to 64: cells along x and y (required '// &
       'for shape = ''honeycomb'')', comment='cells along x and y'), &
     var_spec_t('body', 'cell_l', required=.true., lo=0.0_wp, lo_open=.true., &
@@ -255,7 +254,7 @@ module mpm_config_table
     var_spec_t('wall', 'point', required=.true., unset='huge', &
       allowed='2 finite real numbers [m] (required)', &
       comment='a point on the plane at t = 0 [m]'), &
-    var_spec_t('wall', 'normal', own=.true., required=.true., unset='huge', &
+    var_spec_t('wall', 'normal', required=.true., unset='huge', &
       allowed='2 real numbers forming a unit vector, |normal| = 1 within 1e-6 (required)', &
       comment='unit normal into the material side [-]'), &
     var_spec_t('wall', 'contact', comment='%'), &
@@ -266,9 +265,9 @@ module mpm_config_table
       comment='prescribed velocity [m/s]'), &
     var_spec_t('wall', 'ramp', lo=0.0_wp, allowed='a real number >= 0 [s] (default 0)', &
       comment='smooth rise time of the velocity [s]'), &
-    var_spec_t('wall', 'motion_t', own=.true., allowed='up to 64 times [s], >= 0 and '// &
+    var_spec_t('wall', 'motion_t', allowed='up to 64 times [s], >= 0 and '// &
       'strictly increasing, as many as motion_f (default none)', comment='times [s]'), &
-    var_spec_t('wall', 'motion_f', own=.true., allowed='up to 64 factors from -1e5 to 1e5, '// &
+    var_spec_t('wall', 'motion_f', allowed='up to 64 factors from -1e5 to 1e5, '// &
       'as many '// &
       'as motion_t (default none)', comment='factors on velocity [-]'), &
     var_spec_t('wall', 'mass', lo=0.0_wp, allowed='a real number >= 0 [kg] (0: prescribed '// &
@@ -284,7 +283,7 @@ module mpm_config_table
       allowed='2 finite real numbers [m] (required)', &
       comment='the particle nearest to it is recorded [m]'), &
     ! ---------------------------------------------------------------------------- &contact
-    var_spec_t('contact', 'bodies', own=.true., lo=0.0_wp, &
+    var_spec_t('contact', 'bodies', lo=0.0_wp, hi=1.0e6_wp, &
       allowed='2 integers: two different bodies by their order in the file (1, 2, ...), '// &
       'or 0, 0 for every pair not named in another &contact (default 0, 0)', &
       comment='the two bodies (0, 0 = every other pair) [-]'), &

@@ -10,7 +10,7 @@ module mpm_config_text
   implicit none
   private
   public :: join_list, suggestion, lower, is_blank, name_end, string_end, itoa, quote, &
-            unquote, file_stem, fmt_real, fmt_short, fmt_list, finite
+            unquote, fmt_real, fmt_short, fmt_list, finite
 
 contains
 
@@ -147,18 +147,6 @@ contains
       k = k + 1
     end do
   end function unquote
-
-  !> Name of the file without folder and extension.
-  pure function file_stem(path) result(stem)
-    character(len=*), intent(in) :: path
-    character(len=:), allocatable :: stem
-    integer :: j
-    stem = trim(path(index(path, '/', back=.true.)+1:))
-    j = index(stem, '.', back=.true.)
-    if (j > 1) stem = stem(1:j-1)
-    if (len(stem) == 0) stem = 'case'
-    if (len(stem) > name_len) stem = stem(1:name_len)
-  end function file_stem
 
   !> Shortest decimal text that reads back to exactly x (NaN, Infinity for non-finite).
   function fmt_real(x) result(s)

@@ -14,7 +14,7 @@ module mpm_placement
   use mpm_bodies, only: body_low, body_overlap, body_estimate
   use mpm_config_body, only: mesh_check_max
   use mpm_config_text, only: itoa, fmt_short, fmt_list
-  use mpm_config_scan, only: reader_t, occurrence, err_var, warn_var
+  use mpm_config_scan, only: reader_t, occurrence, err_var
   implicit none
   private
   public :: placement_checks
@@ -67,8 +67,8 @@ contains
               1.0e-9_wp*cfg%grid%h .or. any(a%velocity /= b%velocity) .or. &
               a%ramp /= b%ramp .or. a%n_motion /= b%n_motion) cycle
           if (any(a%motion_t /= b%motion_t) .or. any(a%motion_f /= b%motion_f)) cycle
-          call warn_var(rd, io(k), 'point', 'the plane and motion of &wall #'//itoa(j)// &
-            ': the two share the contact force. Delete one &wall')
+          call err_var(rd, io(k), 'point', '', 'the plane and motion of &wall #'//itoa(j)// &
+            ': the two share the contact force. Delete one &wall', warn=.true.)
           exit
         end associate
       end do
