@@ -584,7 +584,7 @@ contains
       '&body r_inner = 1, r_outer = 2, n_thick = 0 /'], [character(len=100) :: &
       ':5: &body #2: n_thick = 0: out of range', 'an integer from 1 to 256'])
     call bad('b_n_circ', [character(len=100) :: run_ok, grid_ok, mat_ok, &
-      '&body r_inner = 1, r_outer = 2', ' n_circ = 2 /'], [character(len=100) :: &
+      '&body r_inner = 0.01, r_outer = 0.02', ' n_circ = 2 /'], [character(len=100) :: &
       ':5: &body #1: n_circ = 2: out of range', '0 (particles about square) or an integer >= 3'])
     call bad('b_sector', [character(len=100) :: run_ok, grid_ok, mat_ok, &
       '&body r_inner = 1, r_outer = 2, sector = ''third'' /'], [character(len=100) :: &
@@ -659,14 +659,14 @@ contains
       'several.nml:3: &solver: basis = ''gimp'': not an allowed value', &
       'several.nml:4: &grid: h = -1: out of range', &
       'several.nml:5: &material #1: E = 0: out of range', &
-      'several.nml:6: &body #1: r_inner = 2: not below r_outer = 1', &
+      'several.nml:6: &body #1: r_inner = 0.02: not below r_outer = 0.01', &
       'several.nml:7: &wall #1: normal = 1, 1: not of unit length', &
       'several.nml:8: &probe #1: point = 1: needs 2 values']
     call begin_test('several errors at once')
     f = write_case('several', [character(len=100) :: '! several mistakes', &
       '&run t_end = 1, cfl = -1 /', '&solver basis = ''gimp'' /', '&grid h = -1 /', &
       '&material name = ''a'', E = 0, nu = 0.3, rho = 1, sigma_y = 1 /', &
-      '&body r_inner = 2, r_outer = 1 /', '&wall point = 0, 0, normal = 1, 1 /', &
+      '&body r_inner = 0.02, r_outer = 0.01 /', '&wall point = 0, 0, normal = 1, 1 /', &
       '&probe point = 1 /'])
     call read_config(f, c, stat, msg)
     call check(stat == EXIT_INPUT, 'several errors: stat = EXIT_INPUT')

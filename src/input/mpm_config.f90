@@ -19,7 +19,7 @@ module mpm_config
   use mpm_config_scan, only: reader_t, load_lines, scan_source, check_groups, add_err, &
                              add_warn, join_msgs, label, err_var, err_missing, warn_group, &
                              given, last_asg, value_tokens, allowed_text, tok_len
-  use mpm_config_check, only: check_group, cross_checks
+  use mpm_config_check, only: check_group, cross_checks, unit_checks
   use mpm_config_body, only: check_mesh
   use mpm_config_echo, only: write_config, write_config_unit
   implicit none
@@ -120,8 +120,8 @@ contains
   subroutine read_all(rd, cfg)
     type(reader_t), intent(inout) :: rd
     type(config_t), intent(out) :: cfg
-    integer :: io, ig, k, n0, n_of(n_groups), first_of(n_groups)
-    integer, allocatable :: occ(:,:)
+    integer :: jo, io, ig, k, n0, n1, n_of(n_groups), first_of(n_groups)
+    integer, allocatable :: occ(:,:), order(:)
     type(rec_t) :: rec
     cfg%file = rd%file
     call scan_source(rd)
@@ -135,7 +135,11 @@ contains
     allocate(cfg%materials(n_of(4)), cfg%bodies(n_of(5)), cfg%walls(n_of(6)), &
              cfg%probes(n_of(7)), cfg%contacts(n_of(8)), occ(maxval(n_of), n_groups))
     occ = 0
-    do io = 1, rd%n_occ
+    order = [(io, io = 1, rd%n_occ)]         ! &run first: its check_units holds for the others
+    order = [pack(order, [(rd%occ(io)%group == 'run', io = 1, rd%n_occ)]), &
+             pack(order, [(rd%occ(io)%group /= 'run', io = 1, rd%n_occ)])]
+    do jo = 1, rd%n_occ
+      io = order(jo)
       ig = group_id(rd%occ(io)%group)
       if (ig == 0) cycle
       k = rd%occ(io)%index
@@ -157,7 +161,10 @@ contains
       case (7); cfg%probes(k) = rec%probe
       case (8); cfg%contacts(k) = rec%contact
       end select
-      if (rd%occ(io)%read_ok) call check_group(rd, io, ig, k, cfg)
+      n1 = rd%n_err                          ! a value in a likely wrong unit first: the
+      if (rd%occ(io)%read_ok .and. n1 == n0 .and. cfg%run%check_units) &  ! rules would blame
+        call unit_checks(rd, cfg, io)        ! another variable for it
+      if (rd%occ(io)%read_ok .and. rd%n_err == n1) call check_group(rd, io, ig, k, cfg)
       if (ig == 5 .and. rd%n_err == n0) call check_mesh(rd, io, cfg%bodies(k))
       rd%occ(io)%ok = rd%n_err == n0
     end do

@@ -28,7 +28,7 @@ module mpm_config_check
   use mpm_time_step, only: time_step_dt, cfl_margin, cfl_tried_min
   implicit none
   private
-  public :: check_group, cross_checks
+  public :: check_group, cross_checks, unit_checks
 
 contains
 
@@ -555,19 +555,27 @@ contains
   end subroutine grid_bounds_checks
 
   !> Values that are usually a number in the wrong unit (mpm_units' rule), refused at their
-  !! variable unless `&run check_units = .false.` (then the set-up warns of them).
-  subroutine unit_checks(rd, cfg)
+  !! variable unless `&run check_units = .false.` (then the set-up warns of them). With only:
+  !! those of occurrence io that need no other group, before its group's rules; without: those
+  !! of the occurrences still ok (the values that the rules and other groups complete).
+  subroutine unit_checks(rd, cfg, only)
     type(reader_t), intent(inout) :: rd
     type(config_t), intent(in) :: cfg
+    integer, intent(in), optional :: only
     type(unit_issue_t), allocatable :: issues(:)
     integer :: j, io
     logical :: ok(rd%n_occ)
-    call advice_unit_issues(cfg, issues)
+    integer :: kb
     ok = rd%occ(1:rd%n_occ)%ok             ! (before this check's errors mark them)
+    call advice_unit_issues(cfg, issues, [(ok(max(occurrence(rd, 'body', kb), 1)) .and. &
+                            occurrence(rd, 'body', kb) > 0, kb = 1, size(cfg%bodies))])
     do j = 1, size(issues)
       associate (u => issues(j))
         io = occurrence(rd, trim(u%group), max(u%k, 1))
         if (io == 0) cycle
+        if (present(only)) then
+          if (io /= only .or. u%others) cycle
+        end if
         if (.not. ok(io)) cycle             ! its values may be unset
         call err_var(rd, io, trim(u%var), u%value, u%why, u%allowed// &
           ' (or &run check_units = .false. when the value is meant)')

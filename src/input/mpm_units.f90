@@ -10,6 +10,7 @@ module mpm_units
   use mpm_errors, only: append_msg
   use mpm_strings, only: rtoa, itoa
   use mpm_config_text, only: finite
+  use mpm_bodies, only: body_box
   implicit none
   private
 
@@ -32,6 +33,7 @@ module mpm_units
     character(len=:), allocatable :: value   !! its value, with the unit
     character(len=:), allocatable :: why     !! why it is suspect, and the likely slip
     character(len=:), allocatable :: allowed !! the plausible range
+    logical :: others = .false.              !! it compares with other groups' values
   end type unit_issue_t
 
 contains
@@ -41,10 +43,12 @@ contains
   !! a foam's sigma_p above E/10 or below 1 kPa, density outside 10 .. 30 000 kg/m^3, a wall's
   !! or body's speed over 1000 m/s. The reader refuses them (`&run check_units`,
   !! mpm_config_check) with its file, line and allowed range; advice_units words them as lines.
-  pure subroutine advice_unit_issues(cfg, issues)
+  pure subroutine advice_unit_issues(cfg, issues, bodies_ok)
     type(config_t), intent(in) :: cfg      !! the case
     type(unit_issue_t), allocatable, intent(out) :: issues(:)  !! one per suspect value
-    integer :: k
+    logical, intent(in), optional :: bodies_ok(:)  !! the bodies whose values are complete
+    integer :: k, kb
+    real(wp) :: span, lo(2), hi(2)
     character(len=*), parameter :: mm = 'over 1 m: the input is in metres (millimetres '// &
       'typed as metres?)', metres = 'a length in metres, at most 1 m', ms = 'a speed over '// &
       '1000 m/s (times the motion table''s largest factor): the input is in m/s (mm/s typed '// &
@@ -57,6 +61,24 @@ contains
         rtoa(maxval(abs(cfg%grid%lower)))//' m', mm, metres)
       if (maxval(abs(cfg%grid%upper)) > length_max) call push(issues, 'grid', 0, 'upper', &
         rtoa(maxval(abs(cfg%grid%upper)))//' m', mm, metres)
+    end if
+    span = 0.0_wp                          ! a cell larger than every body
+    kb = 0
+    do k = 1, size(cfg%bodies)
+      if (present(bodies_ok)) then
+        if (.not. bodies_ok(k)) cycle
+      end if
+      if (cfg%bodies(k)%shape_id == SHAPE_WALLS .and. .not. allocated(cfg%bodies(k)%seg)) cycle
+      call body_box(cfg%bodies(k), lo, hi)
+      if (all(hi > lo) .and. maxval(hi - lo) > span) kb = k
+      if (all(hi > lo)) span = max(span, maxval(hi - lo))
+    end do
+    if (kb > 0 .and. cfg%grid%h > span) then
+      call push(issues, 'grid', 0, 'h', rtoa(cfg%grid%h)//' m', 'larger than every body (the '// &
+        'largest, &body #'//itoa(kb)//', spans '//rtoa(span)//' m): a body would sit in one '// &
+        'or two cells (millimetres typed as metres?)', 'a cell smaller than the bodies, h < '// &
+        rtoa(span)//' m (a wall wants h of about its thickness / 2)')
+      issues(size(issues))%others = .true.
     end if
     do k = 1, size(cfg%bodies)
       associate (b => cfg%bodies(k))
@@ -74,6 +96,8 @@ contains
           end if
           if (b%thickness > length_max) call push(issues, 'body', k, 'thickness', &
                                                   rtoa(b%thickness)//' m', mm, metres)
+          if (b%corner_radius > length_max) call push(issues, 'body', k, 'corner_radius', &
+                                                      rtoa(b%corner_radius)//' m', mm, metres)
         case (SHAPE_HONEYCOMB)
           if (max(b%cell_l, b%cell_h) > length_max) call push(issues, 'body', k, &
             trim(merge('cell_l', 'cell_h', b%cell_l >= b%cell_h)), &
