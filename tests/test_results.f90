@@ -4,14 +4,17 @@
 !! Oracle: F(d) = F0 up to d1, F0 + K (d - d1)^2 beyond (a plateau, then densification), so
 !! E(d) = F0 d + K (d - d1)^3 / 3 and the efficiency E/F is largest where F^2 = E dF/dd, found
 !! here by bisection; the peak is F at the end; a platen driven against a parallel mirror plane
-!! (a quarter model) doubles the approach; a platen pair shares it.
+!! (a quarter model) doubles the approach; a platen pair shares it. A fixed platen facing the
+!! moving one is its support (its peak and the CFE on it); a spike of the moving platen's force
+!! at first contact, 5.9 times the support's peak, is reported in one line with both numbers.
 !!   usage: test_results [SCRATCH]
 ! SPDX-License-Identifier: MIT
 program test_results
   use mpm_kinds, only: wp
   use mpm_walls, only: wall_t
-  use mpm_results, only: results_t, results_compute
+  use mpm_results, only: results_t, results_compute, results_warning
   use testing, only: begin_test, check, check_close, finish_tests
+  use mpm_strings, only: itoa
   implicit none
   real(wp), parameter :: f0 = 1.0e4_wp, d1 = 0.02_wp, kk = 4.0e8_wp, dmax = 0.04_wp
   character(len=:), allocatable :: dir
@@ -28,6 +31,8 @@ program test_results
   call case_one(.false.)
   call begin_test('a platen against a parallel mirror plane (quarter model)')
   call case_one(.true.)
+  call begin_test('a spike of the platen force at first contact')
+  call case_spike()
   call begin_test('two platens approaching each other')
   call case_two()
   call begin_test('a plateau with a dip of the force and unloading: no densification')
@@ -63,12 +68,13 @@ contains
     end do
   end function densification
 
-  subroutine write_history(path, nwall, adv)
+  subroutine write_history(path, nwall, adv, spike)
     character(len=*), intent(in) :: path
     integer, intent(in) :: nwall
     real(wp), intent(in) :: adv            !! each loading wall's share of the approach [-]
+    real(wp), intent(in), optional :: spike  !! wall 1's force on the second row [N]
     integer :: u, i, k, n
-    real(wp) :: d
+    real(wp) :: d, f
     n = 4001
     open(newunit=u, file=path, status='replace', action='write')
     write(u, '(a)', advance='no') 'time'
@@ -81,7 +87,9 @@ contains
       d = dmax*real(i - 1, wp)/real(n - 1, wp)
       write(u, '(es24.16e3)', advance='no') 1.0e-3_wp*d
       do k = 1, nwall
-        write(u, '(4(",",es24.16e3))', advance='no') -adv*d, force(d), 0.0_wp, force(d)
+        f = force(d)
+        if (present(spike) .and. k == 1 .and. i == 2) f = spike
+        write(u, '(4(",",es24.16e3))', advance='no') -adv*d, f, 0.0_wp, f
       end do
       write(u, '(4(",",es24.16e3))') 0.0_wp, 0.0_wp, 0.5_wp*energy(d), energy(d)
     end do
@@ -124,7 +132,44 @@ contains
     call check(st == 0, 'history read: '//msg)
     call check(res%loading_wall == 1, 'the moving platen loads, the other wall does not')
     call expect(res, densification())
+    call check(res%supported .neqv. mirror, 'the fixed platen is a support, a mirror plane not')
+    if (.not. mirror) then
+      call check_close(res%support_peak_force, force(dmax), 'support peak = F at the end', &
+                       rtol=1.0e-12_wp)
+      call check_close(res%support_cfe, res%cfe, 'support cfe = cfe (one force through both)', &
+                       rtol=1.0e-12_wp)
+    end if
+    call check(len(results_warning(res)) == 0, 'no spike, no warning: '//results_warning(res))
   end subroutine case_one
+
+  !> case_one with the moving platen's force at 1e6 N on the first row after contact, 5.9 times
+  !! the support's peak F(dmax) = 1.7e5 N: the peak and the CFE take it, the support's do not.
+  subroutine case_spike()
+    type(wall_t) :: walls(2)
+    type(results_t) :: res
+    integer :: st
+    character(len=:), allocatable :: msg, path, w
+    real(wp) :: e
+    walls(1)%normal = [0.0_wp, -1.0_wp]
+    walls(1)%velocity = [0.0_wp, -1.0_wp]
+    walls(2)%normal = [0.0_wp, 1.0_wp]
+    path = dir//'/history_spike.csv'
+    call write_history(path, 2, 1.0_wp, spike=1.0e6_wp)
+    e = energy(dmax)
+    call results_compute(path, walls, e, 0.1_wp*e, 2.5_wp, 1, res, st, msg)
+    call check(st == 0, 'history read: '//msg)
+    call check_close(res%peak_force, 1.0e6_wp, 'peak force = the spike', rtol=1.0e-12_wp)
+    call check_close(res%support_peak_force, force(dmax), 'support peak = F at the end', &
+                     rtol=1.0e-12_wp)
+    call check_close(res%support_cfe, 0.9_wp*e/dmax/force(dmax), 'support cfe = mean / F(dmax)', &
+                     rtol=1.0e-12_wp)
+    w = results_warning(res)
+    call check(index(w, 'peak_force is 5.9 x support_peak_force') > 0 .and. &
+               index(w, 'support_cfe') > 0, &
+               'the warning names the peak, its ratio to the support''s and what to use: '//w)
+    call check(len('WARNING [results]: '//w) <= 120, 'the warning is one line of at most 120 '// &
+               'characters: '//itoa(len('WARNING [results]: '//w)))
+  end subroutine case_spike
 
   subroutine case_two()
     type(wall_t) :: walls(2)
@@ -142,6 +187,7 @@ contains
     call results_compute(path, walls, e, 0.1_wp*e, 2.5_wp, 1, res, st, msg)
     call check(st == 0, 'history read: '//msg)
     call check(res%n_loading == 2, 'both platens load')
+    call check(.not. res%supported, 'no support: both platens move')
     call expect(res, densification())
   end subroutine case_two
 

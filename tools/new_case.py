@@ -6,6 +6,8 @@
     python3 -m tools.new_case drop  --D 60e-3 --t 2e-3 --material aluminium --mass 10 --speed 6
     python3 -m tools.new_case shear --D 50e-3 --t 2e-3 --material steel --stroke 10e-3 \
         --shear-ratio 0.5 --fixed
+    python3 -m tools.new_case crush --section square --D 40e-3 --t 1.5e-3 --corner-radius 4e-3 \
+        --material aluminium --stroke 20e-3
     (add --out FILE, default out/<title>.nml; --title; --sigma-y, --hardening, --E, --nu, --rho
      to change the material; --symmetry full|half|quarter)
 
@@ -17,12 +19,19 @@ Load cases:
          tests), the tube loose between the platens ('coulomb') or fixed to them (--fixed:
          'bonded').
 
+Sections: --section round (a ring of outer diameter --D) or square (shape = 'tube': a square of
+outer side --D, its centreline corners rounded with --corner-radius, default 1.5 t). The case
+lies on y = 0 (the vertices of a square are absolute coordinates; its centre is where the
+mirror planes of a half or quarter model pass).
+
 The case uses the resolution the refinement study advises (h = t/4, 8 particles through the
 wall; docs/validation.md), a platen speed --check calls quasi-static (an approach of at most
-0.01 D omega_2, omega_2 the ring's ovalling frequency, and at most 5 m/s) for crush and shear,
-and the symmetry the load case allows (crush: quarter; drop: half; shear: none). Lengths are in
-metres, masses in kg for the &run depth (1 m unless --depth). The file is the input; check it
-with `bin/tubempm --check FILE` and run it with `bin/tubempm FILE`.
+0.01 D omega_2, omega_2 the ring's ovalling frequency, and at most 5 m/s; a square tube, whose
+flat faces meet the platens all at once, at most 2 m/s) for crush and shear, and the symmetry
+the load case allows (crush: quarter; drop: half; shear: none). Lengths are in metres, masses in
+kg for the &run depth (1 m unless --depth): the model is a lateral crush in plane strain, a
+section of a long tube. The file is the input; check it with `bin/tubempm --check FILE` and run
+it with `bin/tubempm FILE`.
 """
 from __future__ import annotations
 
@@ -39,7 +48,7 @@ MATERIALS = {
     "aluminium": (70.0e9, 0.33, 2700.0, 150.0e6, 200.0e6),
 }
 QUASI_STATIC = 0.01     #: approach / (D omega_2) written (--check warns above 0.012)
-SPEED_MAX = 5.0         #: the fastest approach written for a quasi-static case [m/s]
+SPEED_MAX = {"round": 5.0, "square": 2.0}  #: the fastest quasi-static approach [m/s]
 RAMP_PERIODS = 1.0      #: the platen's ramp in ovalling periods
 
 
@@ -62,8 +71,13 @@ def parse(argv: list[str] | None) -> argparse.Namespace:
                                 formatter_class=argparse.RawDescriptionHelpFormatter,
                                 epilog=__doc__.split("\n\n", 1)[1])
     p.add_argument("load", choices=("crush", "drop", "shear"), help="the load case")
-    p.add_argument("--D", type=float, required=True, help="outer diameter [m]")
+    p.add_argument("--section", choices=("round", "square"), default="round",
+                   help="the tube's section (default round)")
+    p.add_argument("--D", type=float, required=True, help="outer diameter, or outer side of a "
+                   "square [m]")
     p.add_argument("--t", type=float, required=True, help="wall thickness [m]")
+    p.add_argument("--corner-radius", type=float, help="square: corner radius on the wall's "
+                   "centreline [m] (default 1.5 t; at least t/2)")
     p.add_argument("--material", choices=sorted(MATERIALS), default="steel")
     for name in ("E", "nu", "rho", "sigma-y", "hardening"):
         p.add_argument(f"--{name}", type=float, help="override the material's value (SI)")
@@ -94,8 +108,18 @@ def parse(argv: list[str] | None) -> argparse.Namespace:
         errors.append("drop: --symmetry quarter would mirror the weight onto the base; use half")
     if a.load == "shear" and a.symmetry not in (None, "full"):
         errors.append("shear: a sideways platen breaks the mirror symmetry; use full")
-    if a.stroke is not None and not 0.0 < a.stroke < a.D:
-        errors.append(f"--stroke {a.stroke}: between 0 and the diameter {a.D} m")
+    if a.stroke is not None and not 0.0 < a.stroke < a.D - 2.0 * a.t:
+        errors.append(f"--stroke {a.stroke}: between 0 and {a.D - 2.0 * a.t:.6g} m, the "
+                      f"height --D {a.D} less the two walls that meet")
+    if a.corner_radius is not None and a.section != "square":
+        errors.append("--corner-radius is for --section square")
+    if a.section == "square":
+        side = a.D - a.t
+        if a.corner_radius is None:
+            a.corner_radius = 1.5 * a.t
+        if not 0.5 * a.t <= a.corner_radius < 0.5 * side:
+            errors.append(f"--corner-radius {a.corner_radius}: from t/2 = {0.5 * a.t:.6g} to "
+                          f"below half the centreline side {0.5 * side:.6g} m")
     if errors:
         for e in errors:
             print(f"ERROR [new_case]: {e}", file=sys.stderr)
@@ -112,7 +136,6 @@ def material(a: argparse.Namespace) -> tuple[float, float, float, float, float]:
 def render(a: argparse.Namespace) -> tuple[str, str]:
     E, nu, rho, sy, hard = material(a)
     ro, t = 0.5 * a.D, a.t
-    ri = ro - t
     dm = a.D - t                                   # mean diameter
     h = t / 4.0
     omega = ovalling_omega(dm, t, E, nu, rho)
@@ -120,11 +143,14 @@ def render(a: argparse.Namespace) -> tuple[str, str]:
     title = a.title or f"{a.load}_{a.material}"
     sym = a.symmetry or {"crush": "quarter", "drop": "half", "shear": "full"}[a.load]
     cy = ro
+    shape = (f"outer diameter {a.D * 1e3:.4g} mm" if a.section == "round" else
+             f"square, outer side {a.D * 1e3:.4g} mm, corners of {a.corner_radius * 1e3:.4g} mm "
+             f"radius on the centreline")
     lines = [f"! {title}: written by tools/new_case.py {a.load} (docs/tutorial.md).",
-             f"! Tube: outer diameter {a.D * 1e3:.4g} mm, wall {t * 1e3:.4g} mm "
+             f"! Tube: {shape}, wall {t * 1e3:.4g} mm "
              f"(D/t = {a.D / t:.3g}), {a.material} (E {E / 1e9:.4g} GPa, sigma_y "
-             f"{sy / 1e6:.4g} MPa, hardening {hard / 1e6:.4g} MPa), plane strain, "
-             f"{a.depth:g} m long.",
+             f"{sy / 1e6:.4g} MPa, hardening {hard / 1e6:.4g} MPa), a lateral crush in plane "
+             f"strain, {a.depth:g} m long.",
              "! Resolution as the refinement study advises: h = t/4, 8 particles through the",
              "! wall (docs/validation.md). Units are SI (m, kg, s, Pa); docs/input.md has every",
              "! variable."]
@@ -132,7 +158,7 @@ def render(a: argparse.Namespace) -> tuple[str, str]:
     walls: list[str] = []
     stroke = a.stroke if a.stroke is not None else 0.6 * a.D
     if a.load in ("crush", "shear"):
-        v_qs = min(SPEED_MAX, QUASI_STATIC * dm * omega)
+        v_qs = min(SPEED_MAX[a.section], QUASI_STATIC * dm * omega)
         v = a.speed if a.speed else v_qs
         lines.append(f"! The platens approach at {v:.3g} m/s (quasi-static: at most "
                      f"{v_qs:.3g} m/s for this tube) to a stroke of {stroke * 1e3:.4g} mm "
@@ -196,12 +222,26 @@ def render(a: argparse.Namespace) -> tuple[str, str]:
              f"&material\n  name = '{a.material}'\n  model = 'j2'\n  E = {E:.6g}\n"
              f"  nu = {nu:g}\n  rho = {rho:g}\n  sigma_y = {sy:.6g}\n"
              f"  hardening = {hard:.6g}\n/\n\n"
-             f"&body\n  shape = 'ring'\n  material = '{a.material}'\n"
-             f"  center = 0.0, {cy:.6g}       ! resting on y = 0 [m]\n"
-             f"  r_inner = {ri:.6g}\n  r_outer = {ro:.6g}\n  n_thick = 8\n"
-             f"  sector = '{sym}'\n/\n")
+             + body_text(a, cy, sym))
     text += "".join("\n" + w for w in walls)
     return title, text
+
+
+def body_text(a: argparse.Namespace, cy: float, sym: str) -> str:
+    """The &body group: a ring, or a square tube (its centreline polygon in absolute
+    coordinates, counter-clockwise), resting on y = 0 with its centre at (0, cy)."""
+    head = f"&body\n  shape = '{'ring' if a.section == 'round' else 'tube'}'\n" \
+           f"  material = '{a.material}'\n  center = 0.0, {cy:.6g}       ! resting on y = 0 [m]\n"
+    if a.section == "round":
+        geometry = f"  r_inner = {0.5 * a.D - a.t:.6g}\n  r_outer = {0.5 * a.D:.6g}\n"
+    else:
+        c = 0.5 * (a.D - a.t)                     # half the centreline side
+        pts = [(-c, cy - c), (c, cy - c), (c, cy + c), (-c, cy + c)]
+        geometry = ("  vertices = " + ",  ".join(f"{x:.6g}, {y:.6g}" for x, y in pts) +
+                    "   ! centreline corners [m]\n"
+                    f"  thickness = {a.t:.6g}\n"
+                    f"  corner_radius = {a.corner_radius:.6g}   ! on the centreline [m]\n")
+    return head + geometry + f"  n_thick = 8\n  sector = '{sym}'\n/\n"
 
 
 def wall_text(what: str, point: tuple[float, float], normal: tuple[float, float], law: str,

@@ -23,7 +23,8 @@ program tubempm
   use mpm_output, only: history_t, history_open, history_write, history_close, write_summary, &
                         summary_t, next_output
   use mpm_images, only: images_of_walls
-  use mpm_results, only: results_t, results_compute, results_write_csv, loading_walls
+  use mpm_results, only: results_t, results_compute, results_write_csv, loading_walls, &
+                         results_warning
   use mpm_io_hdf5, only: snapfile_t, snap_create, snap_reopen, snap_write, snap_close, xdmf_write
   use mpm_restart, only: checkpoint_write, checkpoint_read, ckpt_extra_t
   use mpm_release, only: release_t, release_observe, release_due, in_contact
@@ -593,6 +594,7 @@ contains
     if (st /= 0) call fatal('output', msg, EXIT_IO)
     if (res%valid) call results_write_csv(r%dir//'/results.csv', r%title, res, st, msg)
     if (st /= 0) call fatal('output', msg, EXIT_IO)
+    if (len(results_warning(res)) > 0) call warn('results', results_warning(res))
     msg = advice_end_of_run(s%bal_max, max(s%e0, s%ext_max, s%prm%e_floor), s%energy_error, &
       s%prm%scheme == SCHEME_MUSL .and. s%prm%flip == 1.0_wp, s%prm%nf > 1)
     if (len(msg) > 0) call warn('run', msg)

@@ -17,7 +17,7 @@ module mpm_results
   implicit none
   private
   public :: results_t, results_compute, results_write_group, results_write_csv, &
-            loading_walls
+            loading_walls, results_warning
 
   !> The results of a run (for `depth`, the whole structure).
   type :: results_t
@@ -36,6 +36,9 @@ module mpm_results
     logical :: impactor = .false.          !! the loading wall is a wall with mass
     real(wp) :: impactor_rebound = 0.0_wp  !! its speed away from the material at the end [m/s]
     real(wp) :: impactor_max_stroke = 0.0_wp  !! its largest advance into the material [m]
+    logical :: supported = .false.         !! a support faces the loading wall
+    real(wp) :: support_peak_force = 0.0_wp  !! largest force on the supports [N]
+    real(wp) :: support_cfe = 0.0_wp       !! mean_force / support_peak_force [-]
   end type results_t
 
 contains
@@ -80,7 +83,7 @@ contains
     type(results_t), intent(out) :: res    !! the results
     integer, intent(out) :: stat           !! 0, or non-zero: the file could not be read
     character(len=:), allocatable, intent(out) :: errmsg  !! the I/O problem
-    real(wp), allocatable :: rows(:,:), delta(:), force(:), energy(:), smooth(:)
+    real(wp), allocatable :: rows(:,:), delta(:), force(:), energy(:), smooth(:), support(:)
     integer, allocatable :: cdisp(:), cforce(:), cbody(:)
     logical :: loading(size(walls))
     real(wp) :: fac, w, eta, best, da, dd, window
@@ -115,7 +118,7 @@ contains
       res%impactor_rebound = -walls(res%loading_wall)%vn
       res%impactor_max_stroke = walls(res%loading_wall)%travel_max
     end if
-    allocate(delta(n), force(n), energy(n), smooth(n))
+    allocate(delta(n), force(n), energy(n), smooth(n), support(n))
     ! the approach and the force on the loading walls (weighted by their share of the approach)
     delta = 0.0_wp
     force = 0.0_wp
@@ -148,9 +151,20 @@ contains
     end do
     res%stroke = maxval(delta)
     res%peak_force = maxval(force)
+    ! the supports: the walls that face the first loading wall and do not move (a base, an
+    ! anvil; not mirror planes), their forces summed as a load cell under them reads them
+    support = 0.0_wp
+    do k = 1, size(walls)
+      if (loading(k) .or. walls(k)%mirror .or. dot_product(walls(k)%normal, &
+          walls(res%loading_wall)%normal) > -0.999_wp) cycle
+      res%supported = .true.
+      support = support + rows(cforce(k), :)
+    end do
+    if (res%supported) res%support_peak_force = maxval(support)
     res%absorbed_energy = work_full - strain_full
     if (res%stroke > 0.0_wp) res%mean_force = res%absorbed_energy/res%stroke
     if (res%peak_force > 0.0_wp) res%cfe = res%mean_force/res%peak_force
+    if (res%support_peak_force > 0.0_wp) res%support_cfe = res%mean_force/res%support_peak_force
     if (res%mass > 0.0_wp) res%sea = res%absorbed_energy/res%mass
     ! densification: the largest energy efficiency E(delta)/F(delta), F averaged over +-1 % of
     ! the stroke so that the force noise of a row does not make the peak; on the loading
@@ -287,8 +301,28 @@ contains
       write(u, '(a,es24.16e3)', iostat=stat, iomsg=msg) '  impactor_max_stroke = ', &
         res%impactor_max_stroke
     end if
+    if (res%supported) then
+      write(u, '(a,es24.16e3)', iostat=stat, iomsg=msg) '  support_peak_force = ', &
+        res%support_peak_force
+      write(u, '(a,es24.16e3)', iostat=stat, iomsg=msg) '  support_cfe = ', res%support_cfe
+    end if
     write(u, '(a)', iostat=stat, iomsg=msg) '/'
   end subroutine results_write_group
+
+  !> One line when the peak on the loading wall is more than twice the supports' (the inertia
+  !! of the struck face: a rigid wall striking a flat face at speed v meets a stress of about
+  !! rho c v until the wave has crossed the wall), else ''.
+  function results_warning(res) result(text)
+    type(results_t), intent(in) :: res     !! the results
+    character(len=:), allocatable :: text
+    character(len=12) :: ratio
+    text = ''
+    if (.not. (res%valid .and. res%supported)) return
+    if (.not. res%peak_force > 2.0_wp*res%support_peak_force) return
+    write(ratio, '(f12.1)') res%peak_force/max(res%support_peak_force, tiny(1.0_wp))
+    text = 'peak_force is '//trim(adjustl(ratio))//' x support_peak_force (impact '// &
+      'inertia): use support_cfe (docs/output.md#results)'
+  end function results_warning
 
   !> results.csv: one header line and one row (sweeps concatenate the rows).
   subroutine results_write_csv(path, title, res, stat, errmsg)
@@ -307,6 +341,7 @@ contains
       head = head//',body'//itoa(k)//'_energy'
     end do
     if (res%impactor) head = head//',impactor_rebound,impactor_max_stroke'
+    if (res%supported) head = head//',support_peak_force,support_cfe'
     open(newunit=u, file=path, status='replace', action='write', iostat=stat, iomsg=msg)
     if (stat /= 0) then
       errmsg = 'cannot open '//trim(path)//' for writing: '//trim(msg)
@@ -316,7 +351,8 @@ contains
     write(u, '(a,",",i0,*(:",",es24.16e3))', iostat=stat, iomsg=msg) trim(title), &
       res%loading_wall, res%stroke, res%peak_force, res%mean_force, res%cfe, &
       res%absorbed_energy, res%mass, res%sea, res%densification_stroke, res%body_energy, &
-      pack([res%impactor_rebound, res%impactor_max_stroke], [res%impactor, res%impactor])
+      pack([res%impactor_rebound, res%impactor_max_stroke], [res%impactor, res%impactor]), &
+      pack([res%support_peak_force, res%support_cfe], [res%supported, res%supported])
     if (stat /= 0) errmsg = 'cannot write '//trim(path)//': '//trim(msg)
     close(u, iostat=stat, iomsg=msg)
     if (stat /= 0 .and. len(errmsg) == 0) errmsg = 'cannot close '//trim(path)//': '//trim(msg)
