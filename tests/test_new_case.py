@@ -10,6 +10,9 @@
 * shear (full model): the top platen moves sideways at the asked ratio of its downward speed;
   with --fixed both platens are 'bonded' (the tube fixed to them) and --check reports the
   points tied to each;
+* --section square (crush, quarter model; drop, half model): shape = 'tube' with the centreline
+  square of side D - t resting on y = 0 (its lowest centreline at t/2), the corner radius asked,
+  an approach of at most 2 m/s;
 * a diameter in millimetres typed as metres is refused with exit 2 and what to type;
 * the seven designs of tools/design_example.py (make design-example) pass --check too.
 Each case passes `tubempm --check` with exit 0 and no WARNING line.
@@ -103,6 +106,32 @@ def main() -> int:
         out = checked(path, "shear --fixed")
         check(out.count("bonded: ") == 2 and "tied" in out,
               "shear --fixed: --check reports the points tied to each platen")
+    a, ts, rc = 40e-3, 1.5e-3, 4e-3
+    path, nml = make(scratch, "square", "crush", "--section", "square", "--D", str(a), "--t",
+                     str(ts), "--corner-radius", str(rc), "--material", "aluminium",
+                     "--stroke", "20e-3")
+    if nml:
+        body, wall = nml["body"][0], nml["wall"][0]
+        xs, ys = body["vertices"][0::2], body["vertices"][1::2]
+        check(body["shape"] == "tube" and body["sector"] == "quarter" and
+              close(max(xs) - min(xs), a - ts, 1e-9) and close(max(ys) - min(ys), a - ts, 1e-9)
+              and close(min(ys), ts / 2, 1e-9) and close(body["corner_radius"], rc, 1e-12) and
+              close(body["thickness"], ts, 1e-12) and close(body["center"][1], a / 2, 1e-9),
+              f"square: a tube of centreline side D - t on y = 0, corner radius {rc}: {body}")
+        check(2 * abs(wall["velocity"][1]) <= 2.0 * (1 + 1e-9) and
+              close(wall["stroke"], 10e-3, 1e-9), f"square: approach at most 2 m/s, platen "
+                                                  f"stroke half of 20 mm ({wall})")
+        out = checked(path, "square")
+        m = re.search(r"delta = ([0-9.E+-]+) m", out)
+        check(m is not None and close(float(m.group(1)), 20e-3, 1e-4),
+              f"square: --check reports delta = 20 mm ({m.group(0) if m else out[-300:]})")
+    path, nml = make(scratch, "square_drop", "drop", "--section", "square", "--D", str(a),
+                     "--t", str(ts), "--material", "aluminium", "--mass", "10", "--speed", "6")
+    if nml:
+        check(nml["body"][0]["shape"] == "tube" and nml["body"][0]["sector"] == "half" and
+              close(nml["body"][0]["corner_radius"], 1.5 * ts, 1e-12),
+              "square drop: half model, the default corner radius 1.5 t")
+        checked(path, "square drop")
     from tools import design_example  # noqa: PLC0415
     cases = design_example.designs(scratch / "design")
     check(len(cases) == 7, f"design example: 7 designs ({len(cases)})")

@@ -27,7 +27,8 @@ mirror planes of a half or quarter model pass).
 The case uses the resolution the refinement study advises (h = t/4, 8 particles through the
 wall; docs/validation.md), a platen speed --check calls quasi-static (an approach of at most
 0.01 D omega_2, omega_2 the ring's ovalling frequency, and at most 5 m/s; a square tube, whose
-flat faces meet the platens all at once, at most 2 m/s) for crush and shear, and the symmetry
+flat faces meet the platens all at once, at most 0.004 H omega_1, omega_1 its wall's first
+bending mode, and 2 m/s) for crush and shear, and the symmetry
 the load case allows (crush: quarter; drop: half; shear: none). Lengths are in metres, masses in
 kg for the &run depth (1 m unless --depth): the model is a lateral crush in plane strain, a
 section of a long tube. The file is the input; check it with `bin/tubempm --check FILE` and run
@@ -48,6 +49,7 @@ MATERIALS = {
     "aluminium": (70.0e9, 0.33, 2700.0, 150.0e6, 200.0e6),
 }
 QUASI_STATIC = 0.01     #: approach / (D omega_2) written (--check warns above 0.012)
+QUASI_STATIC_TUBE = 0.004  #: approach / (H omega_1) written for a square (--check: 0.005)
 SPEED_MAX = {"round": 5.0, "square": 2.0}  #: the fastest quasi-static approach [m/s]
 RAMP_PERIODS = 1.0      #: the platen's ramp in ovalling periods
 
@@ -58,6 +60,14 @@ def ovalling_omega(D: float, t: float, E: float, nu: float, rho: float) -> float
     ei = E * t ** 3 / 12.0 / (1.0 - nu * nu)
     r = 0.5 * D
     return math.sqrt(ei / (rho * t * r ** 4) * 36.0 / 5.0)
+
+
+def wall_omega(side: float, t: float, rc: float, E: float, nu: float, rho: float) -> float:
+    """The first bending mode of a square tube's wall, pinned at its ends [rad/s] (the rule of
+    --check for a 'tube'): omega_1 = pi^2 sqrt(E' I / (m L^4)), L the side between the
+    corners plus half of each rounded corner."""
+    length = side - 2.0 * rc + 0.5 * math.pi * rc
+    return math.pi ** 2 * math.sqrt(E / (1.0 - nu * nu) * t ** 3 / 12.0 / (rho * t * length ** 4))
 
 
 def collapse_load(D: float, t: float, sigma_y: float) -> float:
@@ -159,6 +169,9 @@ def render(a: argparse.Namespace) -> tuple[str, str]:
     stroke = a.stroke if a.stroke is not None else 0.6 * a.D
     if a.load in ("crush", "shear"):
         v_qs = min(SPEED_MAX[a.section], QUASI_STATIC * dm * omega)
+        if a.section == "square":                  # --check: 0.005 H omega_1 for a 'tube'
+            v_qs = min(SPEED_MAX["square"],
+                       QUASI_STATIC_TUBE * a.D * wall_omega(dm, t, a.corner_radius, E, nu, rho))
         v = a.speed if a.speed else v_qs
         lines.append(f"! The platens approach at {v:.3g} m/s (quasi-static: at most "
                      f"{v_qs:.3g} m/s for this tube) to a stroke of {stroke * 1e3:.4g} mm "
