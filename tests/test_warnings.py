@@ -104,6 +104,18 @@ def square_tube(scratch: Path) -> None:
     side's straight 42 mm and half of each rounded corner (r 3 mm on the centreline), omega_1 =
     pi^2 sqrt(E' t^3 / 12 / (rho t L^4))."""
     text = (ROOT / "namelists" / "sections" / "square_tube.nml").read_text()
+    # crushed flat: H = 49.5 mm less two walls of 1.5 mm is 46.5 mm; the quarter model's
+    # platen stroke of 23.5 mm is an approach of 47 mm, 23 mm one of 46 mm
+    for stroke, warned in ((23.0e-3, False), (23.5e-3, True)):
+        path = scratch / f"warn_square_flat_{stroke * 1e3:g}.nml"
+        path.write_text(text.replace("stroke = 12.375e-3", f"stroke = {stroke}"))
+        p = subprocess.run([BIN, "--check", str(path)], capture_output=True, text=True,
+                           timeout=120)
+        lines = [ln for ln in p.stderr.splitlines() if "height - 2t" in ln]
+        check(p.returncode == 0 and bool(lines) == warned and
+              (not warned or ("height - 2t, 4.65E-02 m. Set" in lines[0] and len(lines[0]) <= 120)),
+              f"square tube, approach {2 * stroke * 1e3:g} mm: warned of solid walls "
+              f"{'(expected)' if warned else '(not expected)'}: {lines}")
     for v, warned in ((1.0, False), (2.0, True)):
         path = scratch / f"warn_square_{v:g}.nml"
         path.write_text(text.replace("velocity = 0.0, -1.0", f"velocity = 0.0, -{v}"))

@@ -21,7 +21,7 @@ module mpm_advice
                            VOLUMETRIC_FBAR, VOLUMETRIC_STANDARD, VOLUMETRIC_FBARWALL, &
                            volumetric_names, pi, CONTACT_STICK, CONTACT_BONDED, SHAPE_FILLER
   use mpm_particles, only: ring_counts
-  use mpm_bodies, only: body_wall_thickness, is_section, bodies_wall_ppc, body_section
+  use mpm_bodies, only: body_wall_thickness, is_section, bodies_wall_ppc, body_section, body_low
   use mpm_sections, only: section_t
   use mpm_config_types, only: config_t, scene_of, stiffest_penalty
   use mpm_walls, only: wall_t, wall_travel
@@ -538,6 +538,7 @@ contains
     end do
     do ib = 1, size(cfg%bodies)
       associate (b => cfg%bodies(ib))
+        if (b%shape_id == SHAPE_TUBE) call tube_solid(cfg, walls, ib, delta, warnings)
         if (b%shape_id /= SHAPE_RING) cycle
         ratio = max(0.0_wp, delta - ring_slack(cfg, walls, ib))/(2.0_wp*b%r_outer)
         if (.not. ratio > delta_fold) cycle
@@ -554,6 +555,42 @@ contains
       end associate
     end do
   end subroutine advice_full_crush
+
+  !> A 'tube' crushed flat: the platens' approach delta, less their gaps to the tube at t = 0,
+  !! beyond its height along their normal less two walls (the two faces that meet) presses
+  !! solid metal.
+  subroutine tube_solid(cfg, walls, ib, delta, warnings)
+    type(config_t), intent(in) :: cfg
+    type(wall_t), intent(in) :: walls(:)
+    integer, intent(in) :: ib
+    real(wp), intent(in) :: delta                !! the platens' approach at t_end [m]
+    character(len=:), allocatable, intent(inout) :: warnings
+    real(wp) :: n(2), height, gap, slack, xn(cfg%bodies(ib)%n_vertices)
+    integer :: j, m
+    associate (b => cfg%bodies(ib))
+      j = findloc([(.not. walls(m)%mirror .and. -wall_travel(walls(m), cfg%run%t_end) > &
+                  0.0_wp, m = 1, size(walls))], .true., 1)
+      if (j == 0 .or. b%n_vertices < 3) return
+      n = walls(j)%normal                        ! the loading direction
+      xn = [(dot_product(b%vertices(2*m-1:2*m), n), m = 1, b%n_vertices)]
+      height = maxval(xn) - minval(xn) + b%thickness
+      slack = 0.0_wp
+      do j = 1, size(walls)                      ! every platen along it, moving or fixed
+        if (walls(j)%mirror .or. abs(dot_product(walls(j)%normal, n)) < 0.999_wp) cycle
+        gap = body_low(b, walls(j)%normal) - dot_product(walls(j)%point0, walls(j)%normal)
+        if (.not. (gap > 0.0_wp .and. gap < height)) cycle
+        do m = 1, size(walls)                    ! a moving wall's image gaps as well
+          if (-wall_travel(walls(j), cfg%run%t_end) > 0.0_wp .and. walls(m)%mirror .and. &
+              abs(dot_product(walls(m)%normal, n)) > 0.999_wp) gap = 2.0_wp*gap
+        end do
+        slack = slack + gap
+      end do
+      if (.not. delta - slack > height - 2.0_wp*b%thickness) return
+      call add_line(cfg, warnings, 'body '//itoa(ib)//': delta '//sci(delta - slack, 2)// &
+        ' m > height - 2t, '//sci(height - 2.0_wp*b%thickness, 2)//' m. Set a smaller &wall'// &
+        ' stroke ('//doc_fold//')')
+    end associate
+  end subroutine tube_solid
 
   !> How far the platens close before they squeeze ring body ib [m]: the gap between each
   !! moving wall and the ring at t = 0 (doubled where a mirror plane parallel to the wall
