@@ -37,6 +37,8 @@ program test_results
   call case_two()
   call begin_test('a plateau with a dip of the force and unloading: no densification')
   call case_dip()
+  call begin_test('a section that softens after its first peak: no densification')
+  call case_soft()
   call finish_tests('test_results')
 
 contains
@@ -234,5 +236,44 @@ contains
     call check(abs(res%densification_stroke - dmax) <= 0.01_wp*dmax, &
                'densification at the stroke: not in the dip, not on the unloading')
   end subroutine case_dip
+
+  !> A square tube's curve: the force rises to 3 F0 over the first 2 % of the stroke, then
+  !! falls linearly to F0 at dmax. E/F rises all along the fall (the force is below the mean
+  !! force so far from about 0.1 dmax on): no maximum with the force rising beyond it, so no
+  !! densification within the stroke (before, the edge of the points kept, about 0.1 dmax).
+  subroutine case_soft()
+    type(wall_t) :: walls(2)
+    type(results_t) :: res
+    integer :: st, u, i, n
+    character(len=:), allocatable :: msg, path
+    real(wp) :: d, f, e, dprev, fprev
+    walls(1)%normal = [0.0_wp, -1.0_wp]
+    walls(1)%velocity = [0.0_wp, -1.0_wp]
+    walls(2)%normal = [0.0_wp, 1.0_wp]
+    path = dir//'/history_soft.csv'
+    n = 4001
+    open(newunit=u, file=path, status='replace', action='write')
+    write(u, '(a)') 'time,wall1_disp,wall1_force,wall1_fx,wall1_fy,wall2_disp,wall2_force,'// &
+      'wall2_fx,wall2_fy,kinetic,strain,plastic,external'
+    e = 0.0_wp
+    dprev = 0.0_wp
+    fprev = 0.0_wp
+    do i = 1, n
+      d = dmax*real(i - 1, wp)/real(n - 1, wp)
+      f = merge(3.0_wp*f0*d/(0.02_wp*dmax), f0*(3.0_wp - 2.0_wp*(d - 0.02_wp*dmax)/ &
+        (0.98_wp*dmax)), d < 0.02_wp*dmax)
+      if (i > 1) e = e + 0.5_wp*(f + fprev)*(d - dprev)
+      write(u, '(13(es24.16e3,:,","))') 1.0e-3_wp*real(i, wp), -d, f, 0.0_wp, f, 0.0_wp, &
+        f, 0.0_wp, f, 0.0_wp, 0.0_wp, e, e
+      dprev = d
+      fprev = f
+    end do
+    close(u)
+    call results_compute(path, walls, e, 0.0_wp, 2.5_wp, 1, res, st, msg)
+    call check(st == 0, 'history read: '//msg)
+    call check_close(res%peak_force, 3.0_wp*f0, 'peak = the first peak', rtol=1.0e-12_wp)
+    call check(abs(res%densification_stroke - dmax) <= 1.0e-12_wp*dmax, &
+               'no densification: the stroke, not the edge of the points kept')
+  end subroutine case_soft
 
 end program test_results

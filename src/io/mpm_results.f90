@@ -87,7 +87,7 @@ contains
     integer, allocatable :: cdisp(:), cforce(:), cbody(:)
     logical :: loading(size(walls))
     real(wp) :: fac, w, eta, best, da, dd, window
-    integer :: k, i, j, n, ncol, cplastic, j0, j1, imax
+    integer :: k, i, j, n, ncol, cplastic, j0, j1, imax, jbest
     errmsg = ''
     allocate(res%body_energy(nbody))
     res%body_energy = 0.0_wp
@@ -187,15 +187,28 @@ contains
       smooth(i) = sum(force(j0:j1))/real(j1 - j0 + 1, wp)
     end do
     best = -1.0_wp
+    jbest = 0
     do j = 1, imax
       if (.not. (delta(j) > 0.0_wp .and. smooth(j) > 0.0_wp)) cycle
       if (smooth(j)*delta(j) < energy(j)) cycle
       eta = energy(j)/smooth(j)
       if (eta > best) then
         best = eta
-        res%densification_stroke = delta(j)
+        jbest = j
       end if
     end do
+    ! a maximum of E/F has dF/ddelta = F^2/E > 0: the force rises beyond it (densification); a
+    ! largest E/F where the force falls (a softening section, the edge of the points kept)
+    ! is none, and the crush densifies at its stroke, as one whose E/F rises to the end
+    res%densification_stroke = res%stroke
+    if (jbest > 0) then
+      j = jbest
+      do while (j < imax)
+        if (delta(j) > delta(jbest) + 2.0_wp*window) exit
+        j = j + 1
+      end do
+      if (smooth(j) > smooth(jbest)) res%densification_stroke = delta(jbest)
+    end if
     res%valid = res%stroke > 0.0_wp
   end subroutine results_compute
 
