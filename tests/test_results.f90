@@ -198,39 +198,26 @@ contains
   !! has its spurious maxima in the dip and on the unloading; the energy-efficiency method
   !! gives the stroke (no densification within it).
   subroutine case_dip()
-    type(wall_t) :: walls(2)
     type(results_t) :: res
-    integer :: st, u, i, n, nu
+    integer :: st, i, n, nu
     character(len=:), allocatable :: msg, path
-    real(wp) :: d, f, e, dprev, fprev
-    walls(1)%normal = [0.0_wp, -1.0_wp]
-    walls(1)%velocity = [0.0_wp, -1.0_wp]
-    walls(2)%normal = [0.0_wp, 1.0_wp]
-    path = dir//'/history_dip.csv'
+    real(wp), allocatable :: d(:), f(:)
+    real(wp) :: e
     n = 4001
     nu = 201
-    open(newunit=u, file=path, status='replace', action='write')
-    write(u, '(a)') 'time,wall1_disp,wall1_force,wall1_fx,wall1_fy,wall2_disp,wall2_force,'// &
-      'wall2_fx,wall2_fy,kinetic,strain,plastic,external'
-    e = 0.0_wp
-    dprev = 0.0_wp
-    fprev = f0
+    allocate(d(n + nu), f(n + nu))
     do i = 1, n + nu
       if (i <= n) then
-        d = dmax*real(i - 1, wp)/real(n - 1, wp)
-        f = merge(0.01_wp*f0, f0, d > 0.04_wp*dmax .and. d < 0.07_wp*dmax)
+        d(i) = dmax*real(i - 1, wp)/real(n - 1, wp)
+        f(i) = merge(0.01_wp*f0, f0, d(i) > 0.04_wp*dmax .and. d(i) < 0.07_wp*dmax)
       else
-        d = dmax*(1.0_wp - 0.05_wp*real(i - n, wp)/real(nu, wp))
-        f = f0*(1.0_wp - real(i - n, wp)/real(nu, wp))
+        d(i) = dmax*(1.0_wp - 0.05_wp*real(i - n, wp)/real(nu, wp))
+        f(i) = f0*(1.0_wp - real(i - n, wp)/real(nu, wp))
       end if
-      if (i > 1) e = e + 0.5_wp*(f + fprev)*(d - dprev)
-      write(u, '(13(es24.16e3,:,","))') 1.0e-3_wp*real(i, wp), -d, f, 0.0_wp, f, 0.0_wp, &
-        0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, e, e
-      dprev = d
-      fprev = f
     end do
-    close(u)
-    call results_compute(path, walls, e, 0.0_wp, 2.5_wp, 1, res, st, msg)
+    path = dir//'/history_dip.csv'
+    call write_curve(path, d, f, 0.0_wp*f, e)
+    call results_compute(path, platens(), e, 0.0_wp, 2.5_wp, 1, res, st, msg)
     call check(st == 0, 'history read: '//msg)
     call check_close(res%stroke, dmax, 'stroke = the largest approach', rtol=1.0e-12_wp)
     call check(abs(res%densification_stroke - dmax) <= 0.01_wp*dmax, &
@@ -242,38 +229,49 @@ contains
   !! force so far from about 0.1 dmax on): no maximum with the force rising beyond it, so no
   !! densification within the stroke (before, the edge of the points kept, about 0.1 dmax).
   subroutine case_soft()
-    type(wall_t) :: walls(2)
     type(results_t) :: res
-    integer :: st, u, i, n
+    integer :: st, i
     character(len=:), allocatable :: msg, path
-    real(wp) :: d, f, e, dprev, fprev
-    walls(1)%normal = [0.0_wp, -1.0_wp]
-    walls(1)%velocity = [0.0_wp, -1.0_wp]
-    walls(2)%normal = [0.0_wp, 1.0_wp]
-    path = dir//'/history_soft.csv'
-    n = 4001
-    open(newunit=u, file=path, status='replace', action='write')
-    write(u, '(a)') 'time,wall1_disp,wall1_force,wall1_fx,wall1_fy,wall2_disp,wall2_force,'// &
-      'wall2_fx,wall2_fy,kinetic,strain,plastic,external'
-    e = 0.0_wp
-    dprev = 0.0_wp
-    fprev = 0.0_wp
-    do i = 1, n
-      d = dmax*real(i - 1, wp)/real(n - 1, wp)
-      f = merge(3.0_wp*f0*d/(0.02_wp*dmax), f0*(3.0_wp - 2.0_wp*(d - 0.02_wp*dmax)/ &
-        (0.98_wp*dmax)), d < 0.02_wp*dmax)
-      if (i > 1) e = e + 0.5_wp*(f + fprev)*(d - dprev)
-      write(u, '(13(es24.16e3,:,","))') 1.0e-3_wp*real(i, wp), -d, f, 0.0_wp, f, 0.0_wp, &
-        f, 0.0_wp, f, 0.0_wp, 0.0_wp, e, e
-      dprev = d
-      fprev = f
+    real(wp) :: d(4001), f(4001), e
+    do i = 1, size(d)
+      d(i) = dmax*real(i - 1, wp)/real(size(d) - 1, wp)
+      f(i) = merge(3.0_wp*f0*d(i)/(0.02_wp*dmax), f0*(3.0_wp - 2.0_wp*(d(i) - 0.02_wp*dmax)/ &
+        (0.98_wp*dmax)), d(i) < 0.02_wp*dmax)
     end do
-    close(u)
-    call results_compute(path, walls, e, 0.0_wp, 2.5_wp, 1, res, st, msg)
+    path = dir//'/history_soft.csv'
+    call write_curve(path, d, f, f, e)
+    call results_compute(path, platens(), e, 0.0_wp, 2.5_wp, 1, res, st, msg)
     call check(st == 0, 'history read: '//msg)
     call check_close(res%peak_force, 3.0_wp*f0, 'peak = the first peak', rtol=1.0e-12_wp)
     call check(abs(res%densification_stroke - dmax) <= 1.0e-12_wp*dmax, &
                'no densification: the stroke, not the edge of the points kept')
   end subroutine case_soft
+
+  !> A moving platen (wall 1) above a fixed one (wall 2).
+  function platens() result(walls)
+    type(wall_t) :: walls(2)
+    walls(1)%normal = [0.0_wp, -1.0_wp]
+    walls(1)%velocity = [0.0_wp, -1.0_wp]
+    walls(2)%normal = [0.0_wp, 1.0_wp]
+  end function platens
+
+  !> A history of platens(): wall 1 advancing d(:) under the force f(:), wall 2 reading fs(:);
+  !! the plastic and external energy e, the trapezoidal work of the curve.
+  subroutine write_curve(path, d, f, fs, e)
+    character(len=*), intent(in) :: path
+    real(wp), intent(in) :: d(:), f(:), fs(:)
+    real(wp), intent(out) :: e
+    integer :: u, i
+    open(newunit=u, file=path, status='replace', action='write')
+    write(u, '(a)') 'time,wall1_disp,wall1_force,wall1_fx,wall1_fy,wall2_disp,wall2_force,'// &
+      'wall2_fx,wall2_fy,kinetic,strain,plastic,external'
+    e = 0.0_wp
+    do i = 1, size(d)
+      if (i > 1) e = e + 0.5_wp*(f(i) + f(i - 1))*(d(i) - d(i - 1))
+      write(u, '(13(es24.16e3,:,","))') 1.0e-3_wp*real(i, wp), -d(i), f(i), 0.0_wp, f(i), &
+        0.0_wp, fs(i), 0.0_wp, fs(i), 0.0_wp, 0.0_wp, e, e
+    end do
+    close(u)
+  end subroutine write_curve
 
 end program test_results
