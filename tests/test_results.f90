@@ -166,7 +166,7 @@ contains
     call check_close(res%support_cfe, 0.9_wp*e/dmax/force(dmax), 'support cfe = mean / F(dmax)', &
                      rtol=1.0e-12_wp)
     w = results_warning(res)
-    call check(index(w, 'peak_force is 5.9 x support_peak_force') > 0 .and. &
+    call check(index(w, 'peak_force is 5.88 x support_peak_force') > 0 .and. &
                index(w, 'support_cfe') > 0, &
                'the warning names the peak, its ratio to the support''s and what to use: '//w)
     call check(len('WARNING [results]: '//w) <= 120, 'the warning is one line of at most 120 '// &

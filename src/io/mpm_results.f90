@@ -330,9 +330,9 @@ contains
     character(len=:), allocatable :: text
     character(len=12) :: ratio
     text = ''
-    if (.not. (res%valid .and. res%supported)) return
+    if (.not. (res%valid .and. res%supported .and. res%support_peak_force > 0.0_wp)) return
     if (.not. res%peak_force > 2.0_wp*res%support_peak_force) return
-    write(ratio, '(f12.1)') res%peak_force/max(res%support_peak_force, tiny(1.0_wp))
+    write(ratio, '(g12.3)') res%peak_force/res%support_peak_force
     text = 'peak_force is '//trim(adjustl(ratio))//' x support_peak_force (impact '// &
       'inertia): use support_cfe (docs/output.md#results)'
   end function results_warning
