@@ -654,7 +654,7 @@ contains
     type(config_t) :: c
     integer :: stat, k, p, last
     character(len=:), allocatable :: msg, f
-    character(len=60), parameter :: want(7) = [character(len=60) :: &
+    character(len=70), parameter :: want(7) = [character(len=70) :: &
       'several.nml:2: &run: cfl = -1: out of range', &
       'several.nml:3: &solver: basis = ''gimp'': not an allowed value', &
       'several.nml:4: &grid: h = -1: out of range', &

@@ -267,7 +267,7 @@ contains
       'wall2_fx,wall2_fy,kinetic,strain,plastic,external'
     e = 0.0_wp
     do i = 1, size(d)
-      if (i > 1) e = e + 0.5_wp*(f(i) + f(i - 1))*(d(i) - d(i - 1))
+      e = e + 0.5_wp*(f(i) + f(max(i - 1, 1)))*(d(i) - d(max(i - 1, 1)))   ! (0 on the first)
       write(u, '(13(es24.16e3,:,","))') 1.0e-3_wp*real(i, wp), -d(i), f(i), 0.0_wp, f(i), &
         0.0_wp, fs(i), 0.0_wp, fs(i), 0.0_wp, 0.0_wp, e, e
     end do

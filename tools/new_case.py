@@ -155,7 +155,7 @@ def render(a: argparse.Namespace) -> tuple[str, str]:
     cy = ro
     shape = (f"outer diameter {a.D * 1e3:.4g} mm" if a.section == "round" else
              f"square, outer side {a.D * 1e3:.4g} mm, corners of {a.corner_radius * 1e3:.4g} mm "
-             f"radius on the centreline")
+             f"radius on the centreline ({(a.corner_radius + 0.5 * a.t) * 1e3:.4g} mm outside)")
     lines = [f"! {title}: written by tools/new_case.py {a.load} (docs/tutorial.md).",
              f"! Tube: {shape}, wall {t * 1e3:.4g} mm "
              f"(D/t = {a.D / t:.3g}), {a.material} (E {E / 1e9:.4g} GPa, sigma_y "
@@ -206,10 +206,15 @@ def render(a: argparse.Namespace) -> tuple[str, str]:
         est = energy / p0                          # rigid-plastic stroke estimate [m]
         t_end = 2.5 * min(est, 0.8 * dm) / a.speed + 4.0 * ramp
         lines.append(f"! A {a.mass:g} kg weight strikes the tube at {a.speed:g} m/s "
-                     f"({energy:.4g} J); the tube lies on a rigid base. A rigid-plastic "
-                     f"estimate of the stroke is {est * 1e3:.3g} mm (energy / collapse load "
-                     f"{p0 / 1e3:.3g} kN); the run ends once the weight has left or at t_end.")
-        if est > 0.8 * dm:
+                     f"({energy:.4g} J); the tube lies on a rigid base. The run ends once the "
+                     f"weight has left or at t_end.")
+        if a.section == "round":
+            lines.append(f"! A rigid-plastic estimate of the stroke is {est * 1e3:.3g} mm "
+                         f"(energy / collapse load {p0 / 1e3:.3g} kN).")
+        else:                                      # (t_end from the ring's rule: an upper bound)
+            lines.append(f"! t_end allows for a stroke of {min(est, 0.8 * dm) * 1e3:.3g} mm; "
+                         f"a square's flat faces carry more than a ring's collapse load.")
+        if est > 0.8 * dm and a.section == "round":
             lines.append("! The estimate exceeds 0.8 D: the tube would be crushed flat; "
                          "--check warns of the full crush.")
         run += [f"  t_end = {t_end:.3g}                ! at most [s]",

@@ -47,8 +47,7 @@ contains
     type(config_t), intent(in) :: cfg      !! the case
     type(unit_issue_t), allocatable, intent(out) :: issues(:)  !! one per suspect value
     logical, intent(in), optional :: bodies_ok(:)  !! the bodies whose values are complete
-    integer :: k, kb
-    real(wp) :: span, lo(2), hi(2)
+    integer :: k
     character(len=*), parameter :: mm = 'over 1 m: the input is in metres (millimetres '// &
       'typed as metres?)', metres = 'a length in metres, at most 1 m', ms = 'a speed over '// &
       '1000 m/s (times the motion table''s largest factor): the input is in m/s (mm/s typed '// &
@@ -62,24 +61,7 @@ contains
       if (maxval(abs(cfg%grid%upper)) > length_max) call push(issues, 'grid', 0, 'upper', &
         rtoa(maxval(abs(cfg%grid%upper)))//' m', mm, metres)
     end if
-    span = 0.0_wp                          ! a cell larger than every body
-    kb = 0
-    do k = 1, size(cfg%bodies)
-      if (present(bodies_ok)) then
-        if (.not. bodies_ok(k)) cycle
-      end if
-      if (cfg%bodies(k)%shape_id == SHAPE_WALLS .and. .not. allocated(cfg%bodies(k)%seg)) cycle
-      call body_box(cfg%bodies(k), lo, hi)
-      if (all(hi > lo) .and. maxval(hi - lo) > span) kb = k
-      if (all(hi > lo)) span = max(span, maxval(hi - lo))
-    end do
-    if (kb > 0 .and. cfg%grid%h > span) then
-      call push(issues, 'grid', 0, 'h', rtoa(cfg%grid%h)//' m', 'larger than every body (the '// &
-        'largest, &body #'//itoa(kb)//', spans '//rtoa(span)//' m): a body would sit in one '// &
-        'or two cells (millimetres typed as metres?)', 'a cell smaller than the bodies, h < '// &
-        rtoa(span)//' m (a wall wants h of about its thickness / 2)')
-      issues(size(issues))%others = .true.
-    end if
+    if (cfg%grid%h <= length_max) call cell_over_bodies(cfg, issues, bodies_ok)
     do k = 1, size(cfg%bodies)
       associate (b => cfg%bodies(k))
         select case (b%shape_id)
@@ -165,6 +147,34 @@ contains
       end associate
     end do
   end subroutine advice_unit_issues
+
+  !> A cell larger than every body (the part a sector models): a body in one or two cells, a
+  !! cell size in millimetres typed as metres.
+  pure subroutine cell_over_bodies(cfg, issues, bodies_ok)
+    type(config_t), intent(in) :: cfg
+    type(unit_issue_t), allocatable, intent(inout) :: issues(:)
+    logical, intent(in), optional :: bodies_ok(:)  !! the bodies whose values are complete
+    integer :: k, kb
+    real(wp) :: span, lo(2), hi(2)
+    span = 0.0_wp
+    kb = 0
+    do k = 1, size(cfg%bodies)
+      if (present(bodies_ok)) then
+        if (.not. bodies_ok(k)) cycle
+      end if
+      if (cfg%bodies(k)%shape_id == SHAPE_WALLS .and. .not. allocated(cfg%bodies(k)%seg)) cycle
+      call body_box(cfg%bodies(k), lo, hi)
+      if (.not. (all(hi > lo) .and. maxval(hi - lo) > span)) cycle
+      kb = k
+      span = maxval(hi - lo)
+    end do
+    if (kb == 0 .or. .not. cfg%grid%h > span) return
+    call push(issues, 'grid', 0, 'h', rtoa(cfg%grid%h)//' m', 'larger than every body (the '// &
+      'largest, &body #'//itoa(kb)//', spans '//rtoa(span)//' m as modelled): a body would '// &
+      'sit in one or two cells (millimetres typed as metres?)', 'a cell smaller than the '// &
+      'bodies, h < '//rtoa(span)//' m (the refinement study advises h = t/4)')
+    issues(size(issues))%others = .true.
+  end subroutine cell_over_bodies
 
   !> The values in a likely wrong unit as lines ('&body #1: r_outer = 2.6000E+001 m is over
   !! 1 m. Set r_outer in m (docs/input.md#checks)'), appended to `text`: the warnings of a case

@@ -83,11 +83,11 @@ contains
     type(results_t), intent(out) :: res    !! the results
     integer, intent(out) :: stat           !! 0, or non-zero: the file could not be read
     character(len=:), allocatable, intent(out) :: errmsg  !! the I/O problem
-    real(wp), allocatable :: rows(:,:), delta(:), force(:), energy(:), smooth(:), support(:)
+    real(wp), allocatable :: rows(:,:), delta(:), force(:), energy(:), support(:)
     integer, allocatable :: cdisp(:), cforce(:), cbody(:)
     logical :: loading(size(walls))
-    real(wp) :: fac, w, eta, best, da, dd, window
-    integer :: k, i, j, n, ncol, cplastic, j0, j1, imax, jbest
+    real(wp) :: fac, w, da, dd
+    integer :: k, i, n, ncol, cplastic
     errmsg = ''
     allocate(res%body_energy(nbody))
     res%body_energy = 0.0_wp
@@ -118,7 +118,7 @@ contains
       res%impactor_rebound = -walls(res%loading_wall)%vn
       res%impactor_max_stroke = walls(res%loading_wall)%travel_max
     end if
-    allocate(delta(n), force(n), energy(n), smooth(n), support(n))
+    allocate(delta(n), force(n), energy(n), support(n))
     ! the approach and the force on the loading walls (weighted by their share of the approach)
     delta = 0.0_wp
     force = 0.0_wp
@@ -166,15 +166,27 @@ contains
     if (res%peak_force > 0.0_wp) res%cfe = res%mean_force/res%peak_force
     if (res%support_peak_force > 0.0_wp) res%support_cfe = res%mean_force/res%support_peak_force
     if (res%mass > 0.0_wp) res%sea = res%absorbed_energy/res%mass
-    ! densification: the largest energy efficiency E(delta)/F(delta), F averaged over +-1 % of
-    ! the stroke so that the force noise of a row does not make the peak; on the loading
-    ! branch only (up to the largest approach) and where the force is at least the mean force
-    ! so far, E(delta)/delta: where contact chatter or unloading takes the force towards zero,
-    ! E/F has spurious maxima, and a crush that ends on its plateau densifies at its stroke
-    window = 0.01_wp*res%stroke
+    res%densification_stroke = densification_stroke(delta, force, energy, res%stroke)
+    res%valid = res%stroke > 0.0_wp
+  end subroutine results_compute
+
+  !> The densification stroke: the largest energy efficiency E(delta)/F(delta), F averaged over
+  !! +-1 % of the stroke so that the force noise of a row does not make the peak; on the loading
+  !! branch only (up to the largest approach) and where the force is at least the mean force so
+  !! far, E(delta)/delta: where contact chatter or unloading takes the force towards zero, E/F
+  !! has spurious maxima. A maximum of E/F has dF/ddelta = F^2/E > 0: the force rises beyond it;
+  !! a largest E/F where the force falls (a softening section, the edge of the points kept) is
+  !! none, and the crush densifies at its stroke, as one that ends on its plateau.
+  pure real(wp) function densification_stroke(delta, force, energy, stroke) result(dd)
+    real(wp), intent(in) :: delta(:), force(:), energy(:)  !! the curve's rows
+    real(wp), intent(in) :: stroke         !! the largest approach [m]
+    real(wp) :: smooth(size(delta)), window, best, eta
+    integer :: i, j, j0, j1, imax, jbest
+    window = 0.01_wp*stroke
     imax = maxloc(delta, dim=1)
     j0 = 1
     j1 = 1
+    smooth = 0.0_wp
     do i = 1, imax
       do while (delta(j0) < delta(i) - window .and. j0 < i)
         j0 = j0 + 1
@@ -197,20 +209,15 @@ contains
         jbest = j
       end if
     end do
-    ! a maximum of E/F has dF/ddelta = F^2/E > 0: the force rises beyond it (densification); a
-    ! largest E/F where the force falls (a softening section, the edge of the points kept)
-    ! is none, and the crush densifies at its stroke, as one whose E/F rises to the end
-    res%densification_stroke = res%stroke
-    if (jbest > 0) then
-      j = jbest
-      do while (j < imax)
-        if (delta(j) > delta(jbest) + 2.0_wp*window) exit
-        j = j + 1
-      end do
-      if (smooth(j) > smooth(jbest)) res%densification_stroke = delta(jbest)
-    end if
-    res%valid = res%stroke > 0.0_wp
-  end subroutine results_compute
+    dd = stroke
+    if (jbest == 0) return
+    j = jbest
+    do while (j < imax)
+      if (delta(j) > delta(jbest) + 2.0_wp*window) exit
+      j = j + 1
+    end do
+    if (smooth(j) > smooth(jbest)) dd = delta(jbest)
+  end function densification_stroke
 
   !> history.csv as numbers (ncol, rows), and the columns named in its header.
   subroutine read_history(path, rows, ncol, cdisp, cforce, cbody, cplastic, nwall, nbody, &
