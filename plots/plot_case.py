@@ -139,6 +139,8 @@ def plot_crush(history: History, inputs: Inputs, outdir: str, experiment: str | 
     top = next(w for w in walls if w["index"] == k)
     ring = _ring(inputs)
     depth = scene.depth_of(inputs)
+    drop = bool(_drop_weights(inputs))     # a drop's rebound: energies against time
+    x2 = history["time"] * 1e3 if drop else disp * 1e3
 
     fig, (ax, ax2) = plt.subplots(1, 2, layout="constrained", figsize=(11.5, 4.6))
     role = "drop weight" if k in _drop_weights(inputs) else "moving platen"
@@ -189,7 +191,7 @@ def plot_crush(history: History, inputs: Inputs, outdir: str, experiment: str | 
                     f"DeRuntz-Hodge     {dh_plateau:.6g} N over the same range; "
                     f"P0 = {p0:.6g} N (plane {plane})"]
         dW = theory.deruntz_hodge_energy(disp, D, t, ring["sigma_y"], plane, depth)
-        ax2.plot(disp * 1e3, dW, color="C3", ls="--", lw=1.0,
+        ax2.plot(x2, dW, color="C3", ls="--", lw=1.0,
                  label=r"DeRuntz–Hodge $P_0\,D\,\arcsin(\delta/D)$")
     exp = _experiment(experiment, "crush")
     if exp is not None:
@@ -209,10 +211,10 @@ def plot_crush(history: History, inputs: Inputs, outdir: str, experiment: str | 
     ax.set_ylim(min(0.0, float(np.nanmin(force)) * 1e-3), 1.6 * top_force * 1e-3)
     _left_legend(ax, "\n".join(lines))
 
-    _energy_lines(ax2, disp * 1e3, history)
+    _energy_lines(ax2, x2, history)
     for j in _drop_weights(inputs):
         if f"wall{j}_kinetic" in history:
-            ax2.plot(disp * 1e3, history[f"wall{j}_kinetic"], color="k", lw=1.4,
+            ax2.plot(x2, history[f"wall{j}_kinetic"], color="k", lw=1.4,
                      label=f"drop weight (wall {j}) kinetic")
     kin, pla = history.get("kinetic"), history.get("plastic")
     ratio_text = None
@@ -248,7 +250,7 @@ def plot_crush(history: History, inputs: Inputs, outdir: str, experiment: str | 
                        f"mean {res['mean_force']:.6g} N, CFE {res['cfe']:.4g}, absorbed "
                        f"{res['absorbed_energy']:.6g} J, SEA {res['sea']:.6g} J/kg, densification "
                        f"{res['densification_stroke']:.6g} m (summary.nml &results)")
-    ax2.set_xlabel(r"platen approach $\delta$ [mm]")
+    ax2.set_xlabel("time [ms]" if drop else r"platen approach $\delta$ [mm]")
     ax2.set_ylabel(f"energy [J] (depth {depth:g} m)")
     ax2.set_title("energies")
     ax2.set_xlim(left=0.0)
