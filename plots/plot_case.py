@@ -149,7 +149,8 @@ def plot_crush(history: History, inputs: Inputs, outdir: str, experiment: str | 
         if w is not top:
             j = w["index"]
             ax.plot(disp * 1e3, history[f"wall{j}_force"] * 1e-3,
-                    color="C2", lw=0.8, alpha=0.7, label=f"MPM, wall {j} (fixed platen)")
+                    color="C2", lw=0.8, alpha=0.7,
+                    label=f"MPM, wall {j} ({'base' if drop else 'fixed platen'})")
     lines = [f"peak force {force.max() * 1e-3:.4g} kN at {disp[np.argmax(force)] * 1e3:.3g} mm"]
     numbers = [f"crush: moving platen = wall {k}, depth {depth:g} m",
                f"peak force        {force.max():.6g} N at displacement "
@@ -576,7 +577,8 @@ def main(argv: list[str] | None = None) -> int:
         style.mark_failed(fig, failure)
     fig.savefig(out, dpi=style.DPI)
     plt.close(fig)
-    print(f"{title}: {kind} scene, {history['time'].size} history rows, t_end "
+    weight = " (a drop weight)" if kind == "crush" and _drop_weights(inputs) else ""
+    print(f"{title}: {kind} scene{weight}, {history['time'].size} history rows, t_end "
           f"{history['time'][-1]:.6g} s")
     if failure:
         print(f"  {failure}")
