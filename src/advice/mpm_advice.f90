@@ -540,7 +540,7 @@ contains
       associate (b => cfg%bodies(ib))
         if (b%shape_id == SHAPE_TUBE) call tube_solid(cfg, walls, ib, delta, warnings)
         if (b%shape_id /= SHAPE_RING) cycle
-        ratio = max(0.0_wp, delta - ring_slack(cfg, walls, ib))/(2.0_wp*b%r_outer)
+        ratio = max(0.0_wp, delta - platen_slack(cfg, walls, ib))/(2.0_wp*b%r_outer)
         if (.not. ratio > delta_fold) cycle
         if (cfg%solver%basis_id == BASIS_CPDI2) then
           write(line, '(a,i0,a,f4.2,a)') 'body ', ib, ': delta/D reaches ', ratio, &
@@ -565,38 +565,39 @@ contains
     integer, intent(in) :: ib
     real(wp), intent(in) :: delta                !! the platens' approach at t_end [m]
     character(len=:), allocatable, intent(inout) :: warnings
-    real(wp) :: n(2), height, gap, slack, xn(cfg%bodies(ib)%n_vertices)
+    real(wp) :: height, room, n(2)
     integer :: j, m
     associate (b => cfg%bodies(ib))
-      j = findloc([(.not. walls(m)%mirror .and. -wall_travel(walls(m), cfg%run%t_end) > &
-                  0.0_wp, m = 1, size(walls))], .true., 1)
+      j = first_moving(cfg, walls)
       if (j == 0 .or. b%n_vertices < 3) return
       n = walls(j)%normal                        ! the loading direction
-      xn = [(dot_product(b%vertices(2*m-1:2*m), n), m = 1, b%n_vertices)]
-      height = maxval(xn) - minval(xn) + b%thickness
-      slack = 0.0_wp
-      do j = 1, size(walls)                      ! every platen along it, moving or fixed
-        if (walls(j)%mirror .or. abs(dot_product(walls(j)%normal, n)) < 0.999_wp) cycle
-        gap = body_low(b, walls(j)%normal) - dot_product(walls(j)%point0, walls(j)%normal)
-        if (.not. (gap > 0.0_wp .and. gap < height)) cycle
-        do m = 1, size(walls)                    ! a moving wall's image gaps as well
-          if (-wall_travel(walls(j), cfg%run%t_end) > 0.0_wp .and. walls(m)%mirror .and. &
-              abs(dot_product(walls(m)%normal, n)) > 0.999_wp) gap = 2.0_wp*gap
-        end do
-        slack = slack + gap
-      end do
-      if (.not. delta - slack > height - 2.0_wp*b%thickness) return
-      call add_line(cfg, warnings, 'body '//itoa(ib)//': delta '//sci(delta - slack, 2)// &
-        ' m > height - 2t, '//sci(height - 2.0_wp*b%thickness, 2)//' m. Set a smaller &wall'// &
-        ' stroke ('//doc_fold//')')
+      height = maxval([(dot_product(b%vertices(2*m-1:2*m), n), m = 1, b%n_vertices)]) - &
+               minval([(dot_product(b%vertices(2*m-1:2*m), n), m = 1, b%n_vertices)]) + &
+               b%thickness
+      room = height - 2.0_wp*b%thickness
+      if (.not. delta - platen_slack(cfg, walls, ib) > room) return
+      call add_line(cfg, warnings, 'body '//itoa(ib)//': delta '// &
+        sci(delta - platen_slack(cfg, walls, ib), 2)//' m > height - 2t, '//sci(room, 2)// &
+        ' m. Set a smaller &wall stroke ('//doc_fold//')')
     end associate
   end subroutine tube_solid
 
-  !> How far the platens close before they squeeze ring body ib [m]: the gap between each
-  !! moving wall and the ring at t = 0 (doubled where a mirror plane parallel to the wall
-  !! brings its image), and that of a fixed wall facing it (a tube nested in another, or lying
-  !! off the platens, sees less than the platens' approach).
-  pure real(wp) function ring_slack(cfg, walls, ib) result(slack)
+  !> The first wall that moves into the material by t_end (not a mirror plane), 0 if none: the
+  !! loading direction is its normal.
+  pure integer function first_moving(cfg, walls) result(k)
+    type(config_t), intent(in) :: cfg
+    type(wall_t), intent(in) :: walls(:)
+    do k = 1, size(walls)
+      if (.not. walls(k)%mirror .and. -wall_travel(walls(k), cfg%run%t_end) > 0.0_wp) return
+    end do
+    k = 0
+  end function first_moving
+
+  !> How far the platens close before they squeeze body ib [m]: the gap between each moving
+  !! wall and the body at t = 0 (doubled where a mirror plane parallel to the wall brings its
+  !! image), and that of a fixed wall facing it (a tube nested in another, or lying off the
+  !! platens, sees less than the platens' approach).
+  pure real(wp) function platen_slack(cfg, walls, ib) result(slack)
     type(config_t), intent(in) :: cfg
     type(wall_t), intent(in) :: walls(:)
     integer, intent(in) :: ib
@@ -604,28 +605,22 @@ contains
     integer :: k, m, j
     logical :: moving
     slack = 0.0_wp
-    k = 0
-    do j = 1, size(walls)                  ! the loading direction: the first moving wall's
-      if (walls(j)%mirror .or. .not. -wall_travel(walls(j), cfg%run%t_end) > 0.0_wp) cycle
-      k = j
-      exit
-    end do
+    k = first_moving(cfg, walls)
     if (k == 0) return
     n = walls(k)%normal
-    associate (b => cfg%bodies(ib))
-      do j = 1, size(walls)                ! every platen along it, moving or fixed
-        if (walls(j)%mirror .or. abs(dot_product(walls(j)%normal, n)) < 0.999_wp) cycle
-        gap = max(0.0_wp, dot_product(b%center - walls(j)%point0, walls(j)%normal) - b%r_outer)
-        moving = -wall_travel(walls(j), cfg%run%t_end) > 0.0_wp
-        fac = 1.0_wp
-        do m = 1, size(walls)
-          if (moving .and. walls(m)%mirror .and. abs(dot_product(walls(m)%normal, n)) > &
-              0.999_wp) fac = 2.0_wp
-        end do
-        slack = slack + fac*gap
+    do j = 1, size(walls)                  ! every platen along it, moving or fixed
+      if (walls(j)%mirror .or. abs(dot_product(walls(j)%normal, n)) < 0.999_wp) cycle
+      gap = max(0.0_wp, body_low(cfg%bodies(ib), walls(j)%normal) - &
+                        dot_product(walls(j)%point0, walls(j)%normal))
+      moving = -wall_travel(walls(j), cfg%run%t_end) > 0.0_wp
+      fac = 1.0_wp
+      do m = 1, size(walls)
+        if (moving .and. walls(m)%mirror .and. abs(dot_product(walls(m)%normal, n)) > &
+            0.999_wp) fac = 2.0_wp
       end do
-    end associate
-  end function ring_slack
+      slack = slack + fac*gap
+    end do
+  end function platen_slack
 
   !> The end-of-run warning: the energy balance did not close ('' when it did). The error is
   !! judged against the growth check's scale, so that the tiny work of a crush's first steps
