@@ -180,8 +180,10 @@ contains
   pure real(wp) function densification_stroke(delta, force, energy, stroke) result(dd)
     real(wp), intent(in) :: delta(:), force(:), energy(:)  !! the curve's rows
     real(wp), intent(in) :: stroke         !! the largest approach [m]
-    real(wp) :: smooth(size(delta)), window, best, eta
+    real(wp), allocatable :: smooth(:)      ! (on the heap: a history may hold 1e6 rows)
+    real(wp) :: window, best, eta
     integer :: i, j, j0, j1, imax, jbest
+    allocate(smooth(size(delta)))
     window = 0.01_wp*stroke
     imax = maxloc(delta, dim=1)
     j0 = 1
