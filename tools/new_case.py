@@ -41,6 +41,8 @@ import math
 import sys
 from pathlib import Path
 
+from tools.fe_reference.square_speed import square_h_omega
+
 ROOT = Path(__file__).resolve().parent.parent
 
 #: materials: E [Pa], nu, rho [kg/m^3], sigma_y [Pa], linear hardening [Pa]
@@ -60,14 +62,6 @@ def ovalling_omega(D: float, t: float, E: float, nu: float, rho: float) -> float
     ei = E * t ** 3 / 12.0 / (1.0 - nu * nu)
     r = 0.5 * D
     return math.sqrt(ei / (rho * t * r ** 4) * 36.0 / 5.0)
-
-
-def wall_omega(side: float, t: float, rc: float, E: float, nu: float, rho: float) -> float:
-    """The first bending mode of a square tube's wall, pinned at its ends [rad/s] (the rule of
-    --check for a 'tube'): omega_1 = pi^2 sqrt(E' I / (m L^4)), L the side between the
-    corners plus half of each rounded corner."""
-    length = side - 2.0 * rc + 0.5 * math.pi * rc
-    return math.pi ** 2 * math.sqrt(E / (1.0 - nu * nu) * t ** 3 / 12.0 / (rho * t * length ** 4))
 
 
 def collapse_load(D: float, t: float, sigma_y: float) -> float:
@@ -171,7 +165,7 @@ def render(a: argparse.Namespace) -> tuple[str, str]:
         v_qs = min(SPEED_MAX[a.section], QUASI_STATIC * dm * omega)
         if a.section == "square":                  # --check: 0.005 H omega_1 for a 'tube'
             v_qs = min(SPEED_MAX["square"],
-                       QUASI_STATIC_TUBE * a.D * wall_omega(dm, t, a.corner_radius, E, nu, rho))
+                       QUASI_STATIC_TUBE * square_h_omega(dm, t, a.corner_radius, E, nu, rho))
         v = a.speed if a.speed else v_qs
         lines.append(f"! The platens approach at {v:.3g} m/s (quasi-static: at most "
                      f"{v_qs:.3g} m/s for this tube) to a stroke of {stroke * 1e3:.4g} mm "

@@ -35,17 +35,22 @@ APPROACH = (2.0, 4.0, 8.0, 16.0)     # [m/s]
 RAMP_AT_2 = 1.0e-3                   # [s] the shipped ramp at 2 m/s
 
 
-def h_omega(inputs: dict) -> float:
-    """H omega_1 of the shipped square tube [m/s] (mpm_advice's section_speed, worked out)."""
-    mat, body = inputs["material"][0], inputs["body"][0]
-    e, nu, rho, t = mat["e"], mat["nu"], mat["rho"], body["thickness"]
-    xs = body["vertices"][0::2]
-    side = max(xs) - min(xs)                          # the centreline square's side
-    rc = body.get("corner_radius", 0.0)
+def square_h_omega(side: float, t: float, rc: float, e: float, nu: float, rho: float) -> float:
+    """H omega_1 of a square tube of centreline side `side`, wall t and centreline corner radius
+    rc [m/s] (mpm_advice's section_speed, worked out): H = side + t, omega_1 = pi^2 sqrt(E' I /
+    (m L^4)) of a wall pinned at its ends, L its straight part and half of each rounded corner."""
     length = side - 2 * rc + 0.5 * math.pi * rc
     ei = e * t ** 3 / 12 / (1 - nu ** 2)              # plane strain
     omega = math.pi ** 2 * math.sqrt(ei / (rho * t * length ** 4))
     return (side + t) * omega
+
+
+def h_omega(inputs: dict) -> float:
+    """H omega_1 of the shipped square tube [m/s] (square_h_omega of its namelist)."""
+    mat, body = inputs["material"][0], inputs["body"][0]
+    xs = body["vertices"][0::2]
+    return square_h_omega(max(xs) - min(xs), body["thickness"], body.get("corner_radius", 0.0),
+                          mat["e"], mat["nu"], mat["rho"])
 
 
 def main(argv: list[str] | None = None) -> int:
