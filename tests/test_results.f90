@@ -147,18 +147,14 @@ contains
   !> case_one with the moving platen's force at 1e6 N on the first row after contact, 5.9 times
   !! the support's peak F(dmax) = 1.7e5 N: the peak and the CFE take it, the support's do not.
   subroutine case_spike()
-    type(wall_t) :: walls(2)
     type(results_t) :: res
     integer :: st
     character(len=:), allocatable :: msg, path, w
     real(wp) :: e
-    walls(1)%normal = [0.0_wp, -1.0_wp]
-    walls(1)%velocity = [0.0_wp, -1.0_wp]
-    walls(2)%normal = [0.0_wp, 1.0_wp]
     path = dir//'/history_spike.csv'
     call write_history(path, 2, 1.0_wp, spike=1.0e6_wp)
     e = energy(dmax)
-    call results_compute(path, walls, e, 0.1_wp*e, 2.5_wp, 1, res, st, msg)
+    call results_compute(path, platens(), e, 0.1_wp*e, 2.5_wp, 1, res, st, msg)
     call check(st == 0, 'history read: '//msg)
     call check_close(res%peak_force, 1.0e6_wp, 'peak force = the spike', rtol=1.0e-12_wp)
     call check_close(res%support_peak_force, force(dmax), 'support peak = F at the end', &
