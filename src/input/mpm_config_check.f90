@@ -564,11 +564,14 @@ contains
     integer, intent(in), optional :: only
     type(unit_issue_t), allocatable :: issues(:)
     integer :: j, io
-    logical :: ok(rd%n_occ)
-    integer :: kb
+    logical :: ok(rd%n_occ), body_ok(size(cfg%bodies))
     ok = rd%occ(1:rd%n_occ)%ok             ! (before this check's errors mark them)
-    call advice_unit_issues(cfg, issues, [(ok(max(occurrence(rd, 'body', kb), 1)) .and. &
-                            occurrence(rd, 'body', kb) > 0, kb = 1, size(cfg%bodies))])
+    do j = 1, size(cfg%bodies)             ! the bodies whose values are complete
+      io = occurrence(rd, 'body', j)
+      body_ok(j) = io > 0
+      if (io > 0) body_ok(j) = ok(io)
+    end do
+    call advice_unit_issues(cfg, issues, body_ok)
     do j = 1, size(issues)
       associate (u => issues(j))
         io = occurrence(rd, trim(u%group), max(u%k, 1))
