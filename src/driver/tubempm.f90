@@ -594,7 +594,8 @@ contains
     if (st /= 0) call fatal('output', msg, EXIT_IO)
     if (res%valid) call results_write_csv(r%dir//'/results.csv', r%title, res, st, msg)
     if (st /= 0) call fatal('output', msg, EXIT_IO)
-    if (len(results_warning(res)) > 0) call warn('results', results_warning(res))
+    msg = results_warning(res)
+    if (len(msg) > 0) call warn('results', msg)
     msg = advice_end_of_run(s%bal_max, max(s%e0, s%ext_max, s%prm%e_floor), s%energy_error, &
       s%prm%scheme == SCHEME_MUSL .and. s%prm%flip == 1.0_wp, s%prm%nf > 1)
     if (len(msg) > 0) call warn('run', msg)
